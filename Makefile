@@ -1,0 +1,34 @@
+# adamss: the README's two commands.
+#   make heart   install dependencies if missing, build, run the heart case end to end
+#   make test    install dependencies if missing, build, run the whole test suite
+BUILD_DIR ?= build
+JOBS ?= 2
+CMAKE_FLAGS ?=
+HEART_OUT ?= results/heart
+
+.PHONY: all deps configure build test heart clean format
+
+all: build
+
+deps:
+	@scripts/install-deps
+
+configure: deps
+	@cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS) > $(BUILD_DIR).configure.log 2>&1 \
+	  || (cat $(BUILD_DIR).configure.log; exit 1)
+	@echo "configured $(BUILD_DIR) (log: $(BUILD_DIR).configure.log)"
+
+build: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS)
+
+test: build
+	@cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+
+heart: build
+	@cases/heart/run.sh $(BUILD_DIR)/app/adamss $(HEART_OUT)
+
+format:
+	@git ls-files '*.cpp' '*.hpp' | xargs clang-format -i
+
+clean:
+	@rm -rf $(BUILD_DIR) $(BUILD_DIR).configure.log

@@ -1,0 +1,182 @@
+// adamss info FILE [--json]: what an image or a mesh holds.
+#include <chrono>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "app/commands.hpp"
+#include "common/error.hpp"
+#include "preprocess/mesh_io.hpp"
+#include "preprocess/mesh_quality.hpp"
+#include "preprocess/nifti_io.hpp"
+
+namespace adamss::app {
+namespace {
+
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+json bbox_json(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  return json{{"min", {lo[0], lo[1], lo[2]}}, {"max", {hi[0], hi[1], hi[2]}}};
+}
+
+json image_info(const std::string& path) {
+  using namespace preprocess;
+  const auto t0 = Clock::now();
+  NiftiNotes notes;
+  const LabelImage img = read_label_image(path, &notes);
+  const double secs = std::chrono::duration<double>(Clock::now() - t0).count();
+  const Grid& g = img.grid;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = Eigen::Vector3d::Constant(-1e300);
+  for (int c = 0; c < 8; ++c) {
+    const Eigen::Vector3d corner((c & 1) ? static_cast<double>(g.dims[0]) - 0.5 : -0.5,
+                                 (c & 2) ? static_cast<double>(g.dims[1]) - 0.5 : -0.5,
+                                 (c & 4) ? static_cast<double>(g.dims[2]) - 0.5 : -0.5);
+    const Eigen::Vector3d w = g.to_world(corner);
+    lo = lo.cwiseMin(w);
+    hi = hi.cwiseMax(w);
+  }
+  json labels = json::object();
+  for (const auto& [label, count] : img.histogram()) labels[std::to_string(label)] = count;
+  json affine = json::array();
+  for (int r = 0; r < 4; ++r)
+    affine.push_back({g.index_to_world(r, 0), g.index_to_world(r, 1), g.index_to_world(r, 2), g.index_to_world(r, 3)});
+  const Eigen::Vector3d sp = g.spacing();
+  return json{{"kind", "image"},
+              {"path", path},
+              {"dims", {g.dims[0], g.dims[1], g.dims[2]}},
+              {"spacing_m", {sp[0], sp[1], sp[2]}},
+              {"voxel_volume_m3", g.voxel_volume()},
+              {"affine_m", affine},
+              {"affine_source", notes.affine_source},
+              {"units", notes.units},
+              {"datatype", notes.datatype},
+              {"nifti_version", notes.nifti_version},
+              {"bounding_box_m", bbox_json(lo, hi)},
+              {"labels", labels},
+              {"warnings", notes.warnings},
+              {"read_seconds", secs}};
+}
+
+json mesh_info(const std::string& path) {
+  using namespace preprocess;
+  const auto t0 = Clock::now();
+  const Mesh mesh = read_mesh_h5(path);
+  const double secs = std::chrono::duration<double>(Clock::now() - t0).count();
+  const QualitySummary q = summarize_quality(mesh);
+  std::map<std::int32_t, std::int64_t> hist;
+  for (std::int32_t l : mesh.labels) ++hist[l];
+  json labels = json::object();
+  for (const auto& [label, count] : hist) labels[std::to_string(label)] = count;
+  json tags = json::object();
+  for (const auto& [name, nodes] : mesh.node_tags) tags[name] = nodes.size();
+  json cavities = json::object();
+  for (const auto& [name, c] : mesh.cavities) {
+    cavities[name] =
+        json{{"volume_m3", c.volume_m3}, {"closed", c.closed}, {"faces", c.faces.size()}, {"lid_faces", c.lid.size()}};
+  }
+  json attrs = json::object();
+  for (const auto& [k, v] : mesh.attributes) attrs[k] = v;
+  Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
+  if (mesh.node_count() > 0) {
+    lo = mesh.nodes.rowwise().minCoeff();
+    hi = mesh.nodes.rowwise().maxCoeff();
+  }
+  return json{{"kind", "mesh"},
+              {"path", path},
+              {"nodes", mesh.node_count()},
+              {"elements", mesh.element_count()},
+              {"element_type", element_type_name(mesh.type)},
+              {"volume_m3", q.volume_m3},
+              {"inverted_elements", q.inverted},
+              {"labels", labels},
+              {"min_dihedral_deg", q.min_dihedral_deg},
+              {"mean_dihedral_deg", q.mean_dihedral_deg},
+              {"elements_below_10_deg", q.below_10_deg},
+              {"bounding_box_m", bbox_json(lo, hi)},
+              {"has_fibres", mesh.has_fibres()},
+              {"node_tags", tags},
+              {"cavities", cavities},
+              {"voxel_size_m", mesh.voxel_size_m},
+              {"attributes", attrs},
+              {"read_seconds", secs}};
+}
+
+void print_human(const json& j) {
+  std::cout << std::setprecision(6);
+  if (j["kind"] == "image") {
+    const auto& d = j["dims"];
+    const auto& s = j["spacing_m"];
+    std::cout << "image " << j["path"].get<std::string>() << " (NIfTI-" << j["nifti_version"].get<int>() << ", "
+              << j["datatype"].get<std::string>() << ")\n"
+              << "  dims " << d[0] << " x " << d[1] << " x " << d[2] << ", spacing " << s[0].get<double>() * 1e3
+              << " x " << s[1].get<double>() * 1e3 << " x " << s[2].get<double>() * 1e3 << " mm ("
+              << j["units"].get<std::string>() << ", affine from " << j["affine_source"].get<std::string>() << ")\n";
+    for (const auto& [label, count] : j["labels"].items()) {
+      std::cout << "  label " << label << ": " << count << " voxels, "
+                << count.get<double>() * j["voxel_volume_m3"].get<double>() * 1e9 << " mm^3\n";
+    }
+    for (const auto& w : j["warnings"]) std::cout << "  warning: " << w.get<std::string>() << "\n";
+  } else {
+    std::cout << "mesh " << j["path"].get<std::string>() << "\n"
+              << "  " << j["nodes"] << " nodes, " << j["elements"] << " " << j["element_type"].get<std::string>()
+              << " elements, volume " << j["volume_m3"].get<double>() * 1e9 << " mm^3, " << j["inverted_elements"]
+              << " inverted\n"
+              << "  dihedral angle: min " << j["min_dihedral_deg"].get<double>() << " deg, mean of element minima "
+              << j["mean_dihedral_deg"].get<double>() << " deg, " << j["elements_below_10_deg"]
+              << " elements under 10 deg\n"
+              << "  fibres: " << (j["has_fibres"].get<bool>() ? "yes" : "no") << "\n";
+    for (const auto& [label, count] : j["labels"].items())
+      std::cout << "  label " << label << ": " << count << " elements\n";
+    for (const auto& [name, n] : j["node_tags"].items()) std::cout << "  node tag " << name << ": " << n << " nodes\n";
+    for (const auto& [name, c] : j["cavities"].items()) {
+      std::cout << "  cavity " << name << ": " << c["volume_m3"].get<double>() * 1e9 << " mm^3, "
+                << (c["closed"].get<bool>() ? "closed" : "OPEN") << "\n";
+    }
+    if (j["attributes"].contains("meshing_seconds")) {
+      std::cout << "  meshing time: " << j["attributes"]["meshing_seconds"].get<std::string>() << " s\n";
+    }
+  }
+}
+
+struct InfoArgs {
+  std::string file;
+  bool as_json = false;
+};
+
+void run_info(const InfoArgs& a) {
+  if (!std::filesystem::exists(a.file)) throw InputError("cannot open '" + a.file + "': no such file");
+  json j;
+  if (ends_with(a.file, ".nii") || ends_with(a.file, ".nii.gz")) {
+    j = image_info(a.file);
+  } else if (ends_with(a.file, ".h5")) {
+    j = mesh_info(a.file);
+  } else {
+    throw InputError("'" + a.file + "': unknown kind of file (expected .nii, .nii.gz or mesh .h5)");
+  }
+  if (a.as_json) {
+    std::cout << j.dump(2) << "\n";
+  } else {
+    print_human(j);
+  }
+}
+
+}  // namespace
+
+void add_info_command(CLI::App& app) {
+  auto args = std::make_shared<InfoArgs>();
+  CLI::App* sub = app.add_subcommand("info",
+                                     "Summarise an image (.nii/.nii.gz) or a mesh (.h5): counts, bounding box, "
+                                     "volume, labels, element quality.");
+  sub->add_option("file", args->file, "Image or mesh file")->required();
+  sub->add_flag("--json", args->as_json, "Print machine-readable JSON (keys documented in docs/file-formats.md)");
+  sub->callback([args]() { run_info(*args); });
+}
+
+}  // namespace adamss::app

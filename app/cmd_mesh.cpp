@@ -1,0 +1,128 @@
+// adamss mesh IMAGE --solid 1 --topology T -o mesh.h5: voxel lattice -> mesh.
+#include <chrono>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+
+#include "app/commands.hpp"
+#include "common/error.hpp"
+#include "preprocess/fibre_field.hpp"
+#include "preprocess/lattice_mesher.hpp"
+#include "preprocess/mesh_io.hpp"
+#include "preprocess/mesh_quality.hpp"
+#include "preprocess/nifti_io.hpp"
+
+namespace adamss::app {
+namespace {
+
+struct MeshArgs {
+  std::string image;
+  std::vector<int> solid{1};
+  std::string topology = "tet6m";
+  std::string fiber;
+  std::string sheet;
+  bool strict = false;
+  std::string output;
+  std::string vtu;
+  bool no_vtu = false;
+};
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+void run_mesh(const MeshArgs& a) {
+  using namespace preprocess;
+  const auto t_start = Clock::now();
+  const Topology topo = parse_topology(a.topology);
+  if (topo == Topology::Cgal) {
+    throw InputError("--topology cgal: the CGAL Mesh_3 mesher is not built yet (use hex, tet5, tet5m, tet6, tet6m)");
+  }
+  if (a.fiber.empty() != a.sheet.empty()) throw InputError("--fiber and --sheet must be given together");
+  require_parent_dir(a.output, "-o");
+  const std::string vtu =
+      a.no_vtu ? "" : (a.vtu.empty() ? std::filesystem::path(a.output).replace_extension(".vtu").string() : a.vtu);
+  if (!vtu.empty()) require_parent_dir(vtu, "--vtu");
+
+  auto t = Clock::now();
+  const LabelImage image = read_label_image(a.image);
+  const double t_read = since(t);
+
+  t = Clock::now();
+  LatticeMeshOptions opt;
+  opt.topology = topo;
+  opt.solid_labels.assign(a.solid.begin(), a.solid.end());
+  Mesh mesh = mesh_lattice(image, opt);
+  mesh.attributes["source"] = a.image;
+  const double t_mesh = since(t);
+
+  double t_fibre = 0.0;
+  if (!a.fiber.empty()) {
+    t = Clock::now();
+    const VectorImage f = read_vector_image(a.fiber);
+    const VectorImage s = read_vector_image(a.sheet);
+    const FibreReport rep = assign_fibres(mesh, image.grid, f, a.fiber, s, a.sheet, a.strict);
+    mesh.attributes["fiber_source"] = a.fiber;
+    mesh.attributes["sheet_source"] = a.sheet;
+    t_fibre = since(t);
+    if (rep.filled_elements > 0) {
+      std::cout << "fibres: " << rep.filled_elements
+                << " elements had no valid fibre/sheet sample and were filled from neighbours (e.g. element "
+                << rep.filled_examples.front() << ")\n";
+    }
+  }
+
+  t = Clock::now();
+  const QualitySummary q = summarize_quality(mesh);
+  const ConformityReport conf = check_conformity(mesh);
+  const double t_check = since(t);
+  if (q.inverted > 0) throw NumericalError("mesher produced " + std::to_string(q.inverted) + " inverted elements");
+  if (conf.overshared_faces > 0) {
+    throw NumericalError("mesher produced a non-conforming mesh (" + std::to_string(conf.overshared_faces) +
+                         " faces in more than two elements)");
+  }
+  mesh.attributes["meshing_seconds"] = std::to_string(t_mesh + t_fibre);
+
+  t = Clock::now();
+  write_mesh_h5(a.output, mesh);
+  if (!vtu.empty()) write_mesh_vtu(vtu, mesh, q.element_volume, q.element_min_dihedral);
+  const double t_write = since(t);
+
+  std::cout << std::setprecision(6) << "mesh " << topology_name(topo) << ": " << mesh.node_count() << " nodes, "
+            << mesh.element_count() << " " << element_type_name(mesh.type) << " elements, volume " << q.volume_m3 * 1e9
+            << " mm^3\n"
+            << "  dihedral angle min " << q.min_dihedral_deg << " deg, mean of element minima " << q.mean_dihedral_deg
+            << " deg\n"
+            << "  boundary: " << conf.boundary_faces << " faces, "
+            << (conf.closed_manifold() ? "closed 2-manifold" : "NOT a closed 2-manifold") << " ("
+            << conf.nonmanifold_edges << " non-manifold edges, " << conf.nonmanifold_vertices
+            << " non-manifold vertices)\n"
+            << "  time: read " << t_read << " s, mesh " << t_mesh << " s, fibres " << t_fibre << " s, checks "
+            << t_check << " s, write " << t_write << " s, total " << since(t_start) << " s\n"
+            << "wrote " << a.output << (vtu.empty() ? "" : " and " + vtu) << "\n";
+}
+
+}  // namespace
+
+void add_mesh_command(CLI::App& app) {
+  auto args = std::make_shared<MeshArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "mesh",
+      "Mesh the solid labels of a labelled NIfTI image: hex (one hexahedron per voxel), tet5/tet5m "
+      "(5 tetrahedra per voxel, alternating so faces match), tet6 (6 per voxel around the main diagonal), "
+      "tet6m (6 per voxel, mirrored 2x2x2 kernel). Writes mesh.h5 and a .vtu for ParaView.");
+  sub->add_option("image", args->image, "Labelled image (.nii or .nii.gz)")->required();
+  sub->add_option("--solid", args->solid, "Label(s) to mesh, comma separated")->delimiter(',')->capture_default_str();
+  sub->add_option("--topology", args->topology, "hex | tet5 | tet5m | tet6 | tet6m")->capture_default_str();
+  sub->add_option("--fiber", args->fiber, "Fibre vector image on the same lattice (interpolated to elements)");
+  sub->add_option("--sheet", args->sheet, "Sheet vector image on the same lattice");
+  sub->add_flag("--strict", args->strict, "Reject elements without a valid fibre sample instead of filling them");
+  sub->add_option("-o,--output", args->output, "Output mesh.h5")->required();
+  sub->add_option("--vtu", args->vtu, "Where to write the .vtu (default: the output name with .vtu)");
+  sub->add_flag("--no-vtu", args->no_vtu, "Do not write the .vtu");
+  sub->callback([args]() { run_mesh(*args); });
+}
+
+}  // namespace adamss::app

@@ -1,0 +1,32 @@
+# Every third-party package adamss links, found the way that works on Debian 12
+# (see docs/architecture.md, "Dependencies"). scripts/install-deps installs them.
+
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+find_package(nlohmann_json 3.10 REQUIRED)
+find_package(CLI11 REQUIRED)
+find_package(fmt REQUIRED)
+find_package(ZLIB REQUIRED)
+find_package(MPI REQUIRED COMPONENTS C CXX)
+
+# HDF5: the OpenMPI flavour, the same MPI PETSc uses.
+set(HDF5_PREFER_PARALLEL TRUE)
+find_package(HDF5 REQUIRED COMPONENTS C)
+
+# VTK: always name the components, otherwise VTK 9.1 asks for Qt.
+find_package(VTK REQUIRED COMPONENTS CommonCore CommonDataModel IOXML)
+
+# nifti_clib: Debian's FindNIFTI looks in the wrong folder, so build the target here.
+# Only libnifti2 (reads NIfTI-1 and NIfTI-2); never libniftiio beside it.
+find_path(NIFTI2_INCLUDE_DIR nifti2_io.h PATH_SUFFIXES nifti REQUIRED)
+find_library(NIFTI2_LIBRARY nifti2 REQUIRED)
+find_library(ZNZ_LIBRARY znz REQUIRED)
+if(NOT TARGET adamss_nifti2)
+  add_library(adamss_nifti2 INTERFACE)
+  target_include_directories(adamss_nifti2 SYSTEM INTERFACE ${NIFTI2_INCLUDE_DIR})
+  target_link_libraries(adamss_nifti2 INTERFACE ${NIFTI2_LIBRARY} ${ZNZ_LIBRARY} ZLIB::ZLIB m)
+  add_library(adamss::nifti2 ALIAS adamss_nifti2)
+endif()
+
+if(ADAMSS_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+endif()

@@ -1,0 +1,22 @@
+#pragma once
+// Error types shared by every layer. An error's message is one line that names
+// what was wrong and where (file, option, key path, element), so the CLI can
+// print it as is and exit non-zero.
+#include <stdexcept>
+#include <string>
+
+namespace adamss {
+
+/// Bad input supplied by the user: a file, an option value, a scene key.
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// A numerical failure during a computation (inverted element, NaN, no convergence).
+class NumericalError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace adamss

@@ -1,0 +1,58 @@
+#pragma once
+// The mesh data model every layer shares (written to mesh.h5, read by the solver).
+// Structure of arrays: nodes as a 3xN matrix (metres), connectivity as one flat
+// index array, per-element fields as 3xE matrices. Node order within an element
+// follows VTK (VTK_TETRA, VTK_HEXAHEDRON) and every element has positive volume.
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace adamss::preprocess {
+
+using Index = std::int32_t;
+
+enum class ElementType { Tet4, Hex8 };
+
+[[nodiscard]] constexpr int nodes_per_element(ElementType t) {
+  return t == ElementType::Tet4 ? 4 : 8;
+}
+[[nodiscard]] constexpr const char* element_type_name(ElementType t) {
+  return t == ElementType::Tet4 ? "tet4" : "hex8";
+}
+
+/// A closed surface bounding a cavity (filled by the preprocessing issue).
+struct Cavity {
+  std::vector<std::array<Index, 3>> faces;  ///< wall triangles, normals into the cavity
+  std::vector<std::array<Index, 3>> lid;    ///< closing triangles (not part of the wall)
+  double volume_m3 = 0.0;                   ///< reference volume (divergence theorem)
+  bool closed = false;
+};
+
+struct Mesh {
+  ElementType type = ElementType::Tet4;
+  Eigen::Matrix3Xd nodes;            ///< positions in metres, column = node
+  std::vector<Index> connectivity;   ///< nodes_per_element(type) entries per element
+  std::vector<std::int32_t> labels;  ///< image label per element
+  Eigen::Matrix3Xd fiber;            ///< unit fibre per element (0 columns if none)
+  Eigen::Matrix3Xd sheet;            ///< unit sheet, orthogonal to fibre
+  Eigen::Matrix3Xd normal;           ///< fibre x sheet
+  std::map<std::string, std::vector<Index>> node_tags;
+  std::map<std::string, Eigen::VectorXd> cell_scalars;  ///< extra per-element fields
+  std::map<std::string, Cavity> cavities;
+  std::map<std::string, std::string> attributes;  ///< source, topology, version, ...
+  double voxel_size_m = 0.0;                      ///< source lattice spacing (0 if none)
+
+  [[nodiscard]] std::size_t node_count() const { return static_cast<std::size_t>(nodes.cols()); }
+  [[nodiscard]] std::size_t element_count() const {
+    return connectivity.size() / static_cast<std::size_t>(nodes_per_element(type));
+  }
+  [[nodiscard]] const Index* element(std::size_t e) const {
+    return connectivity.data() + e * static_cast<std::size_t>(nodes_per_element(type));
+  }
+  [[nodiscard]] bool has_fibres() const { return fiber.cols() > 0; }
+};
+
+}  // namespace adamss::preprocess

@@ -1,0 +1,203 @@
+// .vtu (VTK XML unstructured grid) writer for preprocess::Mesh, for ParaView.
+//
+// Arrays are filled through raw pointers (no per-element InsertNextValue), the cells are
+// handed over as one offsets + connectivity pair, and the file is written binary appended
+// uncompressed to a temporary name, then renamed over the target.
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkCellType.h>
+#include <vtkCommand.h>
+#include <vtkDoubleArray.h>
+#include <vtkErrorCode.h>
+#include <vtkExecutive.h>
+#include <vtkIdTypeArray.h>
+#include <vtkIntArray.h>
+#include <vtkNew.h>
+#include <vtkPoints.h>
+#include <vtkSmartPointer.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridWriter.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <string>
+#include <system_error>
+
+#include "common/error.hpp"
+#include "preprocess/mesh_io.hpp"
+
+namespace adamss::preprocess {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Captures a VTK object's error messages instead of letting them go to stderr.
+class ErrorCatcher : public vtkCommand {
+ public:
+  static ErrorCatcher* New() { return new ErrorCatcher; }
+  void Execute(vtkObject* /*caller*/, unsigned long /*event*/, void* data) override {
+    if (data != nullptr) {
+      if (!message.empty()) message += "; ";
+      std::string text = static_cast<const char*>(data);
+      // VTK messages are multi-line ("ERROR: In file, line N\nclass (ptr): text\n"); keep the text.
+      while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+      if (const auto colon = text.rfind("): "); colon != std::string::npos) text = text.substr(colon + 3);
+      std::replace(text.begin(), text.end(), '\n', ' ');
+      message += text;
+    }
+  }
+  std::string message;
+};
+
+/// vtkErrorCode::GetStringFromErrorCode lives in VTK::CommonMisc, which we do not link.
+std::string describe_vtk_error(unsigned long code) {
+  switch (code) {
+    case vtkErrorCode::NoError:
+      return "unknown error";
+    case vtkErrorCode::FileNotFoundError:
+      return "file not found";
+    case vtkErrorCode::CannotOpenFileError:
+      return "cannot open file";
+    case vtkErrorCode::NoFileNameError:
+      return "no file name";
+    case vtkErrorCode::OutOfDiskSpaceError:
+      return "out of disk space";
+    default:
+      return "VTK error code " + std::to_string(code);
+  }
+}
+
+vtkSmartPointer<vtkDoubleArray> vector_array(const char* name, const Eigen::Matrix3Xd& m) {
+  auto a = vtkSmartPointer<vtkDoubleArray>::New();
+  a->SetName(name);
+  a->SetNumberOfComponents(3);
+  a->SetNumberOfTuples(m.cols());
+  if (m.cols() > 0) std::copy_n(m.data(), 3 * m.cols(), a->GetPointer(0));
+  return a;
+}
+
+vtkSmartPointer<vtkDoubleArray> scalar_array(const char* name, const double* values, vtkIdType n) {
+  auto a = vtkSmartPointer<vtkDoubleArray>::New();
+  a->SetName(name);
+  a->SetNumberOfComponents(1);
+  a->SetNumberOfTuples(n);
+  if (n > 0) std::copy_n(values, n, a->GetPointer(0));
+  return a;
+}
+
+}  // namespace
+
+void write_mesh_vtu(const std::filesystem::path& path, const Mesh& mesh, const std::vector<double>& element_volume,
+                    const std::vector<double>& element_quality) {
+  const std::string file = path.string();
+  auto fail = [&file](const std::string& what) { throw InputError(file + ": " + what); };
+
+  const int k = nodes_per_element(mesh.type);
+  if (mesh.connectivity.size() % static_cast<std::size_t>(k) != 0)
+    fail("connectivity has " + std::to_string(mesh.connectivity.size()) + " entries, not a multiple of " +
+         std::to_string(k));
+  const auto E = static_cast<vtkIdType>(mesh.element_count());
+  const auto N = static_cast<vtkIdType>(mesh.node_count());
+  auto check_count = [&](const char* what, std::size_t n) {
+    if (static_cast<vtkIdType>(n) != E)
+      fail(std::string("cell array ") + what + ": " + std::to_string(n) + " values for " + std::to_string(E) +
+           " elements");
+  };
+  check_count("label", mesh.labels.size());
+  check_count("volume", element_volume.size());
+  check_count("quality", element_quality.size());
+  if (mesh.has_fibres()) {
+    check_count("fiber", static_cast<std::size_t>(mesh.fiber.cols()));
+    check_count("sheet", static_cast<std::size_t>(mesh.sheet.cols()));
+    check_count("normal", static_cast<std::size_t>(mesh.normal.cols()));
+  }
+  for (const auto& [name, values] : mesh.cell_scalars) {
+    if (name == "label" || name == "volume" || name == "quality" || name == "fiber" || name == "sheet" ||
+        name == "normal")
+      fail("cell scalar '" + name + "' collides with a built-in cell array name");
+    check_count(name.c_str(), static_cast<std::size_t>(values.size()));
+  }
+  for (std::size_t i = 0; i < mesh.connectivity.size(); ++i) {
+    if (mesh.connectivity[i] < 0 || mesh.connectivity[i] >= N)
+      fail("element " + std::to_string(i / static_cast<std::size_t>(k)) + " references node " +
+           std::to_string(mesh.connectivity[i]) + " but the mesh has " + std::to_string(N) + " nodes");
+  }
+
+  const fs::path parent = path.parent_path();
+  std::error_code ec;
+  if (!parent.empty() && !fs::is_directory(parent, ec))
+    fail("cannot write: directory " + parent.string() + " does not exist");
+
+  // Points (Matrix3Xd is x,y,z per node, contiguous: the layout vtkPoints wants).
+  auto coords = vector_array("Points", mesh.nodes);
+  vtkNew<vtkPoints> points;
+  points->SetData(coords);
+
+  // Cells: one offsets array and one connectivity array (VTK node order already).
+  vtkNew<vtkIdTypeArray> offsets;
+  offsets->SetNumberOfValues(E + 1);
+  vtkIdType* off = offsets->GetPointer(0);
+  for (vtkIdType e = 0; e <= E; ++e) off[e] = e * k;
+  vtkNew<vtkIdTypeArray> conn;
+  conn->SetNumberOfValues(static_cast<vtkIdType>(mesh.connectivity.size()));
+  if (!mesh.connectivity.empty()) std::copy(mesh.connectivity.begin(), mesh.connectivity.end(), conn->GetPointer(0));
+  vtkNew<vtkCellArray> cells;
+  cells->SetData(offsets, conn);
+
+  vtkNew<vtkUnstructuredGrid> grid;
+  grid->SetPoints(points);
+  grid->SetCells(mesh.type == ElementType::Tet4 ? VTK_TETRA : VTK_HEXAHEDRON, cells);
+
+  // Cell data.
+  vtkCellData* cd = grid->GetCellData();
+  {
+    vtkNew<vtkIntArray> label;
+    label->SetName("label");
+    label->SetNumberOfValues(E);
+    if (E > 0) std::copy(mesh.labels.begin(), mesh.labels.end(), label->GetPointer(0));
+    cd->AddArray(label);
+  }
+  cd->AddArray(scalar_array("volume", element_volume.data(), E));
+  cd->AddArray(scalar_array("quality", element_quality.data(), E));
+  if (mesh.has_fibres()) {
+    cd->AddArray(vector_array("fiber", mesh.fiber));
+    cd->AddArray(vector_array("sheet", mesh.sheet));
+    cd->AddArray(vector_array("normal", mesh.normal));
+  }
+  for (const auto& [name, values] : mesh.cell_scalars) cd->AddArray(scalar_array(name.c_str(), values.data(), E));
+
+  // Write to a temporary name, then rename over the target.
+  const fs::path tmp = fs::path(file + ".tmp");
+  vtkNew<vtkXMLUnstructuredGridWriter> writer;
+  auto catcher = vtkSmartPointer<ErrorCatcher>::New();
+  writer->AddObserver(vtkCommand::ErrorEvent, catcher);
+  // On failure the pipeline executive adds its own "Algorithm ... returned failure" error, which
+  // would otherwise go to stderr; swallow it (the writer's message says what went wrong).
+  auto executive_catcher = vtkSmartPointer<ErrorCatcher>::New();
+  writer->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, executive_catcher);
+  writer->SetFileName(tmp.c_str());
+  writer->SetInputData(grid);
+  writer->SetDataModeToAppended();
+  writer->EncodeAppendedDataOff();  // raw binary, not base64
+  writer->SetHeaderTypeToUInt64();  // arrays larger than 4 GiB stay valid
+  // No compression: for a 1.2 M-tet mesh with fibres zlib (even level 1) takes ~5.5 s for a
+  // 38 % smaller file, LZ4 ~1.1 s for 28 %; uncompressed takes ~0.5 s. mesh.h5 is the
+  // canonical file, the .vtu is for viewing: speed wins.
+  writer->SetCompressorTypeToNone();
+  const int ok = writer->Write();
+  const unsigned long code = writer->GetErrorCode();
+  if (ok != 1 || code != vtkErrorCode::NoError) {
+    fs::remove(tmp, ec);
+    std::string why = catcher->message;
+    if (why.empty()) why = describe_vtk_error(code);
+    fail("cannot write .vtu: " + why);
+  }
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    fail("cannot rename " + tmp.string() + " to " + file + ": " + ec.message());
+  }
+}
+
+}  // namespace adamss::preprocess

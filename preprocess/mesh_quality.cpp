@@ -1,0 +1,121 @@
+#include "preprocess/mesh_quality.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <numeric>
+
+#include "preprocess/element_faces.hpp"
+
+namespace adamss::preprocess {
+namespace {
+
+constexpr double kRadToDeg = 180.0 / std::numbers::pi;
+
+Eigen::Vector3d node(const Mesh& m, Index i) {
+  return m.nodes.col(i);
+}
+
+double angle_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const double c = a.dot(b) / (a.norm() * b.norm());
+  return std::acos(std::clamp(c, -1.0, 1.0));
+}
+
+double tet_min_dihedral(const Mesh& m, const Index* n) {
+  std::array<Eigen::Vector3d, 4> normal;
+  for (int f = 0; f < 4; ++f) {
+    const auto& lf = kTetFaces[static_cast<std::size_t>(f)];
+    const Eigen::Vector3d a = node(m, n[lf[0]]), b = node(m, n[lf[1]]), c = node(m, n[lf[2]]);
+    normal[static_cast<std::size_t>(f)] = (b - a).cross(c - a);
+  }
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < 4; ++i)
+    for (std::size_t j = i + 1; j < 4; ++j)
+      best = std::min(best, std::numbers::pi - angle_between(normal[i], normal[j]));
+  return best * kRadToDeg;
+}
+
+double hex_min_dihedral(const Mesh& m, const Index* n) {
+  double best = std::numeric_limits<double>::infinity();
+  for (int c = 0; c < 8; ++c) {
+    const Eigen::Vector3d x = node(m, n[c]);
+    std::array<Eigen::Vector3d, 3> e;
+    for (int axis = 0; axis < 3; ++axis) {
+      e[static_cast<std::size_t>(axis)] =
+          node(m, n[kHexNeighbour[static_cast<std::size_t>(c)][static_cast<std::size_t>(axis)]]) - x;
+    }
+    for (std::size_t a = 0; a < 3; ++a) {
+      const Eigen::Vector3d t = e[a].normalized();
+      const Eigen::Vector3d u = e[(a + 1) % 3] - e[(a + 1) % 3].dot(t) * t;
+      const Eigen::Vector3d w = e[(a + 2) % 3] - e[(a + 2) % 3].dot(t) * t;
+      best = std::min(best, angle_between(u, w));
+    }
+  }
+  return best * kRadToDeg;
+}
+
+}  // namespace
+
+double element_volume(const Mesh& mesh, std::size_t e) {
+  const Index* n = mesh.element(e);
+  if (mesh.type == ElementType::Tet4) {
+    const Eigen::Vector3d x0 = node(mesh, n[0]);
+    return (node(mesh, n[1]) - x0).dot((node(mesh, n[2]) - x0).cross(node(mesh, n[3]) - x0)) / 6.0;
+  }
+  // Hexahedron: 2x2x2 Gauss integral of det J over the unit parameter cube.
+  // det J of a trilinear map has degree <= 2 in each parameter, so this is exact.
+  static const std::array<std::array<Eigen::Vector3d, 8>, 8> grads = [] {
+    std::array<std::array<Eigen::Vector3d, 8>, 8> g{};
+    const double o = 0.5 / std::sqrt(3.0);
+    for (int q = 0; q < 8; ++q) {
+      const double r = 0.5 + ((q & 1) ? o : -o), s = 0.5 + ((q & 2) ? o : -o), t = 0.5 + ((q & 4) ? o : -o);
+      for (int a = 0; a < 8; ++a) {
+        const int c = kHexCornerCode[static_cast<std::size_t>(a)];
+        const bool cx = c & 1, cy = c & 2, cz = c & 4;
+        const double nx = cx ? r : 1 - r, ny = cy ? s : 1 - s, nz = cz ? t : 1 - t;
+        g[static_cast<std::size_t>(q)][static_cast<std::size_t>(a)] =
+            Eigen::Vector3d((cx ? 1 : -1) * ny * nz, nx * (cy ? 1 : -1) * nz, nx * ny * (cz ? 1 : -1));
+      }
+    }
+    return g;
+  }();
+  double v = 0.0;
+  for (std::size_t q = 0; q < 8; ++q) {
+    Eigen::Matrix3d jac = Eigen::Matrix3d::Zero();
+    for (std::size_t a = 0; a < 8; ++a) jac += node(mesh, n[a]) * grads[q][a].transpose();
+    v += jac.determinant();
+  }
+  return v / 8.0;
+}
+
+double element_min_dihedral_deg(const Mesh& mesh, std::size_t e) {
+  return mesh.type == ElementType::Tet4 ? tet_min_dihedral(mesh, mesh.element(e))
+                                        : hex_min_dihedral(mesh, mesh.element(e));
+}
+
+QualitySummary summarize_quality(const Mesh& mesh) {
+  QualitySummary q;
+  const std::size_t ne = mesh.element_count();
+  q.element_volume.resize(ne);
+  q.element_min_dihedral.resize(ne);
+  q.min_dihedral_deg = ne ? std::numeric_limits<double>::infinity() : 0.0;
+  double sum_angle = 0.0;
+  for (std::size_t e = 0; e < ne; ++e) {
+    const double v = element_volume(mesh, e);
+    const double a = element_min_dihedral_deg(mesh, e);
+    q.element_volume[e] = v;
+    q.element_min_dihedral[e] = a;
+    q.volume_m3 += v;
+    if (!(v > 0.0)) ++q.inverted;
+    if (a < 10.0) ++q.below_10_deg;
+    q.min_dihedral_deg = std::min(q.min_dihedral_deg, a);
+    sum_angle += a;
+  }
+  q.mean_dihedral_deg = ne ? sum_angle / static_cast<double>(ne) : 0.0;
+  return q;
+}
+
+}  // namespace adamss::preprocess

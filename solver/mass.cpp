@@ -1,0 +1,35 @@
+#include "solver/mass.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "common/error.hpp"
+#include "preprocess/mesh_quality.hpp"
+
+namespace adamss::solver {
+
+Eigen::VectorXd voronoi_masses(const preprocess::Mesh& mesh, const std::vector<double>& density) {
+  const std::size_t ne = mesh.element_count();
+  if (density.size() != ne) {
+    throw InputError("voronoi_masses: " + std::to_string(density.size()) + " densities for " + std::to_string(ne) +
+                     " elements");
+  }
+  const int k = preprocess::nodes_per_element(mesh.type);
+  Eigen::VectorXd m = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(mesh.node_count()));
+  for (std::size_t e = 0; e < ne; ++e) {
+    if (!(density[e] >= 0.0) || !std::isfinite(density[e])) {
+      throw InputError("element " + std::to_string(e) + ": density must be finite and >= 0, got " +
+                       std::to_string(density[e]));
+    }
+    const double v = preprocess::element_volume(mesh, e);
+    if (!(v > 0.0)) {
+      throw InputError("element " + std::to_string(e) + " has non-positive volume " + std::to_string(v));
+    }
+    const double share = density[e] * v / k;
+    const preprocess::Index* nodes = mesh.element(e);
+    for (int a = 0; a < k; ++a) m[nodes[a]] += share;
+  }
+  return m;
+}
+
+}  // namespace adamss::solver

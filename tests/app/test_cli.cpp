@@ -1,0 +1,77 @@
+// End-to-end tests of the adamss executable: phantom -> mesh -> info, and the
+// one-line errors of bad input.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "cli_runner.hpp"
+
+using adamss::test::run_adamss;
+using adamss::test::scratch_dir;
+using nlohmann::json;
+
+TEST(Cli, HelpListsSubcommands) {
+  const auto r = run_adamss("--help");
+  EXPECT_EQ(r.exit_code, 0);
+  for (const char* s : {"phantom", "mesh", "info"}) EXPECT_NE(r.output.find(s), std::string::npos) << s;
+}
+
+TEST(Cli, PhantomMeshInfoPipeline) {
+  const auto dir = scratch_dir("pipeline");
+  const std::string img = (dir / "lv.nii.gz").string(), f = (dir / "f.nii.gz").string(),
+                    s = (dir / "s.nii.gz").string();
+  const std::string mesh = (dir / "lv.h5").string();
+  auto r = run_adamss("phantom lv --voxel-size 1mm -o " + img + " --fiber-out " + f + " --sheet-out " + s);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_adamss("info " + img + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const json ji = json::parse(r.output);
+  EXPECT_EQ(ji["kind"], "image");
+  EXPECT_NEAR(ji["spacing_m"][0].get<double>(), 1e-3, 1e-12);
+  const std::int64_t solid_voxels = ji["labels"]["1"].get<std::int64_t>();
+  EXPECT_GT(solid_voxels, 0);
+
+  r = run_adamss("mesh " + img + " --solid 1 --topology tet6m --fiber " + f + " --sheet " + s + " -o " + mesh);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "lv.vtu"));
+  r = run_adamss("info " + mesh + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const json jm = json::parse(r.output);
+  EXPECT_EQ(jm["kind"], "mesh");
+  EXPECT_EQ(jm["element_type"], "tet4");
+  EXPECT_EQ(jm["elements"].get<std::int64_t>(), 6 * solid_voxels);
+  EXPECT_EQ(jm["labels"]["1"].get<std::int64_t>(), 6 * solid_voxels);
+  EXPECT_NEAR(jm["volume_m3"].get<double>(), static_cast<double>(solid_voxels) * 1e-9,
+              1e-9 * 1e-9 * static_cast<double>(solid_voxels));
+  EXPECT_NEAR(jm["min_dihedral_deg"].get<double>(), 45.0, 1e-6);
+  EXPECT_TRUE(jm["has_fibres"].get<bool>());
+  for (const char* key : {"nodes", "mean_dihedral_deg", "cavities"}) EXPECT_TRUE(jm.contains(key)) << key;
+}
+
+TEST(Cli, ErrorsAreOneLineNamingTheCulprit) {
+  const auto dir = scratch_dir("errors");
+  struct Case {
+    std::string args, must_contain;
+  };
+  const std::string img = (dir / "slab.nii").string();
+  ASSERT_EQ(run_adamss("phantom slab --size 2,2,2 -o " + img).exit_code, 0);
+  std::ofstream(dir / "garbage.nii") << "this is not a NIfTI file";
+  const Case cases[] = {
+      {"mesh " + (dir / "missing.nii.gz").string() + " -o " + (dir / "m.h5").string(), "missing.nii.gz"},
+      {"mesh " + (dir / "garbage.nii").string() + " -o " + (dir / "m.h5").string(), "garbage.nii"},
+      {"mesh " + img + " --solid 9 -o " + (dir / "m.h5").string(), "--solid"},
+      {"mesh " + img + " --topology tet7 -o " + (dir / "m.h5").string(), "tet7"},
+      {"mesh " + img + " -o " + (dir / "no_such_dir" / "m.h5").string(), "no_such_dir"},
+      {"phantom lv --voxel-size 5ms -o " + (dir / "x.nii").string(), "--voxel-size"},
+      {"phantom lv --helix-endo 120 -o " + (dir / "x.nii").string(), "--helix-endo"},
+      {"phantom beam --fiber-out " + (dir / "f.nii").string() + " -o " + (dir / "x.nii").string(), "--fiber-out"},
+      {"info " + (dir / "nothing.h5").string(), "nothing.h5"},
+  };
+  for (const Case& c : cases) {
+    const auto r = run_adamss(c.args);
+    EXPECT_NE(r.exit_code, 0) << c.args;
+    EXPECT_NE(r.output.find(c.must_contain), std::string::npos) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find("error"), std::string::npos) << c.args << "\n" << r.output;
+  }
+}
