@@ -1,0 +1,88 @@
+#include "solver/edge_springs.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/error.hpp"
+
+namespace adamss::solver {
+namespace {
+
+// Local VTK tetrahedron and hexahedron edges, and the hexahedron's diagonals.
+constexpr int kTetEdges[6][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
+constexpr int kHexEdges[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6},
+                                  {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+constexpr int kHexFaceDiagonals[12][2] = {{0, 2}, {1, 3}, {4, 6}, {5, 7}, {0, 5}, {1, 4},
+                                          {1, 6}, {2, 5}, {2, 7}, {3, 6}, {3, 4}, {0, 7}};
+constexpr int kHexCellDiagonals[4][2] = {{0, 6}, {1, 7}, {2, 4}, {3, 5}};
+
+}  // namespace
+
+double EdgeSpringKernel::energy(std::size_t i, const Mat3N<2>& x, const Mat3N<2>& /*v*/, double /*t*/) const {
+  const double stretch = (x.col(1) - x.col(0)).norm() - rest_length[i];
+  return 0.5 * stiffness[i] * stretch * stretch;
+}
+
+void EdgeSpringKernel::forces(std::size_t i, const Mat3N<2>& x, const Mat3N<2>& /*v*/, double /*t*/,
+                              Mat3N<2>& f) const {
+  const Eigen::Vector3d d = x.col(1) - x.col(0);
+  const double l = d.norm();
+  const Eigen::Vector3d f1 = -stiffness[i] * (l - rest_length[i]) / l * d;
+  f.col(1) += f1;
+  f.col(0) -= f1;
+}
+
+void EdgeSpringKernel::jacobian(std::size_t i, const Mat3N<2>& x, const Mat3N<2>& /*v*/, double /*t*/, MatJ<2>& dfdx,
+                                MatJ<2>& /*dfdv*/) const {
+  const Eigen::Vector3d d = x.col(1) - x.col(0);
+  const double l = d.norm();
+  const double ratio = rest_length[i] / l;
+  const Eigen::Matrix3d k =
+      -stiffness[i] * ((1.0 - ratio) * Eigen::Matrix3d::Identity() + ratio * d * d.transpose() / (l * l));
+  dfdx.block<3, 3>(3, 3) += k;
+  dfdx.block<3, 3>(3, 0) -= k;
+  dfdx.block<3, 3>(0, 3) -= k;
+  dfdx.block<3, 3>(0, 0) += k;
+}
+
+std::vector<std::array<Index, 2>> mesh_edges(const preprocess::Mesh& mesh, bool face_diagonals, bool cell_diagonals) {
+  std::vector<std::array<Index, 2>> out;
+  const bool tet = mesh.type == preprocess::ElementType::Tet4;
+  auto push = [&out](Index a, Index b) { out.push_back({std::min(a, b), std::max(a, b)}); };
+  for (std::size_t e = 0; e < mesh.element_count(); ++e) {
+    const Index* n = mesh.element(e);
+    if (tet) {
+      for (const auto& p : kTetEdges) push(n[p[0]], n[p[1]]);
+      continue;
+    }
+    for (const auto& p : kHexEdges) push(n[p[0]], n[p[1]]);
+    if (face_diagonals)
+      for (const auto& p : kHexFaceDiagonals) push(n[p[0]], n[p[1]]);
+    if (cell_diagonals)
+      for (const auto& p : kHexCellDiagonals) push(n[p[0]], n[p[1]]);
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+EdgeSpringKernel make_edge_springs(const std::vector<std::array<Index, 2>>& edges, const Eigen::Matrix3Xd& x0,
+                                   double k) {
+  if (!(k > 0.0) || !std::isfinite(k)) {
+    throw InputError("edge_springs.stiffness: must be a positive number (N/m), got " + std::to_string(k));
+  }
+  EdgeSpringKernel kern;
+  kern.edges = edges;
+  kern.rest_length.resize(edges.size());
+  kern.stiffness.assign(edges.size(), k);
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    kern.rest_length[i] = (x0.col(edges[i][1]) - x0.col(edges[i][0])).norm();
+    if (!(kern.rest_length[i] > 0.0)) {
+      throw InputError("edge_springs: edge " + std::to_string(edges[i][0]) + "-" + std::to_string(edges[i][1]) +
+                       " has zero length (duplicate nodes?)");
+    }
+  }
+  return kern;
+}
+
+}  // namespace adamss::solver

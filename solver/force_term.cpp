@@ -1,0 +1,25 @@
+#include "solver/force_term.hpp"
+
+#include "common/error.hpp"
+
+namespace adamss::solver {
+
+void require_jacobians(const std::vector<std::unique_ptr<ForceTerm>>& terms, const std::string& solver_name) {
+  std::string missing;
+  for (const auto& t : terms) {
+    if (!t->has_jacobian()) missing += (missing.empty() ? "" : ", ") + t->name();
+  }
+  if (!missing.empty()) {
+    throw InputError(solver_name + " needs the Jacobian of every force term, but these are explicit-only: " + missing +
+                     " (use an explicit integrator or another form of these terms)");
+  }
+}
+
+double total_energy(const std::vector<std::unique_ptr<ForceTerm>>& terms, const StateView& s) {
+  double e = 0.0;
+  for (const auto& t : terms)
+    if (t->has_energy()) e += t->energy(s);
+  return e;
+}
+
+}  // namespace adamss::solver

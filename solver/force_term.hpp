@@ -1,0 +1,60 @@
+#pragma once
+// The one interface every force of the model implements.
+//
+// A force term maps the state (positions x, velocities v, time t) to nodal
+// forces f(x, v, t) in newtons. Conservative terms also give the potential
+// energy E(x) with f = -dE/dx. Terms used by the implicit integrators give the
+// Jacobians df/dx and df/dv as 3x3 blocks between node pairs. A term without an
+// analytic Jacobian says so (has_jacobian() == false) and the implicit and
+// static solvers refuse it by name (require_jacobians) -- a missing tangent is
+// never silently zero.
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "preprocess/mesh.hpp"
+
+namespace adamss::solver {
+
+using preprocess::Index;
+
+/// What a term reads: positions (m), velocities (m/s), time (s), all 3 x n.
+struct StateView {
+  const Eigen::Matrix3Xd& x;
+  const Eigen::Matrix3Xd& v;
+  double t = 0.0;
+};
+
+/// Receives Jacobian contributions: block (a, b) adds d f_a / d x_b and d f_a / d v_b.
+class JacobianSink {
+ public:
+  virtual ~JacobianSink() = default;
+  virtual void add_block(Index a, Index b, const Eigen::Matrix3d& dfdx, const Eigen::Matrix3d& dfdv) = 0;
+};
+
+class ForceTerm {
+ public:
+  virtual ~ForceTerm() = default;
+  /// Scene name of the term, used in messages ("axial_springs", "gravity", ...).
+  [[nodiscard]] virtual std::string name() const = 0;
+  /// True if energy() is defined and f = -grad E.
+  [[nodiscard]] virtual bool has_energy() const = 0;
+  /// True if add_jacobian() gives the exact derivatives of add_forces().
+  [[nodiscard]] virtual bool has_jacobian() const = 0;
+  /// Potential energy (J). Throws std::logic_error when has_energy() is false.
+  [[nodiscard]] virtual double energy(const StateView& s) const = 0;
+  /// Adds this term's nodal forces (N) to f (3 x n).
+  virtual void add_forces(const StateView& s, Eigen::Matrix3Xd& f) const = 0;
+  /// Adds df/dx and df/dv blocks. Throws std::logic_error when has_jacobian() is false.
+  virtual void add_jacobian(const StateView& s, JacobianSink& sink) const = 0;
+};
+
+/// Throws adamss::InputError naming every term without a Jacobian, for `solver_name`
+/// (e.g. "backward Euler"), which needs them all.
+void require_jacobians(const std::vector<std::unique_ptr<ForceTerm>>& terms, const std::string& solver_name);
+
+/// Total energy of the terms that have one.
+double total_energy(const std::vector<std::unique_ptr<ForceTerm>>& terms, const StateView& s);
+
+}  // namespace adamss::solver
