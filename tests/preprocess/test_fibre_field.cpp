@@ -4,7 +4,7 @@
 #include <functional>
 
 #include "common/error.hpp"
-#include "lattice_fixtures.hpp"
+#include "support/lattice_fixtures.hpp"
 #include "preprocess/fibre_field.hpp"
 #include "preprocess/lattice_mesher.hpp"
 

@@ -4,7 +4,7 @@
 #include <set>
 
 #include "common/error.hpp"
-#include "lattice_fixtures.hpp"
+#include "support/lattice_fixtures.hpp"
 #include "preprocess/lattice_mesher.hpp"
 #include "preprocess/mesh_quality.hpp"
 

@@ -6,20 +6,14 @@
 #include "solver/edge_springs.hpp"
 #include "solver/gravity.hpp"
 #include "solver/mass.hpp"
+#include "support/lattice_fixtures.hpp"
 
 using namespace adamss;
 using solver::StencilTerm;
 
 namespace {
 preprocess::Mesh block(preprocess::Topology t) {
-  preprocess::LabelImage img;
-  img.grid.dims = {2, 2, 1};
-  img.grid.index_to_world = Eigen::Matrix4d::Identity() * 1e-3;
-  img.grid.index_to_world(3, 3) = 1.0;
-  img.labels.assign(4, 1);
-  preprocess::LatticeMeshOptions o;
-  o.topology = t;
-  return preprocess::mesh_lattice(img, o);
+  return test::block_mesh(2, 2, 1, t);
 }
 }  // namespace
 

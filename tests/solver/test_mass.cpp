@@ -3,19 +3,13 @@
 #include "common/error.hpp"
 #include "preprocess/lattice_mesher.hpp"
 #include "solver/mass.hpp"
+#include "support/lattice_fixtures.hpp"
 
 using namespace adamss;
 
 namespace {
 preprocess::Mesh slab(preprocess::Topology t) {
-  preprocess::LabelImage img;
-  img.grid.dims = {3, 2, 2};
-  img.grid.index_to_world = Eigen::Matrix4d::Identity() * 1e-3;
-  img.grid.index_to_world(3, 3) = 1.0;
-  img.labels.assign(12, 1);
-  preprocess::LatticeMeshOptions o;
-  o.topology = t;
-  return preprocess::mesh_lattice(img, o);
+  return test::block_mesh(3, 2, 2, t);
 }
 }  // namespace
 

@@ -1,8 +1,10 @@
 #pragma once
 // Small label images for mesher tests.
 #include <Eigen/Geometry>
+#include <algorithm>
 
 #include "preprocess/image.hpp"
+#include "preprocess/lattice_mesher.hpp"
 
 namespace adamss::test {
 
@@ -15,6 +17,15 @@ inline preprocess::LabelImage blank_image(std::int64_t nx, std::int64_t ny, std:
   img.grid.index_to_world(3, 3) = 1.0;
   img.labels.assign(img.grid.voxel_count(), 0);
   return img;
+}
+
+/// A mesh of an nx*ny*nz block of 1 mm voxels, all label 1.
+inline preprocess::Mesh block_mesh(std::int64_t nx, std::int64_t ny, std::int64_t nz, preprocess::Topology t) {
+  auto img = blank_image(nx, ny, nz);
+  std::fill(img.labels.begin(), img.labels.end(), 1);
+  preprocess::LatticeMeshOptions o;
+  o.topology = t;
+  return preprocess::mesh_lattice(img, o);
 }
 
 /// A voxelised ball of radius r voxels centred in an n^3 image, label 1.
