@@ -1,0 +1,119 @@
+#include "solver/virtual_hex.hpp"
+
+#include <string>
+
+#include "common/error.hpp"
+
+namespace adamss::solver {
+
+template <int K>
+double VirtualHexKernel<K>::energy(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& /*v*/, double /*t*/) const {
+  const Eigen::Matrix3d F = deformation_gradient(i, x);
+  return volume0[i] * law->energy(fibre_strain(i, F));
+}
+
+template <int K>
+void VirtualHexKernel<K>::forces(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& /*v*/, double /*t*/,
+                                 Mat3N<K>& f) const {
+  const Eigen::Matrix3d F = deformation_gradient(i, x);
+  const Eigen::Matrix3d& B = frame[i];
+  const Eigen::Matrix3d S = B * law->stress(fibre_strain(i, F)) * B.transpose();
+  const Eigen::Matrix3d P = F * S;
+  // f_a = -V0 P g_a for all a at once: -V0 P G^T.
+  f.noalias() -= volume0[i] * P * gradient[i].transpose();
+}
+
+template <int K>
+void VirtualHexKernel<K>::jacobian(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& /*v*/, double /*t*/, MatJ<K>& dfdx,
+                                   MatJ<K>& /*dfdv*/) const {
+  const Eigen::Matrix3d F = deformation_gradient(i, x);
+  const Eigen::Matrix3d& B = frame[i];
+  const Eigen::Matrix3d Ef = fibre_strain(i, F);
+  const Eigen::Matrix3d S = B * law->stress(Ef) * B.transpose();
+  const Eigen::Matrix<double, K, 3>& G = gradient[i];
+  const double v0 = volume0[i];
+  const Eigen::Matrix<double, 3, K> gt = G.transpose();  // column a = g_a
+  const Eigen::Matrix<double, 3, K> sg = S * gt;         // column a = S g_a
+  for (int b = 0; b < K; ++b) {
+    const Eigen::Vector3d gb = gt.col(b);
+    for (int j = 0; j < 3; ++j) {
+      // dE = sym(F^T e_j g_b^T); F^T e_j = row j of F.
+      const Eigen::Vector3d fj = F.row(j).transpose();
+      const Eigen::Matrix3d dE = 0.5 * (fj * gb.transpose() + gb * fj.transpose());
+      const Eigen::Matrix3d dS = B * law->apply_tangent(Ef, B.transpose() * dE * B) * B.transpose();
+      // df_a = -V0 [ (g_b . S g_a) e_j + F dS g_a ] for all a: 3 x K.
+      Eigen::Matrix<double, 3, K> df = F * (dS * gt);
+      df.row(j) += gb.transpose() * sg;
+      df *= -v0;
+      for (int a = 0; a < K; ++a) dfdx.template block<3, 1>(3 * a, 3 * b + j) += df.col(a);
+    }
+  }
+}
+
+template struct VirtualHexKernel<4>;
+template struct VirtualHexKernel<8>;
+
+template <int K>
+VirtualHexKernel<K> make_virtual_hex_kernel(const preprocess::Mesh& mesh, const AxisFrames& frames,
+                                            std::shared_ptr<const materials::Law> law,
+                                            const std::vector<std::size_t>* element_subset) {
+  if (!law) throw InputError("virtual_hexahedron: no constitutive law given");
+  const preprocess::ElementType want = K == 4 ? preprocess::ElementType::Tet4 : preprocess::ElementType::Hex8;
+  if (mesh.type != want || frames.type != want) {
+    throw InputError("virtual_hexahedron: mesh/axis-frame element type does not match a " + std::to_string(K) +
+                     "-node kernel");
+  }
+  const std::size_t ne = mesh.element_count();
+  std::vector<char> selected(ne, element_subset ? 0 : 1);
+  if (element_subset) {
+    for (std::size_t e : *element_subset) {
+      if (e >= ne) {
+        throw InputError("virtual_hexahedron: element " + std::to_string(e) + " out of range (mesh has " +
+                         std::to_string(ne) + ")");
+      }
+      selected[e] = 1;
+    }
+  }
+  VirtualHexKernel<K> kern;
+  kern.law = std::move(law);
+  std::vector<char> found(ne, 0);
+  const auto& grads = frames.template nodal_gradient<K>();
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    const std::size_t e = frames.element[k];
+    if (e >= ne || !selected[e]) continue;
+    found[e] = 1;
+    std::array<Index, K> st{};
+    const Index* n = mesh.element(e);
+    for (int a = 0; a < K; ++a) st[static_cast<std::size_t>(a)] = n[a];
+    kern.elements.push_back(st);
+    kern.gradient.push_back(grads[k]);
+    kern.frame.push_back(frames.frame[k]);
+    kern.volume0.push_back(frames.volume0[k]);
+  }
+  for (std::size_t e = 0; e < ne; ++e) {
+    if (selected[e] && !found[e]) {
+      throw InputError("virtual_hexahedron: element " + std::to_string(e) + " has no axis frame");
+    }
+  }
+  return kern;
+}
+
+template VirtualHexKernel<4> make_virtual_hex_kernel<4>(const preprocess::Mesh&, const AxisFrames&,
+                                                        std::shared_ptr<const materials::Law>,
+                                                        const std::vector<std::size_t>*);
+template VirtualHexKernel<8> make_virtual_hex_kernel<8>(const preprocess::Mesh&, const AxisFrames&,
+                                                        std::shared_ptr<const materials::Law>,
+                                                        const std::vector<std::size_t>*);
+
+std::unique_ptr<ForceTerm> make_virtual_hex_term(const preprocess::Mesh& mesh, const AxisFrames& frames,
+                                                 std::shared_ptr<const materials::Law> law,
+                                                 const std::vector<std::size_t>* element_subset) {
+  if (mesh.type == preprocess::ElementType::Tet4) {
+    return std::make_unique<StencilTerm<VirtualHexKernel<4>, 4>>(
+        make_virtual_hex_kernel<4>(mesh, frames, std::move(law), element_subset));
+  }
+  return std::make_unique<StencilTerm<VirtualHexKernel<8>, 8>>(
+      make_virtual_hex_kernel<8>(mesh, frames, std::move(law), element_subset));
+}
+
+}  // namespace adamss::solver

@@ -1,0 +1,101 @@
+#pragma once
+// The virtual-hexahedron force term: continuum-mechanics deformation forces of
+// the Adamss model (seed 000 sec. 2.4.2.2, eqs. 2.56-2.74).
+//
+// Per element k (tetrahedron K = 4 or hexahedron K = 8), with the axis-frame data
+// of solver/axis_frame.hpp:
+//   F   = X G                      deformation gradient, X the 3 x K current nodes,
+//                                  G = C D Z0^{-1} (K x 3) the axis-frame nodal gradient
+//   E   = 1/2 (F^T F - I)          Green strain, global frame
+//   E_f = B^T E B                  in the fibre frame, B = [f s n]
+//   W   = W(E_f), S_f = dW/dE_f    the law (materials::Law), fibre frame
+//   S   = B S_f B^T                2nd Piola-Kirchhoff stress, global frame
+//   P   = F S                      1st Piola-Kirchhoff stress
+//   energy_k = V0 W                V0 = element reference volume (frames.volume0)
+//   f_a = -dE/dx_a = -V0 P g_a     g_a = row a of G as a 3-vector
+// (dW = S_f : dE_f = S : dE = S : sym(F^T dF) = P : dF, and dF/dx_a = (.) (x) g_a.)
+//
+// Relation to the thesis (eq. 2.56): f_{2l} = R_v A_l^0 F B S_f n_{2l}^0 on the
+// intersection points, f_{2l+1} = -f_{2l}, distributed to the nodes with C (eq. 2.29).
+// The reference axes zeta_l^0 are parallel to the orthonormal B e_l, so Z0 = B diag(l^0)
+// and the virtual hexahedron is a cuboid: V_h^0 = l_0 l_1 l_2, A_l^0 = V_h^0 / l_l^0,
+// hence R_v A_l^0 = V0 / l_l^0. With F B S_f e_l = P (B e_l) and
+// g_a = Z0^{-T} D^T C^T e_a = sum_l (C_{a,2l} - C_{a,2l+1}) B e_l / l_l^0, the thesis's nodal
+// force sum_q C_aq f_q is exactly V0 P g_a: the thesis's R_v-scaled face tractions are
+// the gradient of the energy V0 W(E_f(F)). Its sign convention is that of the force the
+// element exerts on its surroundings (traction P n on the outward face); this term
+// returns the force on the nodes, f = -dE/dx, the opposite sign. F is the axis-frame
+// F = Z Z0^{-1} (deformation_gradient_from_points); for tetrahedra it equals the FEM
+// gradient of eqs. (2.68)-(2.72), so this term is then the linear-FEM internal force.
+//
+// Jacobian (derivation): perturb node b by delta x_b = e_j (j = 0, 1, 2). Then
+//   dF  = e_j g_b^T
+//   dE  = sym(F^T dF) = 1/2 (F^T e_j g_b^T + g_b e_j^T F)
+//   dS  = B C_f(E_f)[B^T dE B] B^T     (apply_tangent of the law, fibre frame)
+//   dP  = dF S + F dS
+//   df_a = -V0 dP g_a = -V0 [ (g_b . S g_a) e_j + F dS g_a ]
+// so column 3b + j of the local 3K x 3K matrix holds df_a / d(x_b)_j for all a.
+// That is 3K apply_tangent calls per element. dF/dv = 0, so df/dv = 0.
+//
+// No allocation in the per-element calls (fixed-size Eigen only).
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "materials/law.hpp"
+#include "preprocess/mesh.hpp"
+#include "solver/axis_frame.hpp"
+#include "solver/stencil_term.hpp"
+
+namespace adamss::solver {
+
+template <int K>
+struct VirtualHexKernel {
+  static_assert(K == 4 || K == 8, "K must be 4 (tet) or 8 (hex)");
+  static constexpr bool kHasEnergy = true;
+  static constexpr bool kHasJacobian = true;
+
+  std::vector<std::array<Index, K>> elements;         ///< node indices of each element
+  std::vector<Eigen::Matrix<double, K, 3>> gradient;  ///< G (1/m): F = X G
+  std::vector<Eigen::Matrix3d> frame;                 ///< B = [f s n], fibre frame -> global
+  std::vector<double> volume0;                        ///< V0 (m^3)
+  std::shared_ptr<const materials::Law> law;
+
+  [[nodiscard]] std::string name() const { return "virtual_hexahedron"; }
+  [[nodiscard]] std::size_t size() const { return elements.size(); }
+  [[nodiscard]] std::array<Index, K> stencil(std::size_t i) const { return elements[i]; }
+
+  /// F = X G of item i.
+  [[nodiscard]] Eigen::Matrix3d deformation_gradient(std::size_t i, const Mat3N<K>& x) const { return x * gradient[i]; }
+  /// Green strain in the fibre frame, E_f = B^T 1/2 (F^T F - I) B.
+  [[nodiscard]] Eigen::Matrix3d fibre_strain(std::size_t i, const Eigen::Matrix3d& F) const {
+    const Eigen::Matrix3d fb = F * frame[i];
+    return 0.5 * (fb.transpose() * fb - Eigen::Matrix3d::Identity());
+  }
+
+  [[nodiscard]] double energy(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& v, double t) const;
+  void forces(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& v, double t, Mat3N<K>& f) const;
+  void jacobian(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& v, double t, MatJ<K>& dfdx, MatJ<K>& dfdv) const;
+};
+
+extern template struct VirtualHexKernel<4>;
+extern template struct VirtualHexKernel<8>;
+
+/// Builds the kernel from the axis frames: one item per frames entry whose mesh
+/// element is in `element_subset` (mesh element indices; all entries when null),
+/// in frames order. K must match the mesh element type. Throws adamss::InputError
+/// for a null law, a type mismatch, or a subset element without a frames entry.
+template <int K>
+[[nodiscard]] VirtualHexKernel<K> make_virtual_hex_kernel(const preprocess::Mesh& mesh, const AxisFrames& frames,
+                                                          std::shared_ptr<const materials::Law> law,
+                                                          const std::vector<std::size_t>* element_subset = nullptr);
+
+/// The term (StencilTerm<VirtualHexKernel<K>, K>) with K chosen by the mesh's element
+/// type. A scene with several materials makes one term per material, each with its
+/// own law and element subset. Same errors as make_virtual_hex_kernel.
+[[nodiscard]] std::unique_ptr<ForceTerm> make_virtual_hex_term(
+    const preprocess::Mesh& mesh, const AxisFrames& frames, std::shared_ptr<const materials::Law> law,
+    const std::vector<std::size_t>* element_subset = nullptr);
+
+}  // namespace adamss::solver
