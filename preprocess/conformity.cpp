@@ -7,16 +7,11 @@
 #include <vector>
 
 #include "preprocess/element_faces.hpp"
+#include "preprocess/face_table.hpp"
 #include "preprocess/mesh_quality.hpp"
 
 namespace adamss::preprocess {
 namespace {
-
-struct FaceRecord {
-  std::array<Index, 4> key;  // sorted node ids (tets: key[3] = -1 before sorting)
-  std::uint32_t element;
-  std::uint8_t local;
-};
 
 struct DirectedEdge {
   Index lo, hi;
@@ -89,32 +84,7 @@ std::size_t count_nonmanifold_vertices(std::vector<LinkEdge>& links) {
 
 ConformityReport check_conformity(const Mesh& mesh) {
   ConformityReport rep;
-  const bool tet = mesh.type == ElementType::Tet4;
-  const int faces_per = tet ? 4 : 6;
-  const std::size_t ne = mesh.element_count();
-
-  std::vector<FaceRecord> faces;
-  faces.reserve(ne * static_cast<std::size_t>(faces_per));
-  for (std::size_t e = 0; e < ne; ++e) {
-    const Index* n = mesh.element(e);
-    for (int f = 0; f < faces_per; ++f) {
-      FaceRecord r{};
-      if (tet) {
-        const auto& lf = kTetFaces[static_cast<std::size_t>(f)];
-        r.key = {n[lf[0]], n[lf[1]], n[lf[2]], -1};
-      } else {
-        const auto& lf = kHexFaces[static_cast<std::size_t>(f)];
-        r.key = {n[lf[0]], n[lf[1]], n[lf[2]], n[lf[3]]};
-      }
-      std::sort(r.key.begin(), r.key.end());
-      r.element = static_cast<std::uint32_t>(e);
-      r.local = static_cast<std::uint8_t>(f);
-      faces.push_back(r);
-    }
-  }
-  std::sort(faces.begin(), faces.end(), [](const FaceRecord& a, const FaceRecord& b) {
-    return a.key != b.key ? a.key < b.key : a.element < b.element;
-  });
+  const std::vector<FaceRecord> faces = sorted_face_records(mesh);
 
   std::vector<DirectedEdge> edges;
   std::vector<LinkEdge> links;

@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
-#include "preprocess/element_faces.hpp"
+#include "preprocess/face_table.hpp"
 
 namespace adamss::preprocess {
 namespace {
@@ -30,35 +30,15 @@ void require_same_lattice(const Grid& label, const Grid& img, const std::string&
 
 /// Face-adjacency of elements (-1 where a face is on the boundary).
 std::vector<std::array<std::int64_t, 6>> face_neighbours(const Mesh& mesh) {
-  const bool tet = mesh.type == ElementType::Tet4;
-  const int nf = tet ? 4 : 6;
-  struct Rec {
-    std::array<Index, 4> key;
-    std::int64_t e;
-    int f;
-  };
-  std::vector<Rec> recs;
-  recs.reserve(mesh.element_count() * static_cast<std::size_t>(nf));
-  for (std::size_t e = 0; e < mesh.element_count(); ++e) {
-    const Index* n = mesh.element(e);
-    for (int f = 0; f < nf; ++f) {
-      Rec r{{-1, -1, -1, -1}, static_cast<std::int64_t>(e), f};
-      for (int a = 0; a < (tet ? 3 : 4); ++a)
-        r.key[static_cast<std::size_t>(a)] =
-            n[tet ? kTetFaces[static_cast<std::size_t>(f)][static_cast<std::size_t>(a)]
-                  : kHexFaces[static_cast<std::size_t>(f)][static_cast<std::size_t>(a)]];
-      std::sort(r.key.begin(), r.key.end());
-      recs.push_back(r);
-    }
-  }
-  std::sort(recs.begin(), recs.end(), [](const Rec& a, const Rec& b) { return a.key < b.key; });
+  const std::vector<FaceRecord> faces = sorted_face_records(mesh);
   std::vector<std::array<std::int64_t, 6>> nb(mesh.element_count());
   for (auto& a : nb) a.fill(-1);
-  for (std::size_t i = 0; i + 1 < recs.size(); ++i) {
-    if (recs[i].key == recs[i + 1].key) {
-      nb[static_cast<std::size_t>(recs[i].e)][static_cast<std::size_t>(recs[i].f)] = recs[i + 1].e;
-      nb[static_cast<std::size_t>(recs[i + 1].e)][static_cast<std::size_t>(recs[i + 1].f)] = recs[i].e;
-    }
+  for (std::size_t i = 0; i + 1 < faces.size(); ++i) {
+    if (faces[i].key != faces[i + 1].key) continue;
+    const FaceRecord& a = faces[i];
+    const FaceRecord& b = faces[i + 1];
+    nb[a.element][a.local] = b.element;
+    nb[b.element][b.local] = a.element;
   }
   return nb;
 }

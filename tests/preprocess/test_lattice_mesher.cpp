@@ -4,9 +4,10 @@
 #include <set>
 
 #include "common/error.hpp"
-#include "support/lattice_fixtures.hpp"
+#include "preprocess/element_faces.hpp"
 #include "preprocess/lattice_mesher.hpp"
 #include "preprocess/mesh_quality.hpp"
+#include "support/lattice_fixtures.hpp"
 
 using namespace adamss::preprocess;
 using adamss::test::ball_image;
@@ -142,7 +143,7 @@ TEST(LatticeMesher, HexVolumeFormulaMatchesGaussIntegralOnDistortedHex) {
   Mesh m;
   m.type = ElementType::Hex8;
   m.nodes.resize(3, 8);
-  const int codes[8] = {0, 1, 3, 2, 4, 5, 7, 6};
+  const auto& codes = kHexCornerCode;
   Eigen::Matrix<double, 3, 8> x;
   for (int a = 0; a < 8; ++a) {
     const int c = codes[a];
