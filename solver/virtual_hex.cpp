@@ -17,7 +17,7 @@ void VirtualHexKernel<K>::forces(std::size_t i, const Mat3N<K>& x, const Mat3N<K
                                  Mat3N<K>& f) const {
   const Eigen::Matrix3d F = deformation_gradient(i, x);
   const Eigen::Matrix3d& B = frame[i];
-  const Eigen::Matrix3d S = B * law->stress(fibre_strain(i, F)) * B.transpose();
+  const Eigen::Matrix3d S = materials::from_fibre_frame(B, law->stress(fibre_strain(i, F)));
   const Eigen::Matrix3d P = F * S;
   // f_a = -V0 P g_a for all a at once: -V0 P G^T.
   f.noalias() -= volume0[i] * P * gradient[i].transpose();
@@ -29,7 +29,7 @@ void VirtualHexKernel<K>::jacobian(std::size_t i, const Mat3N<K>& x, const Mat3N
   const Eigen::Matrix3d F = deformation_gradient(i, x);
   const Eigen::Matrix3d& B = frame[i];
   const Eigen::Matrix3d Ef = fibre_strain(i, F);
-  const Eigen::Matrix3d S = B * law->stress(Ef) * B.transpose();
+  const Eigen::Matrix3d S = materials::from_fibre_frame(B, law->stress(Ef));
   const Eigen::Matrix<double, K, 3>& G = gradient[i];
   const double v0 = volume0[i];
   const Eigen::Matrix<double, 3, K> gt = G.transpose();  // column a = g_a
@@ -40,7 +40,8 @@ void VirtualHexKernel<K>::jacobian(std::size_t i, const Mat3N<K>& x, const Mat3N
       // dE = sym(F^T e_j g_b^T); F^T e_j = row j of F.
       const Eigen::Vector3d fj = F.row(j).transpose();
       const Eigen::Matrix3d dE = 0.5 * (fj * gb.transpose() + gb * fj.transpose());
-      const Eigen::Matrix3d dS = B * law->apply_tangent(Ef, B.transpose() * dE * B) * B.transpose();
+      const Eigen::Matrix3d dS =
+          materials::from_fibre_frame(B, law->apply_tangent(Ef, materials::to_fibre_frame(B, dE)));
       // df_a = -V0 [ (g_b . S g_a) e_j + F dS g_a ] for all a: 3 x K.
       Eigen::Matrix<double, 3, K> df = F * (dS * gt);
       df.row(j) += gb.transpose() * sg;

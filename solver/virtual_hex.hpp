@@ -43,6 +43,7 @@
 #include <string>
 #include <vector>
 
+#include "materials/kinematics.hpp"
 #include "materials/law.hpp"
 #include "preprocess/mesh.hpp"
 #include "solver/axis_frame.hpp"
@@ -70,8 +71,7 @@ struct VirtualHexKernel {
   [[nodiscard]] Eigen::Matrix3d deformation_gradient(std::size_t i, const Mat3N<K>& x) const { return x * gradient[i]; }
   /// Green strain in the fibre frame, E_f = B^T 1/2 (F^T F - I) B.
   [[nodiscard]] Eigen::Matrix3d fibre_strain(std::size_t i, const Eigen::Matrix3d& F) const {
-    const Eigen::Matrix3d fb = F * frame[i];
-    return 0.5 * (fb.transpose() * fb - Eigen::Matrix3d::Identity());
+    return materials::green_strain<double>(F * frame[i]);
   }
 
   [[nodiscard]] double energy(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& v, double t) const;
