@@ -48,6 +48,12 @@ class ForceTerm {
   virtual void add_forces(const StateView& s, Eigen::Matrix3Xd& f) const = 0;
   /// Adds df/dx and df/dv blocks. Throws std::logic_error when has_jacobian() is false.
   virtual void add_jacobian(const StateView& s, JacobianSink& sink) const = 0;
+  /// Called once after every accepted time step with the new state and the step
+  /// taken (s). Terms with internal state (the LMS-adaptive volume springs, eq. 2.81)
+  /// update it here; the default does nothing.
+  virtual void end_step(const StateView& /*s*/, double /*dt*/) {}
+  /// Short human description for the run log ("764 elements, law hunter").
+  [[nodiscard]] virtual std::string describe() const { return {}; }
 };
 
 /// Throws adamss::InputError naming every term without a Jacobian, for `solver_name`

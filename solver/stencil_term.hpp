@@ -17,8 +17,10 @@
 //   void jacobian(std::size_t item, const Mat3N& x, const Mat3N& v, double t,
 //                 MatJ& dfdx, MatJ& dfdv) const;               // MatJ = 3N x 3N, local (a,b) block at (3a, 3b)
 // (energy/jacobian may be left undefined when the matching flag is false.)
+// Optional: void end_step(const StateView& s, double dt);   // state update after a step
 #include <array>
 #include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "solver/force_term.hpp"
@@ -39,6 +41,13 @@ class StencilTerm final : public ForceTerm {
   [[nodiscard]] bool has_energy() const override { return Kernel::kHasEnergy; }
   [[nodiscard]] bool has_jacobian() const override { return Kernel::kHasJacobian; }
   [[nodiscard]] const Kernel& kernel() const { return kernel_; }
+  [[nodiscard]] Kernel& kernel() { return kernel_; }
+
+  /// Forwards to `kernel.end_step(s, dt)` when the kernel has internal state.
+  void end_step(const StateView& s, double dt) override {
+    if constexpr (requires { kernel_.end_step(s, dt); }) kernel_.end_step(s, dt);
+  }
+  [[nodiscard]] std::string describe() const override { return std::to_string(kernel_.size()) + " items"; }
 
   [[nodiscard]] double energy(const StateView& s) const override {
     if constexpr (Kernel::kHasEnergy) {
