@@ -8,13 +8,14 @@
 int main(int argc, char** argv) {
   CLI::App app{
       "adamss - anisotropic mass-spring system for cardiac mechanics.\n"
-      "Turns labelled voxel images into meshes and (with later releases) simulates them.\n"
+      "Turns labelled voxel images into meshes and simulates them (adamss run SCENE.yaml -o OUT/).\n"
       "Run 'adamss SUBCOMMAND --help' for the options of each step."};
   app.set_version_flag("--version", "adamss 0.1.0");
   app.require_subcommand(1);
   adamss::app::add_phantom_command(app);
   adamss::app::add_mesh_command(app);
   adamss::app::add_info_command(app);
+  adamss::app::add_run_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -7,6 +7,8 @@ find_package(CLI11 REQUIRED)
 find_package(fmt REQUIRED)
 find_package(ZLIB REQUIRED)
 find_package(MPI REQUIRED COMPONENTS C CXX)
+find_package(yaml-cpp REQUIRED)
+find_package(OpenMP REQUIRED COMPONENTS CXX)
 
 # HDF5: the OpenMPI flavour, the same MPI PETSc uses.
 set(HDF5_PREFER_PARALLEL TRUE)

@@ -19,7 +19,7 @@ struct UnitDef {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-constexpr std::array<UnitDef, 27> kUnits{{
+constexpr std::array<UnitDef, 48> kUnits{{
     {"m", Dimension::Length, 1.0},
     {"cm", Dimension::Length, 1e-2},
     {"mm", Dimension::Length, 1e-3},
@@ -47,6 +47,27 @@ constexpr std::array<UnitDef, 27> kUnits{{
     {"ml", Dimension::Volume, 1e-6},
     {"mL", Dimension::Volume, 1e-6},
     {"l", Dimension::Volume, 1e-3},
+    {"J", Dimension::Energy, 1.0},
+    {"mJ", Dimension::Energy, 1e-3},
+    {"uJ", Dimension::Energy, 1e-6},
+    {"nJ", Dimension::Energy, 1e-9},
+    {"N", Dimension::Force, 1.0},
+    {"mN", Dimension::Force, 1e-3},
+    {"N/m", Dimension::Stiffness, 1.0},
+    {"N/mm", Dimension::Stiffness, 1e3},
+    {"Pa s", Dimension::Viscosity, 1.0},
+    {"Pa*s", Dimension::Viscosity, 1.0},
+    {"kPa s", Dimension::Viscosity, 1e3},
+    {"kPa*s", Dimension::Viscosity, 1e3},
+    {"1/s", Dimension::Rate, 1.0},
+    {"Hz", Dimension::Rate, 1.0},
+    {"1/ms", Dimension::Rate, 1e3},
+    {"N s/m", Dimension::Damping, 1.0},
+    {"N*s/m", Dimension::Damping, 1.0},
+    {"kg/s", Dimension::Damping, 1.0},
+    {"m^2", Dimension::Area, 1.0},
+    {"mm^2", Dimension::Area, 1e-6},
+    {"cm^2", Dimension::Area, 1e-4},
 }};
 
 std::string_view trim(std::string_view s) {
@@ -77,6 +98,20 @@ std::string dimension_name(Dimension d) {
       return "angle (rad)";
     case Dimension::Volume:
       return "volume (m^3)";
+    case Dimension::Energy:
+      return "energy (J)";
+    case Dimension::Force:
+      return "force (N)";
+    case Dimension::Stiffness:
+      return "stiffness (N/m)";
+    case Dimension::Viscosity:
+      return "viscosity (Pa s)";
+    case Dimension::Rate:
+      return "rate (1/s)";
+    case Dimension::Damping:
+      return "damping coefficient (N s/m)";
+    case Dimension::Area:
+      return "area (m^2)";
   }
   return "unknown";
 }

@@ -17,6 +17,13 @@ enum class Dimension {
   Velocity,      ///< m/s
   Angle,         ///< rad
   Volume,        ///< m^3
+  Energy,        ///< J
+  Force,         ///< N
+  Stiffness,     ///< N/m
+  Viscosity,     ///< Pa s
+  Rate,          ///< 1/s
+  Damping,       ///< N s/m (= kg/s)
+  Area,          ///< m^2
 };
 
 /// Human name of a dimension with its SI unit, e.g. "length (m)".

@@ -9,6 +9,7 @@
 // static solvers refuse it by name (require_jacobians) -- a missing tangent is
 // never silently zero.
 #include <Eigen/Core>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -52,6 +53,11 @@ class ForceTerm {
   /// taken (s). Terms with internal state (the LMS-adaptive volume springs, eq. 2.81)
   /// update it here; the default does nothing.
   virtual void end_step(const StateView& /*s*/, double /*dt*/) {}
+  /// Adds per-element output fields (e.g. "active_tension" in Pa) for the result frames:
+  /// `fields[name]` has one value per mesh element (resize it to `element_count` with zeros if
+  /// absent) and the term writes its elements' values. The default adds nothing.
+  virtual void add_cell_fields(const StateView& /*s*/, std::size_t /*element_count*/,
+                               std::map<std::string, Eigen::VectorXd>& /*fields*/) const {}
   /// Short human description for the run log ("764 elements, law hunter").
   [[nodiscard]] virtual std::string describe() const { return {}; }
 };

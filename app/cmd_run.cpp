@@ -1,0 +1,156 @@
+// adamss run SCENE.yaml -o OUT/: load and validate a scene, integrate, write results.
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "app/commands.hpp"
+#include "common/error.hpp"
+#include "solver/results.hpp"
+#include "solver/run.hpp"
+#include "solver/scene.hpp"
+
+namespace adamss::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RunArgs {
+  std::string scene;
+  std::string output;
+  std::string cache;
+  bool check_only = false;
+  bool quiet = false;
+};
+
+nlohmann::json vec(const Eigen::Vector3d& v) {
+  return nlohmann::json::array({v.x(), v.y(), v.z()});
+}
+
+void write_summary(const fs::path& file, const solver::LoadedScene& sc, const solver::RunOutcome& out,
+                   const solver::State& initial) {
+  using nlohmann::json;
+  const solver::Model& m = sc.model;
+  const solver::State& s = out.final_state;
+  const double v0 = solver::total_volume(*m.mesh, m.x_ref);
+  const double v1 = solver::total_volume(*m.mesh, s.x);
+  json j;
+  j["status"] = out.status;
+  j["reason"] = out.reason;
+  j["scene"] = sc.file.string();
+  j["name"] = sc.name;
+  j["mesh"] = sc.mesh_source;
+  j["nodes"] = m.node_count();
+  j["elements"] = m.mesh->element_count();
+  j["element_type"] = preprocess::element_type_name(m.mesh->type);
+  j["integrator"] = sc.run.integrator;
+  j["steps"] = out.steps;
+  j["simulated_time_s"] = out.t;
+  j["t_end_s"] = sc.run.t_end;
+  j["wall_time_s"] = out.wall_seconds;
+  j["force_evaluations"] = out.force_evaluations;
+  j["rejected_steps"] = out.rejected_steps;
+  j["dt_s"] = {{"initial", sc.run.dt},
+               {"min_used", out.dt_min_used},
+               {"max_used", out.dt_max_used},
+               {"critical_estimate", sc.critical_dt}};
+  const double elem_steps = static_cast<double>(m.mesh->element_count()) * static_cast<double>(out.force_evaluations);
+  j["ns_per_element_evaluation"] = elem_steps > 0 ? 1e9 * out.wall_seconds / elem_steps : 0.0;
+  j["total_volume_m3"] = {{"initial", v0}, {"final", v1}, {"relative_change", (v1 - v0) / v0}};
+  j["kinetic_energy_final_J"] = solver::kinetic_energy(m.mass, s.v);
+  j["mass_kg"] = m.mass.sum();
+  json cav = json::array();
+  for (const auto& c : m.cavities) {
+    cav.push_back({{"name", c->name()},
+                   {"volume_initial_m3", c->volume(initial.x)},
+                   {"volume_final_m3", c->volume(s.x)},
+                   {"pressure_final_Pa", c->pressure(s.t)}});
+  }
+  j["cavities"] = cav;
+  json probes = json::object();
+  for (const auto& p : m.probes) {
+    probes[p.name] = {{"node", p.node},
+                      {"reference_m", vec(m.x_ref.col(p.node))},
+                      {"position_m", vec(s.x.col(p.node))},
+                      {"displacement_m", vec(s.x.col(p.node) - m.x_ref.col(p.node))}};
+  }
+  j["probes"] = probes;
+  if (out.bad_element) j["bad_element"] = *out.bad_element;
+  j["terms"] = sc.term_summary;
+  j["axis_frame_elements"] = sc.axis_frame_elements;
+  j["warnings"] = sc.warnings;
+  j["boundary"] = {{"fixed_dofs", m.constraints.fixed_dof_count()},
+                   {"controlled_dofs", m.constraints.controlled_dof_count()}};
+  const fs::path tmp = file.string() + ".tmp";
+  {
+    std::ofstream o(tmp);
+    o << std::setw(2) << j << "\n";
+    if (!o) throw InputError("cannot write " + tmp.string());
+  }
+  fs::rename(tmp, file);
+}
+
+int run_scene(const RunArgs& a) {
+  solver::SceneOptions so;
+  so.cache_dir = a.cache;
+  const auto t0 = std::chrono::steady_clock::now();
+  solver::LoadedScene sc = solver::load_scene(a.scene, so);
+  const double t_load = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const solver::Model& m = sc.model;
+  if (!a.quiet || a.check_only) {
+    std::cout << "scene " << sc.name << ": " << m.node_count() << " particles, " << m.mesh->element_count() << " "
+              << preprocess::element_type_name(m.mesh->type) << " elements, mass " << m.mass.sum() << " kg (mesh "
+              << sc.mesh_source << ", loaded in " << std::setprecision(3) << t_load << " s)\n";
+    for (const auto& t : sc.term_summary) std::cout << "  term " << t << "\n";
+    std::cout << "  boundary: " << m.constraints.fixed_dof_count() << " fixed and "
+              << m.constraints.controlled_dof_count() << " controlled coordinates\n"
+              << "  " << sc.run.integrator << ", dt " << sc.run.dt << " s, t_end " << sc.run.t_end << " s";
+    if (sc.critical_dt > 0) std::cout << ", critical step estimate " << sc.critical_dt << " s";
+    std::cout << "\n";
+    for (const auto& w : sc.warnings) std::cerr << "adamss: warning: " << w << "\n";
+  }
+  if (a.check_only) return 0;
+  if (a.output.empty()) throw InputError("-o/--output is required (the results folder)");
+
+  solver::ResultsWriter writer(a.output, sc.model);
+  solver::State s = sc.initial;
+  const solver::State initial = s;
+  sc.run.progress = !a.quiet;
+  const solver::RunOutcome out = solver::run_simulation(sc.model, s, sc.run, writer);
+  write_summary(writer.dir() / "summary.json", sc, out, initial);
+  if (!a.quiet) {
+    std::cout << out.status << " (" << out.reason << "): " << out.steps << " steps to t = " << out.t << " s in "
+              << out.wall_seconds << " s wall, " << writer.frame_count() << " frames; results in " << a.output << "\n";
+  }
+  if (out.status == "unstable" || out.status == "failed") {
+    throw NumericalError("run " + out.status + ": " + out.reason);
+  }
+  if (out.status == "interrupted") return 130;
+  return 0;
+}
+
+}  // namespace
+
+void add_run_command(CLI::App& app) {
+  auto args = std::make_shared<RunArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "run",
+      "Run a scene: build the model it describes (mesh, materials and force terms, loads, boundary conditions), "
+      "integrate in time and write OUT/summary.json, OUT/globals.csv, OUT/series.pvd with frames. "
+      "Keys of the scene file: docs/scene-reference.md.");
+  sub->add_option("scene", args->scene, "Scene file (.yaml)")->required();
+  sub->add_option("-o,--output", args->output, "Results folder (created)");
+  sub->add_option("--cache", args->cache,
+                  "Folder for meshes built from scene recipes (default $ADAMSS_CACHE_DIR or ~/.cache/adamss)");
+  sub->add_flag("--check", args->check_only, "Validate the scene and print the model summary, do not run");
+  sub->add_flag("-q,--quiet", args->quiet, "No progress line and no summary on stdout");
+  sub->callback([args]() {
+    const int rc = run_scene(*args);
+    if (rc != 0) throw CLI::RuntimeError(rc);
+  });
+}
+
+}  // namespace adamss::app

@@ -1,0 +1,92 @@
+#include "solver/integrator.hpp"
+
+#include <cmath>
+
+#include "common/error.hpp"
+#include "solver/abm3.hpp"
+
+namespace adamss::solver {
+
+System::System(Model& model) : model_(model) {
+  const auto n = static_cast<Eigen::Index>(model.node_count());
+  if (model.mass.size() != n) throw InputError("model: mass vector does not match the node count");
+  inv_mass_.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (!(model.mass[i] > 0.0) || !std::isfinite(model.mass[i])) {
+      throw InputError("model: particle " + std::to_string(i) + " has mass " + std::to_string(model.mass[i]) +
+                       " kg (every node must belong to an element with positive density)");
+    }
+    inv_mass_[i] = 1.0 / model.mass[i];
+  }
+  f_.setZero(3, n);
+  x_fixed_ = model.x_ref;
+}
+
+void System::forces(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, double t, Eigen::Matrix3Xd& f) {
+  f.setZero(3, x.cols());
+  const StateView s{x, v, t};
+  for (const auto& term : model_.terms) term->add_forces(s, f);
+  ++evaluations_;
+}
+
+void System::accelerations(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, double t, Eigen::Matrix3Xd& a) {
+  forces(x, v, t, f_);
+  a = f_.array().rowwise() * inv_mass_.transpose().array();
+  model_.constraints.constrain_acceleration(a, t);
+}
+
+void System::impose(State& s) const {
+  model_.constraints.impose(s.x, s.v, model_.x_ref, x_fixed_, s.t);
+}
+
+namespace {
+
+class ForwardEuler final : public Integrator {
+ public:
+  explicit ForwardEuler(System& sys) : sys_(sys) {}
+  [[nodiscard]] std::string name() const override { return "forward_euler"; }
+  StepReport step(State& s, double h) override {
+    sys_.accelerations(s.x, s.v, s.t, a_);
+    s.x += h * s.v;  // eq. 2.130 uses v^i
+    s.v += h * a_;   // eq. 2.129
+    s.t += h;
+    sys_.impose(s);
+    return {h, h, 1, 0, 0.0};
+  }
+
+ private:
+  System& sys_;
+  Eigen::Matrix3Xd a_;
+};
+
+class SymplecticEuler final : public Integrator {
+ public:
+  explicit SymplecticEuler(System& sys) : sys_(sys) {}
+  [[nodiscard]] std::string name() const override { return "symplectic_euler"; }
+  StepReport step(State& s, double h) override {
+    sys_.accelerations(s.x, s.v, s.t, a_);
+    s.v += h * a_;
+    s.t += h;
+    sys_.impose(s);  // prescribed velocities of t + h before they move the positions
+    s.x += h * s.v;
+    sys_.impose(s);
+    return {h, h, 1, 0, 0.0};
+  }
+
+ private:
+  System& sys_;
+  Eigen::Matrix3Xd a_;
+};
+
+}  // namespace
+
+std::unique_ptr<Integrator> make_integrator(const std::string& name, System& system, const Abm3Settings& abm) {
+  if (name == "forward_euler") return std::make_unique<ForwardEuler>(system);
+  if (name == "symplectic_euler") return std::make_unique<SymplecticEuler>(system);
+  if (name == "abm3") return std::make_unique<Abm3>(system, abm);
+  throw InputError(
+      "unknown integrator '" + name +
+      "' (explicit integrators: forward_euler, symplectic_euler, abm3; the implicit ones are not built yet)");
+}
+
+}  // namespace adamss::solver

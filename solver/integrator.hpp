@@ -1,0 +1,80 @@
+#pragma once
+// Explicit time integration of M a = f(x, v, t) (seed 000 sec. 2.5).
+//
+// System evaluates the accelerations a = M^{-1} f with the boundary conditions
+// applied (constrained coordinates get the acceleration their condition dictates)
+// and imposes the conditions on a state. Integrators advance a State by one step:
+//   forward_euler     eqs. 2.129-2.130: v+ = v + h a(x, v, t), x+ = x + h v (first order,
+//                     energy grows on an undamped oscillator: |1 + i w h| > 1)
+//   symplectic_euler  v+ = v + h a(x, v, t), x+ = x + h v+ (semi-implicit Euler; symplectic,
+//                     energy error bounded, stable for h < 2 / w_max)
+//   abm3              third-order Adams-Bashforth-Moulton predictor-corrector with step
+//                     doubling/halving (sec. 2.5.4, eqs. 2.133-2.141), see abm3.hpp
+// Every integrator is explicit: it needs forces only, no Jacobian.
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+
+#include "solver/model.hpp"
+
+namespace adamss::solver {
+
+class System {
+ public:
+  explicit System(Model& model);
+
+  /// f(x, v, t) summed over the model's terms into `f` (N, 3 x n); counts evaluations.
+  void forces(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, double t, Eigen::Matrix3Xd& f);
+  /// a = f / m on free coordinates; constrained ones from Constraints::constrain_acceleration.
+  /// The raw forces of the last call stay available in last_forces().
+  void accelerations(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, double t, Eigen::Matrix3Xd& a);
+  /// Imposes fixed and controlled coordinates on s at time s.t.
+  void impose(State& s) const;
+
+  [[nodiscard]] const Eigen::Matrix3Xd& last_forces() const { return f_; }
+  [[nodiscard]] std::size_t evaluations() const { return evaluations_; }
+  [[nodiscard]] Model& model() { return model_; }
+  [[nodiscard]] const Model& model() const { return model_; }
+  /// Positions at which fixed coordinates are held (the state at t = 0).
+  void set_fixed_positions(const Eigen::Matrix3Xd& x) { x_fixed_ = x; }
+
+ private:
+  Model& model_;
+  Eigen::VectorXd inv_mass_;
+  Eigen::Matrix3Xd f_;
+  Eigen::Matrix3Xd x_fixed_;
+  std::size_t evaluations_ = 0;
+};
+
+/// What one call of Integrator::step did.
+struct StepReport {
+  double dt = 0.0;       ///< step actually taken (s)
+  double next_dt = 0.0;  ///< step the integrator proposes next (s)
+  int evaluations = 0;   ///< force evaluations used, including rejected attempts
+  int rejected = 0;      ///< attempts rejected (ABM3 halvings)
+  double error = 0.0;    ///< ABM3 predictor-corrector difference (m), 0 otherwise
+};
+
+class Integrator {
+ public:
+  virtual ~Integrator() = default;
+  [[nodiscard]] virtual std::string name() const = 0;
+  /// Advances s by one step of (at most) `dt`; updates s.t. Forces and terms' end_step
+  /// hooks are the caller's (run loop's) business except for the force evaluations.
+  virtual StepReport step(State& s, double dt) = 0;
+  /// True if the integrator chooses its own step size (then `dt` of step() is a proposal).
+  [[nodiscard]] virtual bool adaptive() const { return false; }
+};
+
+/// Settings of the adaptive ABM3 scheme (sec. 2.5.4).
+struct Abm3Settings {
+  double error_min = 1e-9;  ///< m: all |x_corrected - x_predicted| below this -> double the step
+  double error_max = 1e-7;  ///< m: any above this -> halve the step and redo it
+  double dt_min = 1e-9;     ///< s: halving below this stops the run (NumericalError)
+  double dt_max = 1e-3;     ///< s: doubling never exceeds this
+};
+
+/// "forward_euler", "symplectic_euler", "abm3". Throws InputError listing the names otherwise.
+std::unique_ptr<Integrator> make_integrator(const std::string& name, System& system, const Abm3Settings& abm = {});
+
+}  // namespace adamss::solver

@@ -1,0 +1,66 @@
+#pragma once
+// The assembled mass-spring system (seed 000 sec. 2.3) and its state.
+//
+// A Model owns what a scene asked for and nothing else: the particles (reference
+// positions X, Voronoi masses m of eq. 2.3), the force terms the scene named, the
+// boundary conditions, and the named probes and surfaces whose values are reported.
+// The equations of motion are M a = f(x, v, t) (eqs. 2.121-2.126) with a diagonal M.
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "preprocess/mesh.hpp"
+#include "solver/boundary.hpp"
+#include "solver/force_term.hpp"
+
+namespace adamss::solver {
+
+/// Positions (m), velocities (m/s), time (s) of every particle; 3 x n.
+struct State {
+  Eigen::Matrix3Xd x;
+  Eigen::Matrix3Xd v;
+  double t = 0.0;
+};
+
+/// A named point whose position is reported (the particle nearest to a given point).
+struct Probe {
+  std::string name;
+  Index node = 0;
+};
+
+/// Something with a volume to report over time (a cavity), evaluated on the positions.
+class VolumeMonitor {
+ public:
+  virtual ~VolumeMonitor() = default;
+  [[nodiscard]] virtual std::string name() const = 0;
+  [[nodiscard]] virtual double volume(const Eigen::Matrix3Xd& x) const = 0;  ///< m^3
+  [[nodiscard]] virtual double pressure(double t) const = 0;                 ///< Pa (0 if none applied)
+};
+
+struct Model {
+  std::shared_ptr<const preprocess::Mesh> mesh;
+  Eigen::Matrix3Xd x_ref;  ///< reference positions X (m)
+  Eigen::VectorXd mass;    ///< kg per particle
+  std::vector<std::unique_ptr<ForceTerm>> terms;
+  Constraints constraints;
+  std::vector<Probe> probes;
+  std::vector<std::unique_ptr<VolumeMonitor>> cavities;
+
+  [[nodiscard]] std::size_t node_count() const { return static_cast<std::size_t>(x_ref.cols()); }
+};
+
+/// Kinetic energy 1/2 sum m_i |v_i|^2 (J).
+[[nodiscard]] double kinetic_energy(const Eigen::VectorXd& mass, const Eigen::Matrix3Xd& v);
+
+/// Sum of the signed element volumes of the mesh at positions x (m^3).
+[[nodiscard]] double total_volume(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x);
+
+/// Signed-volume test of element e at positions x (m^3), eq. 2.154: for a tetrahedron its signed
+/// volume (x1-x0).((x2-x0)x(x3-x0))/6; for a hexahedron the smallest of the eight corner
+/// parallelepipeds det(x_nx - x_a, x_ny - x_a, x_nz - x_a), oriented so that it equals the volume of a
+/// parallelepiped element (any corner turning inside out makes it <= 0).
+[[nodiscard]] double element_signed_volume_check(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x,
+                                                 std::size_t e);
+
+}  // namespace adamss::solver

@@ -1,0 +1,278 @@
+#include "solver/results.hpp"
+
+#include <hdf5.h>
+
+#include <Eigen/Dense>
+#include <array>
+#include <cstdint>
+#include <cstdio>
+#include <iomanip>
+#include <sstream>
+#include <system_error>
+
+#include "common/error.hpp"
+#include "preprocess/element_faces.hpp"
+
+namespace adamss::solver {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using preprocess::ElementType;
+using preprocess::kHexCornerCode;
+
+/// Shape-function gradients of the trilinear hexahedron at parameter point (r, s, t) in [0,1]^3.
+std::array<Eigen::Vector3d, 8> hex_gradients(double r, double s, double t) {
+  std::array<Eigen::Vector3d, 8> g{};
+  for (std::size_t a = 0; a < 8; ++a) {
+    const int c = kHexCornerCode[a];
+    const bool cx = (c & 1) != 0, cy = (c & 2) != 0, cz = (c & 4) != 0;
+    const double nx = cx ? r : 1 - r, ny = cy ? s : 1 - s, nz = cz ? t : 1 - t;
+    g[a] = Eigen::Vector3d((cx ? 1 : -1) * ny * nz, nx * (cy ? 1 : -1) * nz, nx * ny * (cz ? 1 : -1));
+  }
+  return g;
+}
+
+/// dx/dxi (tet: edge matrix; hex: Jacobian at the centre) of element e at positions x.
+Eigen::Matrix3d element_map(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x, std::size_t e) {
+  const preprocess::Index* n = mesh.element(e);
+  Eigen::Matrix3d j;
+  if (mesh.type == ElementType::Tet4) {
+    for (int k = 0; k < 3; ++k) j.col(k) = x.col(n[k + 1]) - x.col(n[0]);
+    return j;
+  }
+  static const std::array<Eigen::Vector3d, 8> g = hex_gradients(0.5, 0.5, 0.5);
+  j.setZero();
+  for (std::size_t a = 0; a < 8; ++a) j += x.col(n[a]) * g[a].transpose();
+  return j;
+}
+
+void put_u64(std::string& buf, std::uint64_t v) {
+  buf.append(reinterpret_cast<const char*>(&v), sizeof v);
+}
+
+template <class T>
+void put_block(std::string& buf, const T* data, std::size_t count) {
+  put_u64(buf, static_cast<std::uint64_t>(count * sizeof(T)));
+  buf.append(reinterpret_cast<const char*>(data), count * sizeof(T));
+}
+
+std::string xml_escape(const std::string& s) {
+  std::string out;
+  for (const char c : s) {
+    if (c == '&') {
+      out += "&amp;";
+    } else if (c == '<') {
+      out += "&lt;";
+    } else if (c == '"') {
+      out += "&quot;";
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<double> element_volumes(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x) {
+  const std::size_t ne = mesh.element_count();
+  std::vector<double> v(ne);
+  if (mesh.type == ElementType::Tet4) {
+    for (std::size_t e = 0; e < ne; ++e) v[e] = element_map(mesh, x, e).determinant() / 6.0;
+    return v;
+  }
+  static const std::array<std::array<Eigen::Vector3d, 8>, 8> gauss = [] {
+    std::array<std::array<Eigen::Vector3d, 8>, 8> g{};
+    const double o = 0.5 / std::sqrt(3.0);
+    for (int q = 0; q < 8; ++q)
+      g[static_cast<std::size_t>(q)] =
+          hex_gradients(0.5 + ((q & 1) ? o : -o), 0.5 + ((q & 2) ? o : -o), 0.5 + ((q & 4) ? o : -o));
+    return g;
+  }();
+  for (std::size_t e = 0; e < ne; ++e) {
+    const preprocess::Index* n = mesh.element(e);
+    double s = 0.0;
+    for (std::size_t q = 0; q < 8; ++q) {
+      Eigen::Matrix3d j = Eigen::Matrix3d::Zero();
+      for (std::size_t a = 0; a < 8; ++a) j += x.col(n[a]) * gauss[q][a].transpose();
+      s += j.determinant();
+    }
+    v[e] = s / 8.0;
+  }
+  return v;
+}
+
+Eigen::VectorXd element_volume_ratio(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x,
+                                     const std::vector<double>& volume0) {
+  const std::vector<double> v = element_volumes(mesh, x);
+  Eigen::VectorXd j(static_cast<Eigen::Index>(v.size()));
+  for (std::size_t e = 0; e < v.size(); ++e) j[static_cast<Eigen::Index>(e)] = v[e] / volume0[e];
+  return j;
+}
+
+Eigen::VectorXd fibre_stretch(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x) {
+  const std::size_t ne = mesh.element_count();
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(ne));
+  if (!mesh.has_fibres()) return out;
+  for (std::size_t e = 0; e < ne; ++e) {
+    const Eigen::Matrix3d F = element_map(mesh, x, e) * element_map(mesh, mesh.nodes, e).inverse();
+    out[static_cast<Eigen::Index>(e)] = (F * mesh.fiber.col(static_cast<Eigen::Index>(e))).norm();
+  }
+  return out;
+}
+
+void write_vtu(const fs::path& path, const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x,
+               const std::map<std::string, Eigen::Matrix3Xd>& point_vectors,
+               const std::map<std::string, Eigen::VectorXd>& cell_scalars) {
+  const std::size_t nn = mesh.node_count(), ne = mesh.element_count();
+  const int k = preprocess::nodes_per_element(mesh.type);
+  std::ostringstream head;
+  std::string data;
+  std::uint64_t offset = 0;
+  auto declare = [&](const std::string& type, const std::string& name, int comps, std::size_t bytes) {
+    head << "        <DataArray type=\"" << type << "\" Name=\"" << xml_escape(name) << "\" NumberOfComponents=\""
+         << comps << "\" format=\"appended\" offset=\"" << offset << "\"/>\n";
+    offset += 8 + bytes;
+  };
+  head << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
+          "header_type=\"UInt64\">\n  <UnstructuredGrid>\n    <Piece NumberOfPoints=\""
+       << nn << "\" NumberOfCells=\"" << ne << "\">\n      <Points>\n";
+  declare("Float64", "Points", 3, 3 * nn * 8);
+  put_block(data, x.data(), 3 * nn);
+  head << "      </Points>\n      <Cells>\n";
+  {
+    std::vector<std::int64_t> conn(mesh.connectivity.begin(), mesh.connectivity.end());
+    std::vector<std::int64_t> offs(ne);
+    for (std::size_t e = 0; e < ne; ++e) offs[e] = static_cast<std::int64_t>((e + 1) * static_cast<std::size_t>(k));
+    std::vector<std::uint8_t> types(ne, mesh.type == ElementType::Tet4 ? 10 : 12);
+    declare("Int64", "connectivity", 1, conn.size() * 8);
+    put_block(data, conn.data(), conn.size());
+    declare("Int64", "offsets", 1, ne * 8);
+    put_block(data, offs.data(), ne);
+    declare("UInt8", "types", 1, ne);
+    put_block(data, types.data(), ne);
+  }
+  head << "      </Cells>\n      <PointData>\n";
+  for (const auto& [name, m] : point_vectors) {
+    declare("Float64", name, 3, 3 * nn * 8);
+    put_block(data, m.data(), 3 * nn);
+  }
+  head << "      </PointData>\n      <CellData>\n";
+  declare("Int32", "label", 1, ne * 4);
+  put_block(data, mesh.labels.data(), ne);
+  for (const auto& [name, v] : cell_scalars) {
+    declare("Float64", name, 1, ne * 8);
+    put_block(data, v.data(), ne);
+  }
+  head << "      </CellData>\n    </Piece>\n  </UnstructuredGrid>\n  <AppendedData encoding=\"raw\">\n   _";
+
+  const fs::path tmp = path.string() + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    if (!out) throw InputError("cannot write " + tmp.string());
+    const std::string h = head.str();
+    out.write(h.data(), static_cast<std::streamsize>(h.size()));
+    out.write(data.data(), static_cast<std::streamsize>(data.size()));
+    out << "\n  </AppendedData>\n</VTKFile>\n";
+    if (!out) throw InputError("error while writing " + tmp.string() + " (disk full?)");
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) throw InputError("cannot rename " + tmp.string() + " to " + path.string() + ": " + ec.message());
+}
+
+ResultsWriter::ResultsWriter(fs::path out_dir, const Model& model) : dir_(std::move(out_dir)), model_(model) {
+  std::error_code ec;
+  fs::create_directories(dir_ / "frames", ec);
+  if (ec) throw InputError("cannot create the output folder " + (dir_ / "frames").string() + ": " + ec.message());
+  // Stale frames of an earlier run in the same folder would mix into ParaView's view of the series.
+  for (const auto& entry : fs::directory_iterator(dir_ / "frames")) {
+    if (entry.path().extension() == ".vtu") fs::remove(entry.path(), ec);
+  }
+  element_volume0_ = element_volumes(*model.mesh, model.x_ref);
+  for (const double v : element_volume0_) volume0_ += v;
+  globals_.open(dir_ / "globals.csv");
+  if (!globals_) throw InputError("cannot write " + (dir_ / "globals.csv").string());
+  globals_ << "step,t,dt,kinetic_energy,total_volume,volume_change,barycentre_x,barycentre_y,barycentre_z";
+  for (const auto& c : model.cavities) globals_ << ',' << c->name() << "_volume," << c->name() << "_pressure";
+  globals_ << ",force_evaluations,rejected_steps,abm3_error,wall_time\n";
+  globals_ << std::setprecision(10);
+}
+
+void ResultsWriter::write_frame(const State& s, const Eigen::Matrix3Xd& f) {
+  const preprocess::Mesh& mesh = *model_.mesh;
+  std::map<std::string, Eigen::Matrix3Xd> pv;
+  pv["displacement"] = s.x - model_.x_ref;
+  pv["velocity"] = s.v;
+  pv["force"] = f;
+  std::map<std::string, Eigen::VectorXd> cv;
+  cv["J"] = element_volume_ratio(mesh, s.x, element_volume0_);
+  if (mesh.has_fibres()) cv["fibre_stretch"] = fibre_stretch(mesh, s.x);
+  const StateView view{s.x, s.v, s.t};
+  for (const auto& term : model_.terms) term->add_cell_fields(view, mesh.element_count(), cv);
+  char name[64];
+  std::snprintf(name, sizeof name, "frame_%05zu.vtu", frames_.size());
+  write_vtu(dir_ / "frames" / name, mesh, s.x, pv, cv);
+  frames_.emplace_back(s.t, std::string("frames/") + name);
+  write_pvd();
+}
+
+void ResultsWriter::write_pvd() const {
+  const fs::path tmp = dir_ / "series.pvd.tmp";
+  {
+    std::ofstream out(tmp);
+    out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+           "  <Collection>\n"
+        << std::setprecision(12);
+    for (const auto& [t, file] : frames_)
+      out << "    <DataSet timestep=\"" << t << "\" group=\"\" part=\"0\" file=\"" << file << "\"/>\n";
+    out << "  </Collection>\n</VTKFile>\n";
+    if (!out) throw InputError("cannot write " + tmp.string());
+  }
+  fs::rename(tmp, dir_ / "series.pvd");
+}
+
+void ResultsWriter::write_globals(const State& s, const GlobalsRow& row) {
+  const double vol = total_volume(*model_.mesh, s.x);
+  const Eigen::Vector3d bary =
+      (s.x.array().rowwise() * model_.mass.transpose().array()).rowwise().sum().matrix() / model_.mass.sum();
+  globals_ << row.step << ',' << s.t << ',' << row.dt << ',' << row.kinetic_energy << ',' << vol << ','
+           << (vol - volume0_) / volume0_ << ',' << bary.x() << ',' << bary.y() << ',' << bary.z();
+  for (const auto& c : model_.cavities) globals_ << ',' << c->volume(s.x) << ',' << c->pressure(s.t);
+  globals_ << ',' << row.report.evaluations << ',' << row.report.rejected << ',' << row.report.error << ','
+           << row.wall_seconds << '\n';
+  globals_.flush();
+}
+
+void ResultsWriter::write_checkpoint(const State& s, std::size_t step) const {
+  const fs::path file = dir_ / "checkpoint.h5";
+  const fs::path tmp = dir_ / "checkpoint.h5.tmp";
+  const hid_t f = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (f < 0) throw InputError("cannot create " + tmp.string());
+  auto write_matrix = [&](const char* name, const Eigen::Matrix3Xd& m) {
+    const hsize_t dims[2] = {static_cast<hsize_t>(m.cols()), 3};
+    const hid_t space = H5Screate_simple(2, dims, nullptr);
+    const hid_t ds = H5Dcreate2(f, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    const herr_t st = H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, m.data());
+    H5Dclose(ds);
+    H5Sclose(space);
+    return st >= 0;
+  };
+  auto write_attr = [&](const char* name, double v) {
+    const hid_t space = H5Screate(H5S_SCALAR);
+    const hid_t a = H5Acreate2(f, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT);
+    H5Awrite(a, H5T_NATIVE_DOUBLE, &v);
+    H5Aclose(a);
+    H5Sclose(space);
+  };
+  const bool ok = write_matrix("x", s.x) && write_matrix("v", s.v);
+  write_attr("t", s.t);
+  write_attr("step", static_cast<double>(step));
+  H5Fclose(f);
+  if (!ok) throw InputError("error while writing " + tmp.string());
+  fs::rename(tmp, file);
+}
+
+}  // namespace adamss::solver

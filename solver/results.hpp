@@ -1,0 +1,74 @@
+#pragma once
+// What a run writes (seed 000 sec. 2.7), all in one output folder:
+//   series.pvd            ParaView collection of the frames (rewritten after every frame, so a
+//                         run that dies still leaves a readable series)
+//   frames/frame_NNNNN.vtu  VTK XML unstructured grid, binary appended: the current positions,
+//                         point data displacement (m), velocity (m/s), force (N, the total of
+//                         all terms), cell data label, J (V/V0), fibre_stretch |F f0| (when the
+//                         mesh has fibres) and the terms' own cell fields (active_tension, Pa)
+//   globals.csv           one row per logged step: step, t, dt, kinetic energy, total volume,
+//                         relative volume change, barycentre, per cavity volume and pressure,
+//                         force evaluations, rejected steps, ABM3 error, wall time
+//   summary.json          status and the final numbers (see docs/file-formats.md)
+//   checkpoint.h5         written on SIGINT and on failures: /x, /v (n x 3), attribute t
+#include <Eigen/Core>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "solver/integrator.hpp"
+#include "solver/model.hpp"
+
+namespace adamss::solver {
+
+/// A row of globals.csv.
+struct GlobalsRow {
+  std::size_t step = 0;
+  double t = 0.0, dt = 0.0;
+  double kinetic_energy = 0.0;
+  StepReport report;
+  double wall_seconds = 0.0;
+};
+
+class ResultsWriter {
+ public:
+  /// Creates `out_dir` (and out_dir/frames); InputError if it cannot.
+  ResultsWriter(std::filesystem::path out_dir, const Model& model);
+
+  /// Writes frame k of the series at state s with total forces f (N).
+  void write_frame(const State& s, const Eigen::Matrix3Xd& f);
+  /// Appends one row to globals.csv (flushed).
+  void write_globals(const State& s, const GlobalsRow& row);
+  /// Writes checkpoint.h5 with positions, velocities and time.
+  void write_checkpoint(const State& s, std::size_t step) const;
+
+  [[nodiscard]] const std::filesystem::path& dir() const { return dir_; }
+  [[nodiscard]] std::size_t frame_count() const { return frames_.size(); }
+
+ private:
+  void write_pvd() const;
+  std::filesystem::path dir_;
+  const Model& model_;
+  std::ofstream globals_;
+  std::vector<std::pair<double, std::string>> frames_;
+  double volume0_ = 0.0;
+  std::vector<double> element_volume0_;
+};
+
+/// Per-element J = V/V0 at positions x (exact element volumes).
+[[nodiscard]] Eigen::VectorXd element_volume_ratio(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x,
+                                                   const std::vector<double>& volume0);
+/// Exact element volumes (tet: signed volume; hex: trilinear, 2x2x2 Gauss), m^3.
+[[nodiscard]] std::vector<double> element_volumes(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x);
+/// Fibre stretch |F f0| per element, F at the element centre from its shape functions.
+[[nodiscard]] Eigen::VectorXd fibre_stretch(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x);
+
+/// Writes a VTK XML unstructured grid with the given point and cell arrays (binary appended,
+/// via a temporary file renamed over `path`). Vectors are 3 x n, scalars n.
+void write_vtu(const std::filesystem::path& path, const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x,
+               const std::map<std::string, Eigen::Matrix3Xd>& point_vectors,
+               const std::map<std::string, Eigen::VectorXd>& cell_scalars);
+
+}  // namespace adamss::solver
