@@ -40,15 +40,42 @@ StepReport Abm3::step(State& s, double dt) {
     ++rep.evaluations;
   }
   const double h = h_;
-  if (hist_.size() < 3) {  // start-up: forward Euler (eqs. 2.129-2.130)
-    const Point& p0 = hist_.front();
-    s.x = p0.x + h * p0.v;
-    s.v = p0.v + h * p0.a;
-    s.t = p0.t + h;
-    sys_.impose(s);
+  if (hist_.size() < 3) {
+    // Start-up: Heun's predictor-corrector (forward-Euler predictor, eqs. 2.129-2.130, and a
+    // trapezoidal corrector) under the same error control, until three points exist.
+    for (;;) {
+      const double hh = h_;
+      const Point& p0 = hist_.front();
+      State pred;
+      pred.t = p0.t + hh;
+      pred.x = p0.x + hh * p0.v;
+      pred.v = p0.v + hh * p0.a;
+      sys_.impose(pred);
+      sys_.accelerations(pred.x, pred.v, pred.t, ap_);
+      ++rep.evaluations;
+      s.x = p0.x + (0.5 * hh) * (p0.v + pred.v);
+      s.v = p0.v + (0.5 * hh) * (p0.a + ap_);
+      s.t = pred.t;
+      sys_.impose(s);
+      const double err = (s.x - pred.x).cwiseAbs().maxCoeff();
+      if (std::isfinite(err) && err <= set_.error_max) {
+        rep.dt = hh;
+        rep.error = err;
+        break;
+      }
+      if (hh / 2.0 < set_.dt_min) {
+        std::ostringstream os;
+        os << "abm3: the start-up step cannot meet error_max " << set_.error_max << " m above dt_min = " << set_.dt_min
+           << " s (difference " << err << " m at dt = " << hh << " s)";
+        throw NumericalError(os.str());
+      }
+      while (hist_.size() > 1) hist_.pop_back();  // equidistant history restarts at the current point
+      h_ = hh / 2.0;
+      ++halvings_;
+      ++rep.rejected;
+    }
     push_current(s);
     ++rep.evaluations;
-    rep.dt = h;
     rep.next_dt = h_;
     return rep;
   }

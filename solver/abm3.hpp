@@ -19,8 +19,11 @@
 //     then the step is retried. Halving below dt_min is a NumericalError.
 //   e < error_min on an accepted step and five equidistant history points exist: h is
 //     doubled (at most dt_max) and every second history point is kept.
-// Start: the first two steps are forward Euler steps (eqs. 2.129-2.130) with the initial h,
-// as in the thesis; they fill the history. Cost: 2 force evaluations per accepted step.
+// Start: the thesis takes the first two steps with forward Euler (eqs. 2.129-2.130) "with a
+// small enough timestep". Here they are Heun steps (forward-Euler predictor, trapezoidal
+// corrector) under the same error control, so an oversized initial dt is halved before it
+// spoils the history instead of relying on the user's choice. Cost: 2 force evaluations per
+// accepted step.
 #include <array>
 #include <deque>
 
