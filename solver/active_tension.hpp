@@ -63,6 +63,7 @@
 // symmetric) and are objective. The isotropic face form (eq. 2.112) is not implemented.
 #include <Eigen/Core>
 #include <array>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -113,6 +114,13 @@ struct ActiveStressKernel {
   Eigen::Vector3d fraction{1.0, 0.0, 0.0};            ///< r = (1, c_s, c_n)
   ActivationSchedule schedule;
 
+  /// Output field "active_tension" (Pa): T_e(t) of every item's mesh element.
+  void add_cell_fields(const StateView& s, std::size_t element_count,
+                       std::map<std::string, Eigen::VectorXd>& fields) const {
+    Eigen::VectorXd& f = fields["active_tension"];
+    if (f.size() != static_cast<Eigen::Index>(element_count)) f.setZero(static_cast<Eigen::Index>(element_count));
+    for (std::size_t i = 0; i < element.size(); ++i) f[static_cast<Eigen::Index>(element[i])] = schedule.tension(i, s.t);
+  }
   [[nodiscard]] std::string name() const { return "active_stress"; }
   [[nodiscard]] std::size_t size() const { return elements.size(); }
   [[nodiscard]] std::array<Index, K> stencil(std::size_t i) const { return elements[i]; }
@@ -138,6 +146,13 @@ struct ActiveAxisKernel {
   std::vector<Eigen::Vector3d> coefficient;
   ActivationSchedule schedule;
 
+  /// Output field "active_tension" (Pa): T_e(t) of every item's mesh element.
+  void add_cell_fields(const StateView& s, std::size_t element_count,
+                       std::map<std::string, Eigen::VectorXd>& fields) const {
+    Eigen::VectorXd& f = fields["active_tension"];
+    if (f.size() != static_cast<Eigen::Index>(element_count)) f.setZero(static_cast<Eigen::Index>(element_count));
+    for (std::size_t i = 0; i < element.size(); ++i) f[static_cast<Eigen::Index>(element[i])] = schedule.tension(i, s.t);
+  }
   [[nodiscard]] std::string name() const { return kCurrentArea ? "active_tension" : "active_force"; }
   [[nodiscard]] std::size_t size() const { return elements.size(); }
   [[nodiscard]] std::array<Index, K> stencil(std::size_t i) const { return elements[i]; }

@@ -29,6 +29,7 @@
 // a parallelogram (e.g. voxel faces under any affine map); a warped quad's consistent
 // load int N_i n dA differs from it by O(warp) -- the net force per face is the same.
 // This follows the thesis; a consistent-load variant would be a separate option.
+#include <Eigen/Geometry>
 #include <array>
 #include <memory>
 #include <string>

@@ -7,10 +7,12 @@
 //   box        {min, max}:                         min <= x <= max componentwise
 //   sphere     {centre c, radius r}:               |x - c| <= r
 //   ellipsoid  {centre c, radii (a, b, c)}:        sum ((x_i - c_i) / r_i)^2 <= 1
+// A list of regions in a scene is their intersection (`also`).
 // All lengths in metres. contains() is exact (no hidden tolerance) except the plane's d.
 #include <Eigen/Core>
 #include <cmath>
 #include <string>
+#include <vector>
 
 namespace adamss::solver {
 
@@ -20,8 +22,15 @@ struct Region {
   Eigen::Vector3d a = Eigen::Vector3d::Zero();  ///< plane/half-space point, box min, sphere/ellipsoid centre
   Eigen::Vector3d b = Eigen::Vector3d::Zero();  ///< plane/half-space normal (unit), box max, ellipsoid radii
   double r = 0.0;                               ///< sphere radius, plane tolerance
+  /// Further regions that must contain the point too (a scene's list of regions = their intersection).
+  std::vector<Region> also;
 
   [[nodiscard]] bool contains(const Eigen::Vector3d& x) const {
+    for (const Region& r2 : also)
+      if (!r2.contains(x)) return false;
+    return contains_self(x);
+  }
+  [[nodiscard]] bool contains_self(const Eigen::Vector3d& x) const {
     switch (kind) {
       case Kind::Plane:
         return std::abs((x - a).dot(b)) <= r;

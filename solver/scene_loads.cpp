@@ -1,7 +1,60 @@
 #include "solver/scene_loads.hpp"
 
+#include "common/error.hpp"
+#include "solver/cavity_pressure.hpp"
+#include "solver/global_friction.hpp"
+#include "solver/surface.hpp"
+
 namespace adamss::solver {
 
-void build_loads(SceneNode& /*loads*/, Model& /*model*/, const std::filesystem::path& /*base*/) {}
+using common::Dimension;
+
+namespace {
+
+/// Reports a pressure surface's enclosed volume and its pressure course.
+class SurfaceMonitor final : public VolumeMonitor {
+ public:
+  SurfaceMonitor(Surface surface, TimeCourse pressure) : surface_(std::move(surface)), pressure_(std::move(pressure)) {}
+  [[nodiscard]] std::string name() const override { return surface_.name; }
+  [[nodiscard]] double volume(const Eigen::Matrix3Xd& x) const override { return enclosed_volume(surface_, x); }
+  [[nodiscard]] double pressure(double t) const override { return pressure_(t); }
+
+ private:
+  Surface surface_;
+  TimeCourse pressure_;
+};
+
+}  // namespace
+
+void build_loads(SceneNode& loads, Model& model, const std::filesystem::path& /*base*/) {
+  if (auto g = loads.optional_map("global_friction")) {
+    const bool mu = g->has("mu"), rate = g->has("rate");
+    if (mu == rate) throw InputError(g->path() + ": give either mu: (N s/m per particle, eq. 2.118) or rate: (1/s, mass-proportional)");
+    if (mu) {
+      model.terms.push_back(make_global_friction_term(model.node_count(), g->positive("mu", Dimension::Damping, std::nullopt, true)));
+    } else {
+      model.terms.push_back(make_mass_proportional_friction_term(model.mass, g->positive("rate", Dimension::Rate, std::nullopt, true)));
+    }
+    g->finish();
+  }
+  for (SceneNode& p : loads.list("pressure")) {
+    const std::string name = p.text("name");
+    SceneNode sel = p.map("surface");
+    Surface surface;
+    const bool cav = sel.has("cavity"), reg = sel.has("region");
+    if (cav == reg) throw InputError(sel.path() + ": give either cavity: NAME (from the mesh) or region: {...}");
+    if (cav) {
+      surface = cavity_surface(*model.mesh, sel.text("cavity"));
+      surface.name = name;
+    } else {
+      surface = boundary_surface(*model.mesh, sel.region("region"), name);
+    }
+    sel.finish();
+    const TimeCourse course = p.course("pressure", Dimension::Pressure);
+    p.finish();
+    model.terms.push_back(make_cavity_pressure_term(surface, course, model.node_count()));
+    model.cavities.push_back(std::make_unique<SurfaceMonitor>(std::move(surface), course));
+  }
+}
 
 }  // namespace adamss::solver

@@ -230,8 +230,9 @@ TimeCourse SceneNode::course(const std::string& key, Dimension dim, double const
   return c.IsDefined() ? to_course(c, dim, at(key)) : TimeCourse::constant(constant_fallback);
 }
 
-Region SceneNode::region(const std::string& key) {
-  SceneNode m = map(key);
+namespace {
+
+Region parse_region_map(SceneNode& m) {
   Region r;
   int kinds = 0;
   if (auto p = m.optional_map("plane")) {
@@ -280,6 +281,25 @@ Region SceneNode::region(const std::string& key) {
   }
   m.finish();
   return r;
+}
+
+}  // namespace
+
+Region SceneNode::region(const std::string& key) {
+  YAML::Node c = child(key, true);
+  if (c.IsSequence()) {  // the intersection of the listed regions
+    if (c.size() == 0) throw InputError(at(key) + ": an empty list of regions");
+    std::vector<Region> parts;
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      SceneNode m(c[i], at(key) + "[" + std::to_string(i) + "]");
+      parts.push_back(parse_region_map(m));
+    }
+    Region out = parts.front();
+    out.also.assign(parts.begin() + 1, parts.end());
+    return out;
+  }
+  SceneNode m(c, at(key));
+  return parse_region_map(m);
 }
 
 void SceneNode::finish() const {

@@ -6,6 +6,9 @@
 
 #include "common/error.hpp"
 #include "materials/factory.hpp"
+#include "preprocess/fibre_field.hpp"
+#include "solver/active_tension.hpp"
+#include "solver/material_friction.hpp"
 #include "solver/virtual_hex.hpp"
 
 namespace adamss::solver {
@@ -58,11 +61,63 @@ void build_virtual_hex(SceneNode& node, MaterialContext& ctx) {
   ctx.wave_modulus = std::max(ctx.wave_modulus, law_modulus(*law));
 }
 
+/// Three per-axis values: a list [fibre, sheet, normal] or one value for all three.
+Eigen::Vector3d per_axis(SceneNode& node, const std::string& key, Dimension dim) {
+  const YAML::Node& y = node.yaml();
+  if (y[key].IsDefined() && y[key].IsSequence()) return node.vector3(key, dim);
+  const double v = node.quantity(key, dim);
+  return {v, v, v};
+}
+
+void build_material_friction(SceneNode& node, MaterialContext& ctx) {
+  MaterialFrictionParams p;
+  p.scaling = node.choice("scaling", {"virtual", "face"}, "virtual") == "virtual"
+                  ? MaterialFrictionParams::Scaling::Virtual
+                  : MaterialFrictionParams::Scaling::Face;
+  const bool eta = node.has("viscosity"), kd = node.has("k_d");
+  if (eta == kd) throw InputError(node.path() + ": give either viscosity: (Pa s) or k_d: (the thesis's N s/m^3)");
+  if (eta) {
+    p.coefficient = MaterialFrictionParams::Coefficient::Viscosity;
+    p.value = per_axis(node, "viscosity", Dimension::Viscosity);
+  } else {
+    p.coefficient = MaterialFrictionParams::Coefficient::ThesisKd;
+    p.value = per_axis(node, "k_d", Dimension::Dimensionless);
+  }
+  node.finish();
+  ctx.model.terms.push_back(make_material_friction_term(ctx.mesh, ctx.frames(), p, nullptr));
+}
+
+void build_active_tension(SceneNode& node, MaterialContext& ctx) {
+  ActiveTensionParams p;
+  const std::string form = node.choice("form", {"stress", "tension", "force"}, "stress");
+  p.form = form == "stress" ? ActiveTensionParams::Form::Stress
+                            : (form == "tension" ? ActiveTensionParams::Form::Tension : ActiveTensionParams::Form::Force);
+  p.course = node.course("tension", Dimension::Pressure);
+  p.sheet_fraction = node.positive("sheet_fraction", Dimension::Dimensionless, 0.0, true);
+  p.normal_fraction = node.positive("normal_fraction", Dimension::Dimensionless, 0.0, true);
+  p.thesis_half = node.flag("thesis_half", false);
+  if (auto d = node.optional_map("delay")) {
+    // d_e = distance from `origin` to the element barycentre / speed (activation spreading from a point).
+    const Eigen::Vector3d origin = d->vector3("origin", Dimension::Length);
+    const double speed = d->positive("speed", Dimension::Velocity);
+    const double offset = d->positive("offset", Dimension::Time, 0.0, true);
+    d->finish();
+    const AxisFrames& fr = ctx.frames();
+    p.delay.resize(fr.size());
+    for (std::size_t k = 0; k < fr.size(); ++k)
+      p.delay[k] = offset + (preprocess::element_barycentre(ctx.mesh, fr.element[k]) - origin).norm() / speed;
+  }
+  node.finish();
+  ctx.model.terms.push_back(make_active_tension_term(ctx.mesh, ctx.frames(), p, nullptr));
+}
+
 using Builder = void (*)(SceneNode&, MaterialContext&);
 
 const std::map<std::string, Builder>& builders() {
   static const std::map<std::string, Builder> table{
       {"virtual_hexahedron", build_virtual_hex},
+      {"material_friction", build_material_friction},
+      {"active_tension", build_active_tension},
   };
   return table;
 }

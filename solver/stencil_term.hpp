@@ -47,6 +47,12 @@ class StencilTerm final : public ForceTerm {
   void end_step(const StateView& s, double dt) override {
     if constexpr (requires { kernel_.end_step(s, dt); }) kernel_.end_step(s, dt);
   }
+  /// Forwards to `kernel.add_cell_fields(s, element_count, fields)` when the kernel has output fields.
+  void add_cell_fields(const StateView& s, std::size_t element_count,
+                       std::map<std::string, Eigen::VectorXd>& fields) const override {
+    if constexpr (requires { kernel_.add_cell_fields(s, element_count, fields); })
+      kernel_.add_cell_fields(s, element_count, fields);
+  }
   [[nodiscard]] std::string describe() const override { return std::to_string(kernel_.size()) + " items"; }
 
   [[nodiscard]] double energy(const StateView& s) const override {
