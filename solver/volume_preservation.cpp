@@ -1,0 +1,295 @@
+#include "solver/volume_preservation.hpp"
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+
+#include "common/error.hpp"
+
+namespace adamss::solver {
+namespace {
+
+/// Cross-product matrix [v]_x: [v]_x w = v x w.
+Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  return m;
+}
+
+/// cof(F) = det(F) F^{-T}, columns F_1 x F_2, F_2 x F_0, F_0 x F_1.
+Eigen::Matrix3d cofactor(const Eigen::Matrix3d& f) {
+  Eigen::Matrix3d c;
+  c.col(0) = f.col(1).cross(f.col(2));
+  c.col(1) = f.col(2).cross(f.col(0));
+  c.col(2) = f.col(0).cross(f.col(1));
+  return c;
+}
+
+/// Adds c det(X Gamma) to J, its gradient to dJ and (when hess) its Hessian.
+template <int K>
+void add_determinant_term(double c, const Eigen::Matrix<double, K, 3>& gamma, const Mat3N<K>& x, double& J,
+                          Mat3N<K>& dJ, MatJ<K>* hess) {
+  const Eigen::Matrix3d F = x * gamma;
+  const Eigen::Matrix3d cof = cofactor(F);
+  J += c * F.col(0).dot(cof.col(0));  // det F = F_0 . (F_1 x F_2)
+  dJ.noalias() += c * cof * gamma.transpose();
+  if (hess) {
+    for (int a = 0; a < K; ++a) {
+      const Eigen::Vector3d ga = gamma.row(a).transpose();
+      for (int b = a + 1; b < K; ++b) {
+        const Eigen::Matrix3d h = -c * skew(F * ga.cross(Eigen::Vector3d(gamma.row(b).transpose())));
+        hess->template block<3, 3>(3 * a, 3 * b) += h;
+        hess->template block<3, 3>(3 * b, 3 * a) += h.transpose();
+      }
+    }
+  }
+}
+
+/// Parameter-space gradients Gamma (K x 3) and weights of the exact volume quadrature:
+/// tet: one term, (x1-x0, x2-x0, x3-x0), weight 1/6; hex: the trilinear shape-function
+/// gradients at the 2x2x2 Gauss points of the unit cube, weight 1/8 each.
+struct TetRule {
+  Eigen::Matrix<double, 4, 3> gamma;
+  TetRule() { gamma << -1, -1, -1, 1, 0, 0, 0, 1, 0, 0, 0, 1; }
+};
+struct HexRule {
+  std::array<Eigen::Matrix<double, 8, 3>, 8> gamma;
+  HexRule() {
+    // VTK corners: 0 (000), 1 (100), 2 (110), 3 (010), 4 (001), 5 (101), 6 (111), 7 (011).
+    constexpr int kCorner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                   {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    const double o = 0.5 / std::sqrt(3.0);
+    for (int q = 0; q < 8; ++q) {
+      const double r[3] = {0.5 + ((q & 1) ? o : -o), 0.5 + ((q & 2) ? o : -o), 0.5 + ((q & 4) ? o : -o)};
+      for (int a = 0; a < 8; ++a) {
+        double n[3], dn[3];
+        for (int d = 0; d < 3; ++d) {
+          n[d] = kCorner[a][d] ? r[d] : 1.0 - r[d];
+          dn[d] = kCorner[a][d] ? 1.0 : -1.0;
+        }
+        gamma[static_cast<std::size_t>(q)](a, 0) = dn[0] * n[1] * n[2];
+        gamma[static_cast<std::size_t>(q)](a, 1) = n[0] * dn[1] * n[2];
+        gamma[static_cast<std::size_t>(q)](a, 2) = n[0] * n[1] * dn[2];
+      }
+    }
+  }
+};
+const TetRule& tet_rule() {
+  static const TetRule r;
+  return r;
+}
+const HexRule& hex_rule() {
+  static const HexRule r;
+  return r;
+}
+
+/// Adds scale * V(x) to J and scale * dV/dx to dJ (and the Hessian when hess).
+template <int K>
+void add_volume(double scale, const Mat3N<K>& x, double& J, Mat3N<K>& dJ, MatJ<K>* hess) {
+  if constexpr (K == 4) {
+    add_determinant_term<4>(scale / 6.0, tet_rule().gamma, x, J, dJ, hess);
+  } else {
+    for (const auto& g : hex_rule().gamma) add_determinant_term<8>(scale / 8.0, g, x, J, dJ, hess);
+  }
+}
+
+std::string fmt(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+/// The values that define the course; r must be finite and > 0 at all of them.
+void check_ratio(const TimeCourse& r) {
+  std::vector<double> vals;
+  switch (r.kind) {
+    case TimeCourse::Kind::Constant:
+      vals = {r.value};
+      break;
+    case TimeCourse::Kind::Ramp:
+      vals = {r.from, r.to};
+      break;
+    case TimeCourse::Kind::Table:
+      vals = r.values;
+      if (vals.empty()) throw InputError("volume_preservation: r (target volume ratio) table is empty");
+      break;
+    case TimeCourse::Kind::Twitch:
+      throw InputError(
+          "volume_preservation: r (target volume ratio) cannot be a twitch course (it returns to 0, a zero target "
+          "volume); use a ramp or a table");
+  }
+  for (double v : vals) {
+    if (!std::isfinite(v) || !(v > 0.0)) {
+      throw InputError("volume_preservation: r (target volume ratio V_target/V0) must be finite and > 0, got " +
+                       fmt(v) + " (" + r.describe() + ")");
+    }
+  }
+}
+
+}  // namespace
+
+const char* volume_distribution_name(VolumeDistribution d) {
+  return d == VolumeDistribution::Anisotropic ? "anisotropic" : "isotropic";
+}
+
+template <int K>
+double element_volume_of(const Mat3N<K>& x) {
+  double v = 0.0;
+  Mat3N<K> dv = Mat3N<K>::Zero();
+  add_volume<K>(1.0, x, v, dv, nullptr);
+  return v;
+}
+
+template <int K>
+Mat3N<K> element_volume_gradient(const Mat3N<K>& x) {
+  double v = 0.0;
+  Mat3N<K> dv = Mat3N<K>::Zero();
+  add_volume<K>(1.0, x, v, dv, nullptr);
+  return dv;
+}
+
+template double element_volume_of<4>(const Mat3N<4>&);
+template double element_volume_of<8>(const Mat3N<8>&);
+template Mat3N<4> element_volume_gradient<4>(const Mat3N<4>&);
+template Mat3N<8> element_volume_gradient<8>(const Mat3N<8>&);
+
+template <int K>
+void VolumeKernel<K>::evaluate(std::size_t i, const Mat3N<K>& x, double& J, Mat3N<K>& dJ, MatJ<K>* hess) const {
+  J = 0.0;
+  dJ.setZero();
+  if (distribution == VolumeDistribution::Anisotropic) {
+    add_determinant_term<K>(1.0, gradient[i], x, J, dJ, hess);
+  } else {
+    add_volume<K>(1.0 / volume0[i], x, J, dJ, hess);
+  }
+}
+
+template <int K>
+double VolumeKernel<K>::volume_ratio(std::size_t i, const Mat3N<K>& x) const {
+  double J = 0.0;
+  Mat3N<K> dJ;
+  evaluate(i, x, J, dJ, nullptr);
+  return J;
+}
+
+template <int K>
+double VolumeKernel<K>::energy(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& /*v*/, double t) const {
+  const double d = volume_ratio(i, x) - ratio(t);
+  return p * volume0[i] * d * d;
+}
+
+template <int K>
+void VolumeKernel<K>::forces(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& /*v*/, double t, Mat3N<K>& f) const {
+  double J = 0.0;
+  Mat3N<K> dJ;
+  evaluate(i, x, J, dJ, nullptr);
+  f.noalias() -= (2.0 * p * volume0[i] * (J - ratio(t))) * dJ;
+}
+
+template <int K>
+void VolumeKernel<K>::jacobian(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& /*v*/, double t, MatJ<K>& dfdx,
+                               MatJ<K>& /*dfdv*/) const {
+  double J = 0.0;
+  Mat3N<K> dJ;
+  MatJ<K> hess = MatJ<K>::Zero();
+  evaluate(i, x, J, dJ, &hess);
+  const double c = -2.0 * p * volume0[i];
+  const Eigen::Map<const Eigen::Matrix<double, 3 * K, 1>> g(dJ.data());
+  dfdx.noalias() += c * (g * g.transpose());
+  dfdx.noalias() += (c * (J - ratio(t))) * hess;
+}
+
+template struct VolumeKernel<4>;
+template struct VolumeKernel<8>;
+
+template <int K>
+VolumeKernel<K> make_volume_kernel(const preprocess::Mesh& mesh, const AxisFrames* frames, const VolumeParams& params,
+                                   const std::vector<std::size_t>* element_subset) {
+  if (!std::isfinite(params.p) || !(params.p > 0.0)) {
+    throw InputError("volume_preservation: p (volume penalty coefficient, Pa) must be finite and > 0, got " +
+                     fmt(params.p));
+  }
+  check_ratio(params.ratio);
+  const preprocess::ElementType want = K == 4 ? preprocess::ElementType::Tet4 : preprocess::ElementType::Hex8;
+  if (mesh.type != want) {
+    throw InputError("volume_preservation: mesh element type " + std::string(preprocess::element_type_name(mesh.type)) +
+                     " does not match a " + std::to_string(K) + "-node kernel");
+  }
+  const bool aniso = params.distribution == VolumeDistribution::Anisotropic;
+  if (aniso && !frames) {
+    throw InputError(
+        "volume_preservation: the anisotropic distribution needs axis frames (fibres); none given (use "
+        "distribution isotropic for a mesh without fibres)");
+  }
+  if (aniso && frames->type != want) {
+    throw InputError("volume_preservation: axis-frame element type does not match the mesh");
+  }
+  const std::size_t ne = mesh.element_count();
+  std::vector<char> selected(ne, element_subset ? 0 : 1);
+  if (element_subset) {
+    for (std::size_t e : *element_subset) {
+      if (e >= ne) {
+        throw InputError("volume_preservation: element " + std::to_string(e) + " out of range (mesh has " +
+                         std::to_string(ne) + ")");
+      }
+      selected[e] = 1;
+    }
+  }
+  VolumeKernel<K> kern;
+  kern.distribution = params.distribution;
+  kern.p = params.p;
+  kern.ratio = params.ratio;
+  auto push = [&](std::size_t e, double v0) {
+    if (!std::isfinite(v0) || !(v0 > 0.0)) {
+      throw InputError("volume_preservation: element " + std::to_string(e) + " has reference volume " + fmt(v0) +
+                       " m^3 (must be > 0)");
+    }
+    std::array<Index, K> st{};
+    const Index* n = mesh.element(e);
+    for (int a = 0; a < K; ++a) st[static_cast<std::size_t>(a)] = n[a];
+    kern.elements.push_back(st);
+    kern.mesh_element.push_back(e);
+    kern.volume0.push_back(v0);
+  };
+  if (aniso) {
+    std::vector<char> found(ne, 0);
+    const auto& grads = frames->template nodal_gradient<K>();
+    for (std::size_t k = 0; k < frames->size(); ++k) {
+      const std::size_t e = frames->element[k];
+      if (e >= ne || !selected[e] || found[e]) continue;
+      found[e] = 1;
+      push(e, frames->volume0[k]);
+      kern.gradient.push_back(grads[k]);
+    }
+    for (std::size_t e = 0; e < ne; ++e) {
+      if (selected[e] && !found[e]) {
+        throw InputError("volume_preservation: element " + std::to_string(e) + " has no axis frame");
+      }
+    }
+  } else {
+    for (std::size_t e = 0; e < ne; ++e) {
+      if (!selected[e]) continue;
+      push(e, element_volume_of<K>(element_positions<K>(mesh.nodes, mesh.element(e))));
+    }
+  }
+  return kern;
+}
+
+template VolumeKernel<4> make_volume_kernel<4>(const preprocess::Mesh&, const AxisFrames*, const VolumeParams&,
+                                               const std::vector<std::size_t>*);
+template VolumeKernel<8> make_volume_kernel<8>(const preprocess::Mesh&, const AxisFrames*, const VolumeParams&,
+                                               const std::vector<std::size_t>*);
+
+std::unique_ptr<ForceTerm> make_volume_term(const preprocess::Mesh& mesh, const AxisFrames* frames,
+                                            const VolumeParams& params,
+                                            const std::vector<std::size_t>* element_subset) {
+  if (mesh.type == preprocess::ElementType::Tet4) {
+    return std::make_unique<StencilTerm<VolumeKernel<4>, 4>>(
+        make_volume_kernel<4>(mesh, frames, params, element_subset));
+  }
+  return std::make_unique<StencilTerm<VolumeKernel<8>, 8>>(make_volume_kernel<8>(mesh, frames, params, element_subset));
+}
+
+}  // namespace adamss::solver
