@@ -10,6 +10,8 @@
 #include "solver/active_tension.hpp"
 #include "solver/material_friction.hpp"
 #include "solver/virtual_hex.hpp"
+#include "solver/volume_preservation.hpp"
+#include "solver/volume_springs.hpp"
 
 namespace adamss::solver {
 
@@ -111,6 +113,31 @@ void build_active_tension(SceneNode& node, MaterialContext& ctx) {
   ctx.model.terms.push_back(make_active_tension_term(ctx.mesh, ctx.frames(), p, nullptr));
 }
 
+void build_volume(SceneNode& node, MaterialContext& ctx) {
+  VolumeParams p;
+  p.p = node.positive("p", Dimension::Pressure);
+  p.ratio = node.course("ratio", Dimension::Dimensionless, 1.0);
+  p.distribution = node.choice("distribution", {"anisotropic", "isotropic"}, "anisotropic") == "anisotropic"
+                       ? VolumeDistribution::Anisotropic
+                       : VolumeDistribution::Isotropic;
+  node.finish();
+  const AxisFrames* frames = p.distribution == VolumeDistribution::Anisotropic ? &ctx.frames() : nullptr;
+  ctx.model.terms.push_back(make_volume_term(ctx.mesh, frames, p, frames != nullptr ? nullptr : &ctx.elements));
+  ctx.wave_modulus += 2.0 * p.p;  // W_v = p (J - 1)^2 has bulk modulus 2 p
+}
+
+void build_volume_springs(SceneNode& node, MaterialContext& ctx) {
+  VolumeSpringParams p;
+  const std::string form = node.choice("form", {"auto", "hex", "tet"}, "auto");
+  p.form = form == "auto" ? VolumeSpringForm::Auto : (form == "hex" ? VolumeSpringForm::Hex : VolumeSpringForm::Tet);
+  p.k_s = node.positive("k_s", Dimension::Stiffness, std::nullopt, true);
+  p.k_d = node.positive("k_d", Dimension::Damping, 0.0, true);
+  p.adaptive = node.has("mu");
+  p.mu = node.positive("mu", Dimension::Dimensionless, 0.0, true);
+  node.finish();
+  ctx.model.terms.push_back(make_volume_spring_term(ctx.mesh, p, &ctx.elements));
+}
+
 using Builder = void (*)(SceneNode&, MaterialContext&);
 
 const std::map<std::string, Builder>& builders() {
@@ -118,6 +145,8 @@ const std::map<std::string, Builder>& builders() {
       {"virtual_hexahedron", build_virtual_hex},
       {"material_friction", build_material_friction},
       {"active_tension", build_active_tension},
+      {"volume", build_volume},
+      {"volume_springs", build_volume_springs},
   };
   return table;
 }

@@ -1,0 +1,161 @@
+// Scene validation (schema errors name the key path) and assembly (only what is asked for).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "common/error.hpp"
+#include "solver/scene.hpp"
+
+using namespace adamss;
+
+namespace {
+
+const std::string kBase = R"(
+name: t
+mesh: {phantom: slab, slab_size: [2, 2, 3], voxel_size: 1 mm, topology: tet6m, fibre: [0, 0, 1], sheet: [1, 0, 0]}
+materials:
+  - name: m
+    labels: [1]
+    density: 1000 kg/m^3
+    terms:
+      - virtual_hexahedron: {law: svk, parameters: {E: 10 kPa, nu: 0.3}}
+boundary:
+  - select: {region: {plane: {point: [0, 0, 0], normal: [0, 0, 1]}}}
+    fix: xyz
+integrator: {type: symplectic_euler, dt: 10 us}
+run: {t_end: 1 ms}
+)";
+
+solver::SceneOptions options() {
+  solver::SceneOptions o;
+  o.cache_dir = std::filesystem::temp_directory_path() / "adamss-test-scene-cache";
+  return o;
+}
+
+solver::LoadedScene load(const std::string& text) { return solver::load_scene_text(text, "scene.yaml", options()); }
+
+/// The InputError message of loading `text` ("" if it loads).
+std::string error_of(const std::string& text) {
+  try {
+    load(text);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string replaced(std::string s, const std::string& from, const std::string& to) {
+  const auto at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) s.replace(at, from.size(), to);
+  return s;
+}
+
+}  // namespace
+
+TEST(Scene, BaseSceneAssemblesOnlyWhatItNames) {
+  const auto sc = load(kBase);
+  EXPECT_EQ(sc.model.node_count(), 3u * 3u * 4u);
+  EXPECT_EQ(sc.model.mesh->element_count(), 2u * 2u * 3u * 6u);
+  ASSERT_EQ(sc.model.terms.size(), 1u);
+  EXPECT_EQ(sc.model.terms[0]->name(), "virtual_hexahedron");
+  EXPECT_EQ(sc.model.constraints.fixed_dof_count(), 3u * 9u);
+  EXPECT_NEAR(sc.model.mass.sum(), 1000.0 * 12e-9, 1e-15);
+  EXPECT_DOUBLE_EQ(sc.run.dt, 10e-6);
+  EXPECT_DOUBLE_EQ(sc.run.t_end, 1e-3);
+  EXPECT_EQ(sc.axis_frame_elements, 72u);
+  EXPECT_GT(sc.critical_dt, 0.0);
+}
+
+TEST(Scene, IsotropicVolumeAloneBuildsNoAxisFrames) {
+  const auto sc = load(replaced(kBase, "- virtual_hexahedron: {law: svk, parameters: {E: 10 kPa, nu: 0.3}}",
+                                "- volume: {p: 1 kPa, distribution: isotropic}"));
+  EXPECT_EQ(sc.axis_frame_elements, 0u);
+  EXPECT_EQ(sc.model.terms[0]->name(), "volume_preservation");
+}
+
+TEST(Scene, UnknownKeysAreNamedWithTheirPath) {
+  EXPECT_NE(error_of(replaced(kBase, "run: {t_end: 1 ms}", "run: {t_end: 1 ms, tend: 2}")).find("run.tend: unknown key"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(kBase, "{law: svk,", "{lawz: 1, law: svk,"))
+                .find("materials[0].terms[0].virtual_hexahedron.lawz: unknown key"),
+            std::string::npos);
+  EXPECT_NE(error_of(kBase + "extra: 1\n").find("extra: unknown key"), std::string::npos);
+  EXPECT_NE(error_of(replaced(kBase, "- virtual_hexahedron:", "- virtual_hexahedra:")).find("unknown force term"),
+            std::string::npos);
+}
+
+TEST(Scene, MissingRequiredKeysAndWrongTypes) {
+  EXPECT_NE(error_of(replaced(kBase, "run: {t_end: 1 ms}", "run: {}")).find("run.t_end: missing required key"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(kBase, "density: 1000 kg/m^3", "density: [1, 2]")).find("materials[0].density"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(kBase, "type: symplectic_euler", "type: leapfrog")).find("integrator.type"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(kBase, "fix: xyz", "fix: xw")).find("boundary[0].fix"), std::string::npos);
+}
+
+TEST(Scene, ImpossibleValuesAndWrongUnits) {
+  EXPECT_NE(error_of(replaced(kBase, "density: 1000 kg/m^3", "density: -5")).find("materials[0].density: must be > 0"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(kBase, "dt: 10 us", "dt: 0")).find("integrator.dt: must be > 0"), std::string::npos);
+  EXPECT_NE(error_of(replaced(kBase, "dt: 10 us", "dt: 10 mm")).find("expected a time"), std::string::npos);
+  EXPECT_NE(error_of(replaced(kBase, "E: 10 kPa", "E: -10 kPa")).find("virtual_hexahedron"), std::string::npos);
+  EXPECT_NE(error_of(replaced(kBase, "- virtual_hexahedron: {law: svk, parameters: {E: 10 kPa, nu: 0.3}}",
+                              "- volume: {p: -1 kPa}"))
+                .find("materials[0].terms[0].volume.p: must be > 0"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(kBase, "labels: [1]", "labels: [7]")).find("materials[0].labels"), std::string::npos);
+}
+
+TEST(Scene, TimeStepFarBeyondTheCriticalStepIsAnError) {
+  const std::string big = replaced(kBase, "dt: 10 us", "dt: 50 ms");
+  EXPECT_NE(error_of(big).find("critical step"), std::string::npos);
+  // Allowed when asked for; a warning is kept.
+  const auto sc = load(replaced(big, "dt: 50 ms}", "dt: 50 ms, check_dt: false}"));
+  ASSERT_FALSE(sc.warnings.empty());
+  EXPECT_NE(sc.warnings[0].find("h_c"), std::string::npos);
+}
+
+TEST(Scene, BoundaryConditionsAndCourses) {
+  const auto sc = load(replaced(kBase, "    fix: xyz\n", R"(    fix: xyz
+  - select: {region: {plane: {point: [0, 0, 3 mm], normal: [0, 0, 1], tolerance: 0.001 mm}}}
+    control: {axis: z, displacement: {table: {times: [0, 1 ms], values: [0, 0.3 mm]}}}
+  - select: {nodes: [13]}
+    control: {axis: xy, velocity: {ramp: {to: 2 mm/s, duration: 1 ms}}}
+)"));
+  const auto& c = sc.model.constraints;
+  EXPECT_EQ(c.controlled_dof_count(), 9u + 2u);
+  EXPECT_NEAR(c.controls()[0].course(0.5e-3), 0.15e-3, 1e-15);
+  EXPECT_TRUE(c.controls().back().velocity);
+  EXPECT_NEAR(c.controls().back().course(1e-3), 2e-3, 1e-15);
+  // The same coordinate twice is an error naming the entry.
+  EXPECT_NE(error_of(replaced(kBase, "    fix: xyz\n", R"(    fix: xyz
+  - select: {nodes: [0]}
+    control: {axis: z, displacement: 1 mm}
+)")).find("boundary[1]"),
+            std::string::npos);
+}
+
+TEST(Scene, MeshRecipeIsCached) {
+  const auto a = load(kBase);
+  ASSERT_TRUE(std::filesystem::exists(a.mesh_source));
+  const auto t = std::filesystem::last_write_time(a.mesh_source);
+  const auto b = load(kBase);
+  EXPECT_EQ(a.mesh_source, b.mesh_source);
+  EXPECT_EQ(std::filesystem::last_write_time(b.mesh_source), t);
+  EXPECT_NE(error_of(replaced(kBase, "mesh: {phantom: slab,", "mesh: {file: nothing.h5, phantom: slab,"))
+                .find("either file: or phantom:"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(kBase, "mesh: {phantom: slab, slab_size: [2, 2, 3], voxel_size: 1 mm, topology: tet6m, "
+                                     "fibre: [0, 0, 1], sheet: [1, 0, 0]}",
+                              "mesh: {file: nothing.h5}"))
+                .find("does not exist"),
+            std::string::npos);
+}
+
+TEST(Scene, InvalidYamlIsAnInputError) {
+  EXPECT_NE(error_of("mesh: [unclosed").find("not valid YAML"), std::string::npos);
+  EXPECT_THROW(solver::load_scene("/nonexistent/scene.yaml"), InputError);
+}
