@@ -119,7 +119,8 @@ struct ActiveStressKernel {
                        std::map<std::string, Eigen::VectorXd>& fields) const {
     Eigen::VectorXd& f = fields["active_tension"];
     if (f.size() != static_cast<Eigen::Index>(element_count)) f.setZero(static_cast<Eigen::Index>(element_count));
-    for (std::size_t i = 0; i < element.size(); ++i) f[static_cast<Eigen::Index>(element[i])] = schedule.tension(i, s.t);
+    for (std::size_t i = 0; i < element.size(); ++i)
+      f[static_cast<Eigen::Index>(element[i])] = schedule.tension(i, s.t);
   }
   [[nodiscard]] std::string name() const { return "active_stress"; }
   [[nodiscard]] std::size_t size() const { return elements.size(); }
@@ -151,7 +152,8 @@ struct ActiveAxisKernel {
                        std::map<std::string, Eigen::VectorXd>& fields) const {
     Eigen::VectorXd& f = fields["active_tension"];
     if (f.size() != static_cast<Eigen::Index>(element_count)) f.setZero(static_cast<Eigen::Index>(element_count));
-    for (std::size_t i = 0; i < element.size(); ++i) f[static_cast<Eigen::Index>(element[i])] = schedule.tension(i, s.t);
+    for (std::size_t i = 0; i < element.size(); ++i)
+      f[static_cast<Eigen::Index>(element[i])] = schedule.tension(i, s.t);
   }
   [[nodiscard]] std::string name() const { return kCurrentArea ? "active_tension" : "active_force"; }
   [[nodiscard]] std::size_t size() const { return elements.size(); }

@@ -177,13 +177,17 @@ RunOutcome run_simulation(Model& model, State& s, const RunSettings& set, Result
       row.wall_seconds = wall();
       writer.write_globals(s, row);
       last_logged_t = s.t;
-      while (next_globals <= s.t + t_eps) next_globals += std::max(set.globals_interval, 1e-300);
+      if (set.globals_interval > 0.0) {
+        while (next_globals <= s.t + t_eps) next_globals += set.globals_interval;
+      }
     }
     if (s.t >= next_export - t_eps) {
       sys.forces(s.x, s.v, s.t, f);
       writer.write_frame(s, f);
       last_frame_t = s.t;
-      while (next_export <= s.t + t_eps) next_export += set.export_interval;
+      if (set.export_interval > 0.0) {
+        while (next_export <= s.t + t_eps) next_export += set.export_interval;
+      }
     }
     if (set.ke_threshold >= 0.0 && s.t >= set.ke_after && ke < set.ke_threshold) {
       out.status = "completed";

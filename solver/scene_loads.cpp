@@ -29,11 +29,15 @@ class SurfaceMonitor final : public VolumeMonitor {
 void build_loads(SceneNode& loads, Model& model, const std::filesystem::path& /*base*/) {
   if (auto g = loads.optional_map("global_friction")) {
     const bool mu = g->has("mu"), rate = g->has("rate");
-    if (mu == rate) throw InputError(g->path() + ": give either mu: (N s/m per particle, eq. 2.118) or rate: (1/s, mass-proportional)");
+    if (mu == rate)
+      throw InputError(g->path() +
+                       ": give either mu: (N s/m per particle, eq. 2.118) or rate: (1/s, mass-proportional)");
     if (mu) {
-      model.terms.push_back(make_global_friction_term(model.node_count(), g->positive("mu", Dimension::Damping, std::nullopt, true)));
+      model.terms.push_back(
+          make_global_friction_term(model.node_count(), g->positive("mu", Dimension::Damping, std::nullopt, true)));
     } else {
-      model.terms.push_back(make_mass_proportional_friction_term(model.mass, g->positive("rate", Dimension::Rate, std::nullopt, true)));
+      model.terms.push_back(
+          make_mass_proportional_friction_term(model.mass, g->positive("rate", Dimension::Rate, std::nullopt, true)));
     }
     g->finish();
   }

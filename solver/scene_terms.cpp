@@ -8,7 +8,9 @@
 #include "materials/factory.hpp"
 #include "preprocess/fibre_field.hpp"
 #include "solver/active_tension.hpp"
+#include "solver/axial_springs.hpp"
 #include "solver/material_friction.hpp"
+#include "solver/torsion_springs.hpp"
 #include "solver/virtual_hex.hpp"
 #include "solver/volume_preservation.hpp"
 #include "solver/volume_springs.hpp"
@@ -92,8 +94,9 @@ void build_material_friction(SceneNode& node, MaterialContext& ctx) {
 void build_active_tension(SceneNode& node, MaterialContext& ctx) {
   ActiveTensionParams p;
   const std::string form = node.choice("form", {"stress", "tension", "force"}, "stress");
-  p.form = form == "stress" ? ActiveTensionParams::Form::Stress
-                            : (form == "tension" ? ActiveTensionParams::Form::Tension : ActiveTensionParams::Form::Force);
+  p.form = form == "stress"
+               ? ActiveTensionParams::Form::Stress
+               : (form == "tension" ? ActiveTensionParams::Form::Tension : ActiveTensionParams::Form::Force);
   p.course = node.course("tension", Dimension::Pressure);
   p.sheet_fraction = node.positive("sheet_fraction", Dimension::Dimensionless, 0.0, true);
   p.normal_fraction = node.positive("normal_fraction", Dimension::Dimensionless, 0.0, true);
@@ -138,14 +141,57 @@ void build_volume_springs(SceneNode& node, MaterialContext& ctx) {
   ctx.model.terms.push_back(make_volume_spring_term(ctx.mesh, p, &ctx.elements));
 }
 
+/// A polynomial [k1, k2, k3] (1 to 3 entries); Pa for face/virtual scaling, plain SI for none.
+SpringPolynomial polynomial(SceneNode& node, const std::string& key, SpringScaling scaling) {
+  SpringPolynomial k{0.0, 0.0, 0.0};
+  if (!node.has(key)) return k;
+  const std::vector<double> v =
+      node.quantities(key, scaling == SpringScaling::None ? Dimension::Dimensionless : Dimension::Pressure);
+  if (v.empty() || v.size() > 3) throw InputError(node.at(key) + ": give 1 to 3 coefficients [k1, k2, k3]");
+  for (std::size_t i = 0; i < v.size(); ++i) k[i] = v[i];
+  return k;
+}
+
+void build_axial_springs(SceneNode& node, MaterialContext& ctx) {
+  AxialSpringParams p;
+  if (node.has("set")) {
+    node.choice("set", {"table_2_2"});
+    p = table_2_2_springs().axial;
+  }
+  p.scaling = parse_spring_scaling(node.choice("scaling", {"virtual", "face", "none"}, spring_scaling_name(p.scaling)),
+                                   node.at("scaling"));
+  const char* axes[3] = {"fibre", "sheet", "normal"};
+  for (int l = 0; l < 3; ++l)
+    if (node.has(axes[l])) p.k[static_cast<std::size_t>(l)] = polynomial(node, axes[l], p.scaling);
+  node.finish();
+  ctx.model.terms.push_back(make_axial_spring_term(ctx.mesh, ctx.frames(), p, nullptr));
+  if (p.scaling != SpringScaling::None)
+    ctx.wave_modulus = std::max({ctx.wave_modulus, p.k[0][0], p.k[1][0], p.k[2][0]});
+}
+
+void build_torsion_springs(SceneNode& node, MaterialContext& ctx) {
+  TorsionSpringParams p;
+  if (node.has("set")) {
+    node.choice("set", {"table_2_2"});
+    p = table_2_2_springs().torsion;
+  }
+  p.form = parse_torsion_form(node.choice("form", {"cosine", "angle"}, torsion_form_name(p.form)), node.at("form"));
+  p.scaling = parse_spring_scaling(node.choice("scaling", {"virtual", "face", "none"}, spring_scaling_name(p.scaling)),
+                                   node.at("scaling"));
+  const char* pairs[3] = {"fibre_sheet", "fibre_normal", "sheet_normal"};
+  for (int q = 0; q < 3; ++q)
+    if (node.has(pairs[q])) p.k[static_cast<std::size_t>(q)] = polynomial(node, pairs[q], p.scaling);
+  node.finish();
+  ctx.model.terms.push_back(make_torsion_spring_term(ctx.mesh, ctx.frames(), p, nullptr));
+}
+
 using Builder = void (*)(SceneNode&, MaterialContext&);
 
 const std::map<std::string, Builder>& builders() {
   static const std::map<std::string, Builder> table{
-      {"virtual_hexahedron", build_virtual_hex},
-      {"material_friction", build_material_friction},
-      {"active_tension", build_active_tension},
-      {"volume", build_volume},
+      {"virtual_hexahedron", build_virtual_hex}, {"material_friction", build_material_friction},
+      {"active_tension", build_active_tension},  {"volume", build_volume},
+      {"axial_springs", build_axial_springs},    {"torsion_springs", build_torsion_springs},
       {"volume_springs", build_volume_springs},
   };
   return table;

@@ -33,7 +33,9 @@ solver::SceneOptions options() {
   return o;
 }
 
-solver::LoadedScene load(const std::string& text) { return solver::load_scene_text(text, "scene.yaml", options()); }
+solver::LoadedScene load(const std::string& text) {
+  return solver::load_scene_text(text, "scene.yaml", options());
+}
 
 /// The InputError message of loading `text` ("" if it loads).
 std::string error_of(const std::string& text) {
@@ -76,8 +78,9 @@ TEST(Scene, IsotropicVolumeAloneBuildsNoAxisFrames) {
 }
 
 TEST(Scene, UnknownKeysAreNamedWithTheirPath) {
-  EXPECT_NE(error_of(replaced(kBase, "run: {t_end: 1 ms}", "run: {t_end: 1 ms, tend: 2}")).find("run.tend: unknown key"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of(replaced(kBase, "run: {t_end: 1 ms}", "run: {t_end: 1 ms, tend: 2}")).find("run.tend: unknown key"),
+      std::string::npos);
   EXPECT_NE(error_of(replaced(kBase, "{law: svk,", "{lawz: 1, law: svk,"))
                 .find("materials[0].terms[0].virtual_hexahedron.lawz: unknown key"),
             std::string::npos);
@@ -134,7 +137,8 @@ TEST(Scene, BoundaryConditionsAndCourses) {
   EXPECT_NE(error_of(replaced(kBase, "    fix: xyz\n", R"(    fix: xyz
   - select: {nodes: [0]}
     control: {axis: z, displacement: 1 mm}
-)")).find("boundary[1]"),
+)"))
+                .find("boundary[1]"),
             std::string::npos);
 }
 
@@ -148,8 +152,9 @@ TEST(Scene, MeshRecipeIsCached) {
   EXPECT_NE(error_of(replaced(kBase, "mesh: {phantom: slab,", "mesh: {file: nothing.h5, phantom: slab,"))
                 .find("either file: or phantom:"),
             std::string::npos);
-  EXPECT_NE(error_of(replaced(kBase, "mesh: {phantom: slab, slab_size: [2, 2, 3], voxel_size: 1 mm, topology: tet6m, "
-                                     "fibre: [0, 0, 1], sheet: [1, 0, 0]}",
+  EXPECT_NE(error_of(replaced(kBase,
+                              "mesh: {phantom: slab, slab_size: [2, 2, 3], voxel_size: 1 mm, topology: tet6m, "
+                              "fibre: [0, 0, 1], sheet: [1, 0, 0]}",
                               "mesh: {file: nothing.h5}"))
                 .find("does not exist"),
             std::string::npos);

@@ -1,0 +1,150 @@
+// `adamss run` end to end: outputs, an unstable run that stops and names the element,
+// SIGINT that writes a checkpoint, and bad scenes that fail with one clear message.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "cli_runner.hpp"
+
+using adamss::test::run_adamss;
+using adamss::test::scratch_dir;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string slab_scene(const std::string& integrator, const std::string& run, const std::string& extra_terms = "") {
+  return R"(
+name: slab
+mesh: {phantom: slab, slab_size: [2, 2, 4], voxel_size: 1 mm, topology: tet6m, fibre: [0, 0, 1], sheet: [1, 0, 0]}
+materials:
+  - name: m
+    labels: [1]
+    density: 1000 kg/m^3
+    terms:
+      - virtual_hexahedron: {law: neo_hookean, parameters: {E: 20 kPa, nu: 0.3}})" +
+         extra_terms + R"(
+boundary:
+  - select: {region: {plane: {point: [0, 0, 0], normal: [0, 0, 1]}}}
+    fix: xyz
+  - select: {region: {plane: {point: [0, 0, 4 mm], normal: [0, 0, 1], tolerance: 0.001 mm}}}
+    control: {axis: z, displacement: {ramp: {to: 0.5 mm, duration: 2 ms}}}
+integrator: )" +
+         integrator + "\nrun: " + run + "\noutput: {frame_interval: 1 ms}\n";
+}
+
+fs::path write_scene(const fs::path& dir, const std::string& text) {
+  const fs::path p = dir / "scene.yaml";
+  std::ofstream(p) << text;
+  return p;
+}
+
+nlohmann::json summary(const fs::path& out) {
+  std::ifstream in(out / "summary.json");
+  return nlohmann::json::parse(in);
+}
+
+std::size_t line_count(const fs::path& p) {
+  std::ifstream in(p);
+  std::size_t n = 0;
+  std::string line;
+  while (std::getline(in, line)) ++n;
+  return n;
+}
+
+std::string cache_arg(const fs::path& dir) {
+  return " --cache " + (dir / "cache").string();
+}
+
+}  // namespace
+
+TEST(Run, CompletedRunWritesEveryOutput) {
+  const auto dir = scratch_dir("run_ok");
+  const auto scene = write_scene(dir, slab_scene("{type: symplectic_euler, dt: 5 us}", "{t_end: 3 ms}"));
+  const auto r = run_adamss("run " + scene.string() + " -o " + (dir / "out").string() + cache_arg(dir));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto j = summary(dir / "out");
+  EXPECT_EQ(j["status"], "completed");
+  EXPECT_EQ(j["steps"], 600);
+  EXPECT_NEAR(j["simulated_time_s"].get<double>(), 3e-3, 1e-12);
+  EXPECT_EQ(j["elements"], 2 * 2 * 4 * 6);
+  EXPECT_EQ(line_count(dir / "out" / "globals.csv"), 1u + 601u);  // header + t = 0 + every step
+  // Frames at 0, 1, 2, 3 ms.
+  for (int k = 0; k < 4; ++k)
+    EXPECT_TRUE(fs::exists(dir / "out" / "frames" / ("frame_0000" + std::to_string(k) + ".vtu")));
+  std::ifstream pvd(dir / "out" / "series.pvd");
+  std::stringstream ss;
+  ss << pvd.rdbuf();
+  EXPECT_NE(ss.str().find("frames/frame_00003.vtu"), std::string::npos);
+  EXPECT_NE(r.output.find("completed (t_end)"), std::string::npos);
+}
+
+TEST(Run, UnstableRunStopsNamesTheElementAndKeepsItsOutputs) {
+  const auto dir = scratch_dir("run_unstable");
+  // 0.5 ms is ~5x the critical step of this block: explicit Euler must blow up.
+  const auto scene =
+      write_scene(dir, slab_scene("{type: symplectic_euler, dt: 0.5 ms, check_dt: false}", "{t_end: 50 ms}"));
+  const auto r = run_adamss("run " + scene.string() + " -o " + (dir / "out").string() + cache_arg(dir));
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find("element"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("critical step"), std::string::npos) << "the dt warning: " << r.output;
+  const auto j = summary(dir / "out");
+  EXPECT_EQ(j["status"], "unstable");
+  ASSERT_TRUE(j.contains("bad_element"));
+  EXPECT_NE(j["reason"].get<std::string>().find("element " + std::to_string(j["bad_element"].get<int>())),
+            std::string::npos);
+  EXPECT_LT(j["simulated_time_s"].get<double>(), 50e-3);
+  EXPECT_TRUE(fs::exists(dir / "out" / "globals.csv"));
+  EXPECT_TRUE(fs::exists(dir / "out" / "series.pvd"));
+  EXPECT_TRUE(fs::exists(dir / "out" / "checkpoint.h5"));
+  EXPECT_GE(line_count(dir / "out" / "globals.csv"), 2u);
+}
+
+TEST(Run, SigintWritesACheckpointAndStops) {
+  const auto dir = scratch_dir("run_sigint");
+  const auto scene = write_scene(dir, slab_scene("{type: symplectic_euler, dt: 1 us}", "{t_end: 100 s}"));
+  // timeout sends SIGINT after 1 s; the run must stop cleanly with status "interrupted".
+  const std::string cmd = "timeout --preserve-status -s INT 1 " + std::string(ADAMSS_BINARY) + " run " +
+                          scene.string() + " -o " + (dir / "out").string() + cache_arg(dir) + " -q";
+  const int rc = std::system(cmd.c_str());
+  EXPECT_EQ(WEXITSTATUS(rc), 130);
+  const auto j = summary(dir / "out");
+  EXPECT_EQ(j["status"], "interrupted");
+  EXPECT_GT(j["steps"].get<int>(), 0);
+  EXPECT_TRUE(fs::exists(dir / "out" / "checkpoint.h5"));
+}
+
+TEST(Run, BadScenesFailWithOneClearMessage) {
+  const auto dir = scratch_dir("run_bad");
+  auto fails_with = [&](const std::string& text, const std::string& needle) {
+    const auto scene = write_scene(dir, text);
+    const auto r = run_adamss("run " + scene.string() + " -o " + (dir / "out").string() + cache_arg(dir));
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(needle), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("adamss: error: "), std::string::npos) << r.output;
+  };
+  const std::string ok = slab_scene("{type: symplectic_euler, dt: 5 us}", "{t_end: 1 ms}");
+  std::string s = ok;
+  s.replace(s.find("density: 1000 kg/m^3"), 20, "density: -3 kg/m^3");
+  fails_with(s, "materials[0].density: must be > 0");
+  s = ok;
+  s.replace(s.find("run: {t_end: 1 ms}"), 18, "run: {t_end: 1 ms, t_max: 2 ms}");
+  fails_with(s, "run.t_max: unknown key");
+  s = ok;
+  s.replace(s.find("phantom: slab"), 13, "file: missing.h5");
+  fails_with(s, "does not exist");
+  const auto r = run_adamss("run " + (dir / "nope.yaml").string() + " -o " + (dir / "out").string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("cannot open scene file"), std::string::npos);
+}
+
+TEST(Run, CheckOnlyValidatesWithoutOutput) {
+  const auto dir = scratch_dir("run_check");
+  const auto scene = write_scene(dir, slab_scene("{type: abm3, dt: 5 us}", "{t_end: 1 ms}"));
+  const auto r = run_adamss("run " + scene.string() + " --check" + cache_arg(dir));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("term virtual_hexahedron"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir / "out"));
+}
