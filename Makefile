@@ -6,7 +6,7 @@ JOBS ?= 2
 CMAKE_FLAGS ?=
 HEART_OUT ?= results/heart
 
-.PHONY: all deps configure build test heart clean format
+.PHONY: all deps configure build test heart bench clean format
 
 all: build
 
@@ -26,6 +26,10 @@ test: build
 
 heart: build
 	@cases/heart/run.sh $(BUILD_DIR)/app/adamss $(HEART_OUT)
+
+# Explicit step cost per force term (ns per element evaluation, 1 and 2 threads); see bench/.
+bench: build
+	@$(BUILD_DIR)/bench/bench_forces --benchmark_counters_tabular=true
 
 format:
 	@git ls-files '*.cpp' '*.hpp' | xargs clang-format -i

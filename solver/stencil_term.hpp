@@ -18,10 +18,13 @@
 //                 MatJ& dfdx, MatJ& dfdv) const;               // MatJ = 3N x 3N, local (a,b) block at (3a, 3b)
 // (energy/jacobian may be left undefined when the matching flag is false.)
 // Optional: void end_step(const StateView& s, double dt);   // state update after a step
+#include <algorithm>
 #include <array>
+#include <exception>
 #include <stdexcept>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "solver/force_term.hpp"
 
@@ -69,14 +72,48 @@ class StencilTerm final : public ForceTerm {
     }
   }
 
+  /// Forces of all items. Items are evaluated in parallel (OpenMP) into a per-item buffer,
+  /// then summed per node in a fixed order (increasing item index) -- the result is the same
+  /// bit for bit whatever the number of threads. Small terms run serially.
   void add_forces(const StateView& s, Eigen::Matrix3Xd& f) const override {
-    Mat3N<N> x, v, fl;
-    for (std::size_t i = 0; i < kernel_.size(); ++i) {
-      const std::array<Index, N> st = kernel_.stencil(i);
-      gather(s, st, x, v);
+    const std::size_t n = kernel_.size();
+    if (n == 0) return;
+    prepare_scatter();
+    local_.resize(3 * N, static_cast<Eigen::Index>(n));
+    const auto ni = static_cast<std::ptrdiff_t>(n);
+    const bool par = n >= kParallelMin;
+    std::ptrdiff_t failed_item = -1;
+    std::exception_ptr failure;
+#pragma omp parallel for schedule(static) if (par)
+    for (std::ptrdiff_t ii = 0; ii < ni; ++ii) {
+      const auto i = static_cast<std::size_t>(ii);
+      Mat3N<N> x, v, fl;
+      gather(s, kernel_.stencil(i), x, v);
       fl.setZero();
-      kernel_.forces(i, x, v, s.t, fl);
-      for (int a = 0; a < N; ++a) f.col(st[static_cast<std::size_t>(a)]) += fl.col(a);
+      try {
+        kernel_.forces(i, x, v, s.t, fl);
+      } catch (...) {
+#pragma omp critical(adamss_stencil_failure)
+        if (failed_item < 0 || ii < failed_item) {  // report the lowest failing item
+          failed_item = ii;
+          failure = std::current_exception();
+        }
+        fl.setZero();
+      }
+      local_.col(ii) = Eigen::Map<const Eigen::Matrix<double, 3 * N, 1>>(fl.data());
+    }
+    if (failure) std::rethrow_exception(failure);
+    const auto rows = static_cast<std::ptrdiff_t>(scatter_node_.size());
+#pragma omp parallel for schedule(static) if (par)
+    for (std::ptrdiff_t r = 0; r < rows; ++r) {
+      Eigen::Vector3d acc = Eigen::Vector3d::Zero();
+      for (std::size_t k = scatter_begin_[static_cast<std::size_t>(r)];
+           k < scatter_begin_[static_cast<std::size_t>(r) + 1]; ++k) {
+        const std::size_t slot = scatter_slot_[k];  // item * N + a
+        acc +=
+            local_.template block<3, 1>(static_cast<Eigen::Index>(3 * (slot % N)), static_cast<Eigen::Index>(slot / N));
+      }
+      f.col(scatter_node_[static_cast<std::size_t>(r)]) += acc;
     }
   }
 
@@ -108,7 +145,41 @@ class StencilTerm final : public ForceTerm {
     }
   }
 
+  /// Builds (once) the node -> (item, slot) table used to sum the item forces per node.
+  void prepare_scatter() const {
+    if (scatter_ready_ && scatter_items_ == kernel_.size()) return;
+    const std::size_t n = kernel_.size();
+    std::vector<std::pair<Index, std::size_t>> pairs;  // (node, item * N + a), in item order
+    pairs.reserve(n * N);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::array<Index, N> st = kernel_.stencil(i);
+      for (int a = 0; a < N; ++a)
+        pairs.emplace_back(st[static_cast<std::size_t>(a)], i * N + static_cast<std::size_t>(a));
+    }
+    std::stable_sort(pairs.begin(), pairs.end(), [](const auto& p, const auto& q) { return p.first < q.first; });
+    scatter_node_.clear();
+    scatter_begin_.clear();
+    scatter_slot_.resize(pairs.size());
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      if (k == 0 || pairs[k].first != pairs[k - 1].first) {
+        scatter_node_.push_back(pairs[k].first);
+        scatter_begin_.push_back(k);
+      }
+      scatter_slot_[k] = pairs[k].second;
+    }
+    scatter_begin_.push_back(pairs.size());
+    scatter_items_ = n;
+    scatter_ready_ = true;
+  }
+
+  static constexpr std::size_t kParallelMin = 256;
   Kernel kernel_;
+  // Work space of add_forces (not thread-safe across concurrent calls on the same term).
+  mutable Eigen::Matrix<double, 3 * N, Eigen::Dynamic> local_;
+  mutable std::vector<Index> scatter_node_;
+  mutable std::vector<std::size_t> scatter_begin_, scatter_slot_;
+  mutable std::size_t scatter_items_ = 0;
+  mutable bool scatter_ready_ = false;
 };
 
 }  // namespace adamss::solver
