@@ -31,7 +31,7 @@ nlohmann::json vec(const Eigen::Vector3d& v) {
 }
 
 void write_summary(const fs::path& file, const solver::LoadedScene& sc, const solver::RunOutcome& out,
-                   const solver::State& initial) {
+                   const solver::State& initial, const solver::ResultsWriter& writer) {
   using nlohmann::json;
   const solver::Model& m = sc.model;
   const solver::State& s = out.final_state;
@@ -59,15 +59,28 @@ void write_summary(const fs::path& file, const solver::LoadedScene& sc, const so
                {"critical_estimate", sc.critical_dt}};
   const double elem_steps = static_cast<double>(m.mesh->element_count()) * static_cast<double>(out.force_evaluations);
   j["ns_per_element_evaluation"] = elem_steps > 0 ? 1e9 * out.wall_seconds / elem_steps : 0.0;
-  j["total_volume_m3"] = {{"initial", v0}, {"final", v1}, {"relative_change", (v1 - v0) / v0}};
+  j["total_volume_m3"] = {{"initial", v0},
+                          {"final", v1},
+                          {"relative_change", (v1 - v0) / v0},
+                          {"max_abs_relative_change", writer.max_volume_change()}};
   j["kinetic_energy_final_J"] = solver::kinetic_energy(m.mass, s.v);
   j["mass_kg"] = m.mass.sum();
   json cav = json::array();
-  for (const auto& c : m.cavities) {
-    cav.push_back({{"name", c->name()},
-                   {"volume_initial_m3", c->volume(initial.x)},
-                   {"volume_final_m3", c->volume(s.x)},
-                   {"pressure_final_Pa", c->pressure(s.t)}});
+  for (std::size_t k = 0; k < m.cavities.size(); ++k) {
+    const auto& c = m.cavities[k];
+    json one = {{"name", c->name()},
+                {"volume_initial_m3", c->volume(initial.x)},
+                {"volume_final_m3", c->volume(s.x)},
+                {"pressure_final_Pa", c->pressure(s.t)}};
+    if (k < writer.cavity_extrema().size()) {
+      const auto& e = writer.cavity_extrema()[k];
+      one["volume_max_m3"] = e.max;
+      one["volume_max_t_s"] = e.t_max;
+      one["volume_min_m3"] = e.min;
+      one["volume_min_t_s"] = e.t_min;
+      one["ejection_fraction"] = e.max > 0 ? (e.max - e.min) / e.max : 0.0;
+    }
+    cav.push_back(one);
   }
   j["cavities"] = cav;
   json probes = json::object();
@@ -120,7 +133,7 @@ int run_scene(const RunArgs& a) {
   const solver::State initial = s;
   sc.run.progress = !a.quiet;
   const solver::RunOutcome out = solver::run_simulation(sc.model, s, sc.run, writer);
-  write_summary(writer.dir() / "summary.json", sc, out, initial);
+  write_summary(writer.dir() / "summary.json", sc, out, initial, writer);
   if (!a.quiet) {
     std::cout << out.status << " (" << out.reason << "): " << out.steps << " steps to t = " << out.t << " s in "
               << out.wall_seconds << " s wall, " << writer.frame_count() << " frames; results in " << a.output << "\n";

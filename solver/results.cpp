@@ -240,7 +240,24 @@ void ResultsWriter::write_globals(const State& s, const GlobalsRow& row) {
       (s.x.array().rowwise() * model_.mass.transpose().array()).rowwise().sum().matrix() / model_.mass.sum();
   globals_ << row.step << ',' << s.t << ',' << row.dt << ',' << row.kinetic_energy << ',' << vol << ','
            << (vol - volume0_) / volume0_ << ',' << bary.x() << ',' << bary.y() << ',' << bary.z();
-  for (const auto& c : model_.cavities) globals_ << ',' << c->volume(s.x) << ',' << c->pressure(s.t);
+  if (extrema_.size() != model_.cavities.size()) extrema_.assign(model_.cavities.size(), {});
+  const bool first = !logged_;
+  logged_ = true;
+  max_volume_change_ = std::max(max_volume_change_, std::abs(vol - volume0_) / volume0_);
+  for (std::size_t k = 0; k < model_.cavities.size(); ++k) {
+    const auto& c = model_.cavities[k];
+    const double cv = c->volume(s.x);
+    Extremum& e = extrema_[k];
+    if (first || cv < e.min) {
+      e.min = cv;
+      e.t_min = s.t;
+    }
+    if (first || cv > e.max) {
+      e.max = cv;
+      e.t_max = s.t;
+    }
+    globals_ << ',' << cv << ',' << c->pressure(s.t);
+  }
   globals_ << ',' << row.report.evaluations << ',' << row.report.rejected << ',' << row.report.error << ','
            << row.wall_seconds << '\n';
   globals_.flush();

@@ -44,6 +44,14 @@ class ResultsWriter {
   /// Writes checkpoint.h5 with positions, velocities and time.
   void write_checkpoint(const State& s, std::size_t step) const;
 
+  /// Smallest and largest volume (m^3) of each cavity over the logged rows, with their times.
+  struct Extremum {
+    double min = 0.0, max = 0.0, t_min = 0.0, t_max = 0.0;
+  };
+  [[nodiscard]] const std::vector<Extremum>& cavity_extrema() const { return extrema_; }
+  /// Largest |V - V0| / V0 of the whole mesh over the logged rows.
+  [[nodiscard]] double max_volume_change() const { return max_volume_change_; }
+
   [[nodiscard]] const std::filesystem::path& dir() const { return dir_; }
   [[nodiscard]] std::size_t frame_count() const { return frames_.size(); }
 
@@ -54,6 +62,9 @@ class ResultsWriter {
   std::ofstream globals_;
   std::vector<std::pair<double, std::string>> frames_;
   double volume0_ = 0.0;
+  std::vector<Extremum> extrema_;
+  double max_volume_change_ = 0.0;
+  bool logged_ = false;
   std::vector<double> element_volume0_;
 };
 
