@@ -61,7 +61,10 @@ TEST(VirtualHex, PassesHarnessOnTetAndHexMeshes) {
     auto mesh = block(t);
     set_fibres(mesh, false);
     const solver::AxisFrames frames = solver::build_axis_frames(mesh);
-    for (const auto& law : {guccione(), neo_hookean()}) {
+    const std::shared_ptr<const materials::Law> laws[] = {guccione(), neo_hookean(),
+                                                          materials::make_law("hunter_canine", {}),
+                                                          materials::make_law("svk", {{"E", 10e3}, {"nu", 0.3}})};
+    for (const auto& law : laws) {
       SCOPED_TRACE(std::string(preprocess::topology_name(t)) + " / " + std::string(law->name()));
       const auto term = solver::make_virtual_hex_term(mesh, frames, law);
       EXPECT_EQ(term->name(), "virtual_hexahedron");
@@ -133,7 +136,10 @@ TEST(VirtualHex, PatchTestHomogeneousDeformation) {
     B << mesh.fiber.col(0), mesh.sheet.col(0), mesh.normal.col(0);
     const Eigen::Matrix3d Ef = B.transpose() * 0.5 * (F0.transpose() * F0 - Eigen::Matrix3d::Identity()) * B;
     const Eigen::Vector3d lo = mesh.nodes.rowwise().minCoeff(), hi = mesh.nodes.rowwise().maxCoeff();
-    for (const auto& law : {guccione(), neo_hookean()}) {
+    const std::shared_ptr<const materials::Law> laws[] = {guccione(), neo_hookean(),
+                                                          materials::make_law("hunter_canine", {}),
+                                                          materials::make_law("svk", {{"E", 10e3}, {"nu", 0.3}})};
+    for (const auto& law : laws) {
       SCOPED_TRACE(std::string(preprocess::topology_name(t)) + " / " + std::string(law->name()));
       const auto term = solver::make_virtual_hex_term(mesh, frames, law);
       const Eigen::Matrix3Xd f = test::forces_of(*term, x, v);
@@ -154,6 +160,15 @@ TEST(VirtualHex, PatchTestHomogeneousDeformation) {
       EXPECT_NEAR(vsum, total_volume, 1e-12 * total_volume);
       const double expected = total_volume * law->energy(Ef);
       EXPECT_NEAR(term->energy({x, v, 0.0}), expected, 1e-10 * std::abs(expected));
+      // The analytic first Piola-Kirchhoff stress P = F0 B S_f(E_f) B^T against the one the
+      // nodal forces carry: sum_a f_a X_a^T = -V P for a homogeneous deformation (virial).
+      const Eigen::Matrix3d P = F0 * B * law->stress(Ef) * B.transpose();
+      Eigen::Matrix3d virial = Eigen::Matrix3d::Zero();
+      for (Eigen::Index n = 0; n < x.cols(); ++n) virial += f.col(n) * mesh.nodes.col(n).transpose();
+      const Eigen::Matrix3d P_nodes = -virial / total_volume;
+      EXPECT_LT((P_nodes - P).cwiseAbs().maxCoeff(), 1e-9 * P.cwiseAbs().maxCoeff()) << "P from forces\n"
+                                                                                     << P_nodes << "\nanalytic\n"
+                                                                                     << P;
     }
   }
 }
