@@ -108,6 +108,8 @@ RunOutcome run_simulation(Model& model, State& s, const RunSettings& set, Result
   auto last_progress = Clock::now();
   out.dt_min_used = std::numeric_limits<double>::infinity();
 
+  StepReport last_rep;
+  bool ke_exceeded = false;
   auto fail_with = [&](const std::string& status, const std::string& why) {
     out.status = status;
     out.reason = why;
@@ -136,7 +138,7 @@ RunOutcome run_simulation(Model& model, State& s, const RunSettings& set, Result
       break;
     }
     const double h = integ->adaptive() ? dt : std::min(dt, set.t_end - s.t);
-    StepReport rep;
+    StepReport& rep = last_rep;
     try {
       rep = integ->step(s, h);
     } catch (const NumericalError& e) {
@@ -189,7 +191,11 @@ RunOutcome run_simulation(Model& model, State& s, const RunSettings& set, Result
         while (next_export <= s.t + t_eps) next_export += set.export_interval;
       }
     }
-    if (set.ke_threshold >= 0.0 && s.t >= set.ke_after && ke < set.ke_threshold) {
+    if (ke >= set.ke_threshold) ke_exceeded = true;
+    // The kinetic-energy stop is armed from ke_after on, and only once the motion has started
+    // (the kinetic energy exceeded the threshold at least once): a scene starting at rest does
+    // not stop after its first step.
+    if (set.ke_threshold >= 0.0 && s.t >= set.ke_after && ke_exceeded && ke < set.ke_threshold) {
       out.status = "completed";
       out.reason = "kinetic_energy";
       break;
@@ -208,6 +214,8 @@ RunOutcome run_simulation(Model& model, State& s, const RunSettings& set, Result
   // Final state: always logged and written as the last frame.
   if (s.t != last_logged_t || out.steps == 0) {
     row.step = out.steps;
+    row.dt = last_rep.dt;
+    row.report = last_rep;
     row.kinetic_energy = kinetic_energy(model.mass, s.v);
     row.wall_seconds = wall();
     writer.write_globals(s, row);

@@ -2,7 +2,8 @@
 // The simulation loop of seed 000 sec. 2.2 (Fig. 2.3): forces -> integration ->
 // export -> stop test, until a stop condition holds:
 //   * t >= t_end                                   status "completed", reason "t_end"
-//   * kinetic energy < ke_threshold (after ke_after) status "completed", reason "kinetic_energy"
+//   * kinetic energy < ke_threshold (after ke_after, once it has exceeded the threshold)
+//                                                    status "completed", reason "kinetic_energy"
 //   * max_steps reached                              status "max_steps"
 //   * NaN/inf in x or v, or an element whose signed volume (eq. 2.154, see
 //     element_signed_volume_check) fell to <= flat_fraction of its reference value:

@@ -8,6 +8,7 @@
 #include <functional>
 #include <iomanip>
 #include <numbers>
+#include <set>
 #include <sstream>
 
 #include "common/error.hpp"
@@ -213,8 +214,11 @@ LoadedScene assemble(const YAML::Node& root_yaml, const fs::path& origin, const 
   std::vector<std::string> owner(mesh->element_count());
   std::vector<std::pair<SceneNode, std::vector<std::size_t>>> mat_elements;
   double max_c2 = 0.0;
+  std::set<std::string> material_names;
   for (SceneNode& m : mats) {
     const std::string name = m.text("name");
+    if (!material_names.insert(name).second)
+      throw InputError(m.at("name") + ": a second material named '" + name + "'");
     const double rho = m.positive("density", Dimension::Density);
     std::vector<std::size_t> elems;
     std::vector<long long> labels = m.integers("labels");
@@ -238,8 +242,8 @@ LoadedScene assemble(const YAML::Node& root_yaml, const fs::path& origin, const 
   model.mass = voronoi_masses(*mesh, density);
 
   for (auto& [m, elems] : mat_elements) {
-    MaterialContext ctx{m.text("name"), *mesh, elems,        m.positive("density", Dimension::Density),
-                        model,          0.0,   std::nullopt, nullptr};
+    MaterialContext ctx{m.text("name"), *mesh,  elems, m.positive("density", Dimension::Density), model, 0.0, 0.0,
+                        std::nullopt,   nullptr};
     ctx.frame_counter = &sc.axis_frame_elements;
     std::vector<SceneNode> terms = m.list("terms", true);
     if (terms.empty()) throw InputError(m.at("terms") + ": a material needs at least one force term");
@@ -258,7 +262,7 @@ LoadedScene assemble(const YAML::Node& root_yaml, const fs::path& origin, const 
       }
     }
     m.finish();
-    max_c2 = std::max(max_c2, ctx.wave_modulus / ctx.density);
+    max_c2 = std::max(max_c2, (ctx.wave_modulus + ctx.bulk_modulus) / ctx.density);
   }
 
   // ---- loads and initial state
@@ -292,6 +296,9 @@ LoadedScene assemble(const YAML::Node& root_yaml, const fs::path& origin, const 
   run.abm3.dt_min = integ.positive("dt_min", Dimension::Time, std::min(run.abm3.dt_min, run.dt));
   run.abm3.dt_max = integ.positive("dt_max", Dimension::Time, std::max(run.abm3.dt_max, run.dt));
   const bool check_dt = integ.flag("check_dt", true);
+  if (!(run.abm3.error_min < run.abm3.error_max))
+    throw InputError(integ.at("error_min") + ": must be smaller than error_max");
+  if (!(run.abm3.dt_min <= run.abm3.dt_max)) throw InputError(integ.at("dt_min") + ": must not exceed dt_max");
   integ.finish();
 
   SceneNode r = root.map("run");
@@ -308,8 +315,10 @@ LoadedScene assemble(const YAML::Node& root_yaml, const fs::path& origin, const 
   if (auto out = root.optional_map("output")) {
     run.export_interval = out->positive("frame_interval", Dimension::Time, 0.0, true);
     run.globals_interval = out->positive("globals_interval", Dimension::Time, 0.0, true);
+    std::set<std::string> probe_names;
     for (SceneNode& p : out->list("probes")) {
       const std::string pname = p.text("name");
+      if (!probe_names.insert(pname).second) throw InputError(p.at("name") + ": a second probe named '" + pname + "'");
       const Eigen::Vector3d pt = p.vector3("point", Dimension::Length);
       Eigen::Index best = 0;
       (model.x_ref.colwise() - pt).colwise().squaredNorm().minCoeff(&best);

@@ -1,5 +1,7 @@
 #include "solver/scene_loads.hpp"
 
+#include <set>
+
 #include "common/error.hpp"
 #include "solver/cavity_pressure.hpp"
 #include "solver/global_friction.hpp"
@@ -41,8 +43,10 @@ void build_loads(SceneNode& loads, Model& model, const std::filesystem::path& /*
     }
     g->finish();
   }
+  std::set<std::string> names;
   for (SceneNode& p : loads.list("pressure")) {
     const std::string name = p.text("name");
+    if (!names.insert(name).second) throw InputError(p.at("name") + ": a second pressure surface named '" + name + "'");
     SceneNode sel = p.map("surface");
     Surface surface;
     const bool cav = sel.has("cavity"), reg = sel.has("region");

@@ -1,6 +1,6 @@
 #pragma once
 // A checked view of one YAML mapping of a scene file. Every read names the key path
-// ("materials.myocardium.terms[0].volume.p") in its error, and finish() rejects the keys
+// ("materials[0].terms[0].volume.p") in its error, and finish() rejects the keys
 // nobody read, listing the keys the entry understands: the scene schema is the set of
 // keys the code asks for, so the reference (docs/scene-reference.md) and the code cannot
 // drift apart silently.

@@ -126,7 +126,7 @@ void build_volume(SceneNode& node, MaterialContext& ctx) {
   node.finish();
   const AxisFrames* frames = p.distribution == VolumeDistribution::Anisotropic ? &ctx.frames() : nullptr;
   ctx.model.terms.push_back(make_volume_term(ctx.mesh, frames, p, frames != nullptr ? nullptr : &ctx.elements));
-  ctx.wave_modulus += 2.0 * p.p;  // W_v = p (J - 1)^2 has bulk modulus 2 p
+  ctx.bulk_modulus += 2.0 * p.p;  // W_v = p (J - 1)^2 has bulk modulus 2 p
 }
 
 void build_volume_springs(SceneNode& node, MaterialContext& ctx) {
@@ -212,7 +212,13 @@ void build_material_term(const std::string& type, SceneNode& node, MaterialConte
     for (const auto& n : material_term_types()) list += (list.empty() ? "" : ", ") + n;
     throw InputError(node.path() + ": unknown force term '" + type + "' (known: " + list + ")");
   }
-  it->second(node, ctx);
+  try {
+    it->second(node, ctx);
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    if (msg.rfind(node.path(), 0) == 0) throw;  // already names the key path
+    throw InputError(node.path() + ": " + msg);
+  }
 }
 
 }  // namespace adamss::solver

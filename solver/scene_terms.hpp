@@ -24,8 +24,11 @@ struct MaterialContext {
   Model& model;
   /// The material's axis frames (entries in `elements` order), built on first use.
   const AxisFrames& frames();
-  /// Largest stiffness modulus (Pa) the material's terms declare, for the critical step (eq. 2.150).
+  /// Largest stiffness modulus (Pa) the material's deviatoric/spring terms declare, and the sum of the
+  /// bulk moduli of its volume terms; their sum estimates the P-wave modulus for the critical step
+  /// (eq. 2.150).
   double wave_modulus = 0.0;
+  double bulk_modulus = 0.0;
   std::optional<AxisFrames> frames_;
   std::size_t* frame_counter = nullptr;
 };
