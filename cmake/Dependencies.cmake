@@ -8,6 +8,13 @@ find_package(fmt REQUIRED)
 find_package(ZLIB REQUIRED)
 find_package(MPI REQUIRED COMPONENTS C CXX)
 find_package(yaml-cpp REQUIRED)
+
+# CGAL 5.5 (header-only; Mesh_3 on labelled images needs the ImageIO component).
+find_package(CGAL REQUIRED COMPONENTS ImageIO)
+
+# PETSc 3.18 (real, OpenMPI): pkg-config; petsc.pc has no MPI include path, so link MPI::MPI_C too.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(PETSC REQUIRED IMPORTED_TARGET petsc)
 find_package(OpenMP REQUIRED COMPONENTS CXX)
 
 # HDF5: the OpenMPI flavour, the same MPI PETSc uses.
