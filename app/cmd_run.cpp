@@ -53,6 +53,8 @@ void write_summary(const fs::path& file, const solver::LoadedScene& sc, const so
   j["wall_time_s"] = out.wall_seconds;
   j["force_evaluations"] = out.force_evaluations;
   j["rejected_steps"] = out.rejected_steps;
+  j["newton_iterations"] = out.newton_iterations;
+  j["linear_iterations"] = out.linear_iterations;
   j["dt_s"] = {{"initial", sc.run.dt},
                {"min_used", out.dt_min_used},
                {"max_used", out.dt_max_used},

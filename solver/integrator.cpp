@@ -4,6 +4,7 @@
 
 #include "common/error.hpp"
 #include "solver/abm3.hpp"
+#include "solver/implicit.hpp"
 
 namespace adamss::solver {
 
@@ -80,13 +81,20 @@ class SymplecticEuler final : public Integrator {
 
 }  // namespace
 
-std::unique_ptr<Integrator> make_integrator(const std::string& name, System& system, const Abm3Settings& abm) {
+std::unique_ptr<Integrator> make_integrator(const std::string& name, System& system, const Abm3Settings& abm,
+                                            const ImplicitSettings* implicit) {
   if (name == "forward_euler") return std::make_unique<ForwardEuler>(system);
   if (name == "symplectic_euler") return std::make_unique<SymplecticEuler>(system);
   if (name == "abm3") return std::make_unique<Abm3>(system, abm);
-  throw InputError(
-      "unknown integrator '" + name +
-      "' (explicit integrators: forward_euler, symplectic_euler, abm3; the implicit ones are not built yet)");
+  const ImplicitSettings defaults;
+  const ImplicitSettings& imp = implicit != nullptr ? *implicit : defaults;
+  if (name == "backward_euler")
+    return std::make_unique<ImplicitIntegrator>(system, ImplicitIntegrator::Kind::BackwardEuler, imp);
+  if (name == "backward_euler_newton")
+    return std::make_unique<ImplicitIntegrator>(system, ImplicitIntegrator::Kind::BackwardEulerNewton, imp);
+  if (name == "static") return std::make_unique<ImplicitIntegrator>(system, ImplicitIntegrator::Kind::Static, imp);
+  throw InputError("unknown integrator '" + name +
+                   "' (forward_euler, symplectic_euler, abm3, backward_euler, backward_euler_newton, static)");
 }
 
 }  // namespace adamss::solver

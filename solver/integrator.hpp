@@ -48,11 +48,13 @@ class System {
 
 /// What one call of Integrator::step did.
 struct StepReport {
-  double dt = 0.0;       ///< step actually taken (s)
-  double next_dt = 0.0;  ///< step the integrator proposes next (s)
-  int evaluations = 0;   ///< force evaluations used, including rejected attempts
-  int rejected = 0;      ///< attempts rejected (ABM3 halvings)
-  double error = 0.0;    ///< ABM3 predictor-corrector difference (m), 0 otherwise
+  double dt = 0.0;            ///< step actually taken (s)
+  double next_dt = 0.0;       ///< step the integrator proposes next (s)
+  int evaluations = 0;        ///< force evaluations used, including rejected attempts
+  int rejected = 0;           ///< attempts rejected (ABM3 halvings)
+  double error = 0.0;         ///< ABM3 predictor-corrector difference (m), 0 otherwise
+  int newton_iterations = 0;  ///< implicit/static: Newton iterations of the accepted attempt
+  int linear_iterations = 0;  ///< implicit/static: Krylov iterations of the accepted attempt
 };
 
 class Integrator {
@@ -74,7 +76,11 @@ struct Abm3Settings {
   double dt_max = 1e-3;     ///< s: doubling never exceeds this
 };
 
-/// "forward_euler", "symplectic_euler", "abm3". Throws InputError listing the names otherwise.
-std::unique_ptr<Integrator> make_integrator(const std::string& name, System& system, const Abm3Settings& abm = {});
+struct ImplicitSettings;
+
+/// "forward_euler", "symplectic_euler", "abm3", and (solver/implicit.hpp) "backward_euler",
+/// "backward_euler_newton", "static". Throws InputError listing the names otherwise.
+std::unique_ptr<Integrator> make_integrator(const std::string& name, System& system, const Abm3Settings& abm = {},
+                                            const ImplicitSettings* implicit = nullptr);
 
 }  // namespace adamss::solver

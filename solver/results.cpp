@@ -197,7 +197,7 @@ ResultsWriter::ResultsWriter(fs::path out_dir, const Model& model) : dir_(std::m
   if (!globals_) throw InputError("cannot write " + (dir_ / "globals.csv").string());
   globals_ << "step,t,dt,kinetic_energy,total_volume,volume_change,barycentre_x,barycentre_y,barycentre_z";
   for (const auto& c : model.cavities) globals_ << ',' << c->name() << "_volume," << c->name() << "_pressure";
-  globals_ << ",force_evaluations,rejected_steps,abm3_error,wall_time\n";
+  globals_ << ",force_evaluations,rejected_steps,abm3_error,newton_iterations,linear_iterations,wall_time\n";
   globals_ << std::setprecision(10);
 }
 
@@ -259,7 +259,7 @@ void ResultsWriter::write_globals(const State& s, const GlobalsRow& row) {
     globals_ << ',' << cv << ',' << c->pressure(s.t);
   }
   globals_ << ',' << row.report.evaluations << ',' << row.report.rejected << ',' << row.report.error << ','
-           << row.wall_seconds << '\n';
+           << row.report.newton_iterations << ',' << row.report.linear_iterations << ',' << row.wall_seconds << '\n';
   globals_.flush();
 }
 

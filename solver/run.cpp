@@ -83,7 +83,7 @@ RunOutcome run_simulation(Model& model, State& s, const RunSettings& set, Result
   System sys(model);
   sys.set_fixed_positions(s.x);
   sys.impose(s);
-  auto integ = make_integrator(set.integrator, sys, set.abm3);
+  auto integ = make_integrator(set.integrator, sys, set.abm3, &set.implicit);
 
   const preprocess::Mesh& mesh = *model.mesh;
   std::vector<double> vref(mesh.element_count());
@@ -137,7 +137,7 @@ RunOutcome run_simulation(Model& model, State& s, const RunSettings& set, Result
           "stopped after max_steps = " + std::to_string(set.max_steps) + " steps at t = " + std::to_string(s.t);
       break;
     }
-    const double h = integ->adaptive() ? dt : std::min(dt, set.t_end - s.t);
+    const double h = integ->name() == "abm3" ? dt : std::min(dt, set.t_end - s.t);
     StepReport& rep = last_rep;
     try {
       rep = integ->step(s, h);
@@ -148,6 +148,8 @@ RunOutcome run_simulation(Model& model, State& s, const RunSettings& set, Result
     ++out.steps;
     out.force_evaluations += static_cast<std::size_t>(rep.evaluations);
     out.rejected_steps += static_cast<std::size_t>(rep.rejected);
+    out.newton_iterations += static_cast<std::size_t>(rep.newton_iterations);
+    out.linear_iterations += static_cast<std::size_t>(rep.linear_iterations);
     out.dt_min_used = std::min(out.dt_min_used, rep.dt);
     out.dt_max_used = std::max(out.dt_max_used, rep.dt);
     if (integ->adaptive()) dt = rep.next_dt;

@@ -19,6 +19,7 @@
 #include <optional>
 #include <string>
 
+#include "solver/implicit.hpp"
 #include "solver/integrator.hpp"
 #include "solver/model.hpp"
 #include "solver/results.hpp"
@@ -30,6 +31,7 @@ struct RunSettings {
   double dt = 0.0;     ///< s (> 0); the initial step for abm3
   std::string integrator = "symplectic_euler";
   Abm3Settings abm3;
+  ImplicitSettings implicit;      ///< backward_euler, backward_euler_newton, static
   double ke_threshold = -1.0;     ///< J; < 0 disables the kinetic-energy stop
   double ke_after = 0.0;          ///< s; the kinetic-energy stop is armed from this time on
   std::size_t max_steps = 0;      ///< 0: no limit
@@ -48,6 +50,8 @@ struct RunOutcome {
   double wall_seconds = 0.0;
   std::size_t force_evaluations = 0;
   std::size_t rejected_steps = 0;
+  std::size_t newton_iterations = 0;  ///< implicit/static, summed over accepted steps
+  std::size_t linear_iterations = 0;  ///< implicit/static, summed over accepted steps
   double dt_min_used = 0.0, dt_max_used = 0.0;
   std::optional<std::size_t> bad_element;  ///< element that inverted/flattened
   State final_state;                       ///< the last good state

@@ -289,13 +289,26 @@ LoadedScene assemble(const YAML::Node& root_yaml, const fs::path& origin, const 
   // ---- integrator and run
   SceneNode integ = root.map("integrator");
   RunSettings& run = sc.run;
-  run.integrator = integ.choice("type", {"forward_euler", "symplectic_euler", "abm3"});
+  run.integrator = integ.choice(
+      "type", {"forward_euler", "symplectic_euler", "abm3", "backward_euler", "backward_euler_newton", "static"});
   run.dt = integ.positive("dt", Dimension::Time);
   run.abm3.error_min = integ.positive("error_min", Dimension::Length, run.abm3.error_min);
   run.abm3.error_max = integ.positive("error_max", Dimension::Length, run.abm3.error_max);
   run.abm3.dt_min = integ.positive("dt_min", Dimension::Time, std::min(run.abm3.dt_min, run.dt));
   run.abm3.dt_max = integ.positive("dt_max", Dimension::Time, std::max(run.abm3.dt_max, run.dt));
   const bool check_dt = integ.flag("check_dt", true);
+  ImplicitSettings& imp = run.implicit;
+  imp.dt_min = run.abm3.dt_min;
+  imp.dt_max = integ.has("dt_max") ? run.abm3.dt_max : 1e30;  // no upper bound unless given
+  imp.max_newton = static_cast<int>(integ.integer("max_newton", imp.max_newton));
+  imp.newton_rtol = integ.positive("newton_rtol", Dimension::Dimensionless, imp.newton_rtol);
+  imp.newton_atol = integ.positive("newton_atol", Dimension::Force, imp.newton_atol);
+  imp.newton_xtol = integ.positive("newton_xtol", Dimension::Length, imp.newton_xtol);
+  imp.ksp_rtol = integ.positive("ksp_rtol", Dimension::Dimensionless, imp.ksp_rtol);
+  imp.ksp_max_it = static_cast<int>(integ.integer("ksp_max_it", imp.ksp_max_it));
+  imp.adapt = integ.flag("adapt", imp.adapt);
+  imp.petsc_options = integ.text("petsc_options", "");
+  if (imp.max_newton < 1) throw InputError(integ.at("max_newton") + ": must be >= 1");
   if (!(run.abm3.error_min < run.abm3.error_max))
     throw InputError(integ.at("error_min") + ": must be smaller than error_max");
   if (!(run.abm3.dt_min <= run.abm3.dt_max)) throw InputError(integ.at("dt_min") + ": must not exceed dt_max");
@@ -337,7 +350,8 @@ LoadedScene assemble(const YAML::Node& root_yaml, const fs::path& origin, const 
   if (max_c2 > 0.0) {
     sc.wave_speed = std::sqrt(max_c2);
     sc.critical_dt = sc.min_edge_length / sc.wave_speed;
-    if (run.integrator != "abm3" && run.dt > sc.critical_dt) {
+    const bool explicit_scheme = run.integrator == "forward_euler" || run.integrator == "symplectic_euler";
+    if (explicit_scheme && run.dt > sc.critical_dt) {
       std::ostringstream os;
       os << "integrator.dt = " << run.dt << " s exceeds the critical step h_c = L/c = " << sc.critical_dt
          << " s (eq. 2.150; shortest edge L = " << sc.min_edge_length << " m, wave speed c = " << sc.wave_speed

@@ -1,0 +1,282 @@
+#include "solver/implicit.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+
+#include "common/error.hpp"
+#include "solver/petsc_env.hpp"
+
+namespace adamss::solver {
+
+namespace {
+
+/// y += c * dF/dx * u on the fly (for K v0 in the linearised step).
+class KProduct final : public JacobianSink {
+ public:
+  KProduct(const Eigen::Matrix3Xd& u, Eigen::Matrix3Xd& y, double c) : u_(u), y_(y), c_(c) {}
+  void add_block(Index a, Index b, const Eigen::Matrix3d& dfdx, const Eigen::Matrix3d& /*dfdv*/) override {
+    y_.col(a) += c_ * dfdx * u_.col(b);
+  }
+
+ private:
+  const Eigen::Matrix3Xd& u_;
+  Eigen::Matrix3Xd& y_;
+  double c_;
+};
+
+void to_vec(const Eigen::Matrix3Xd& m, Vec v) {
+  PetscScalar* a = nullptr;
+  petsc_check(VecGetArray(v, &a), "VecGetArray");
+  std::memcpy(a, m.data(), sizeof(double) * static_cast<std::size_t>(m.size()));
+  petsc_check(VecRestoreArray(v, &a), "VecRestoreArray");
+}
+
+void from_vec(Vec v, Eigen::Matrix3Xd& m) {
+  const PetscScalar* a = nullptr;
+  petsc_check(VecGetArrayRead(v, &a), "VecGetArrayRead");
+  std::memcpy(m.data(), a, sizeof(double) * static_cast<std::size_t>(m.size()));
+  petsc_check(VecRestoreArrayRead(v, &a), "VecRestoreArrayRead");
+}
+
+void zero_dofs(Eigen::Matrix3Xd& m, const std::vector<PetscInt>& dofs) {
+  for (const PetscInt d : dofs) m.data()[d] = 0.0;
+}
+
+}  // namespace
+
+ImplicitIntegrator::ImplicitIntegrator(System& system, Kind kind, const ImplicitSettings& settings)
+    : sys_(system), kind_(kind), set_(settings), a_(*system.model().mesh) {
+  require_jacobians(sys_.model().terms, name());
+  if (!(set_.dt_min > 0.0) || !(set_.dt_max >= set_.dt_min)) throw InputError(name() + ": need 0 < dt_min <= dt_max");
+  ensure_petsc(set_.petsc_options);
+  fixed_dofs_ = constrained_dofs(sys_.model().constraints.mask());
+  petsc_check(MatCreateVecs(a_.mat(), &u_, &b_), "MatCreateVecs");
+  petsc_check(KSPCreate(PETSC_COMM_WORLD, &ksp_), "KSPCreate");
+  petsc_check(KSPSetType(ksp_, KSPGMRES), "KSPSetType");
+  petsc_check(KSPSetOperators(ksp_, a_.mat(), a_.mat()), "KSPSetOperators");  // PCSetCoordinates needs them
+  PC pc = nullptr;
+  petsc_check(KSPGetPC(ksp_, &pc), "KSPGetPC");
+  petsc_check(PCSetType(pc, PCGAMG), "PCSetType");
+  {
+    // Particle coordinates: GAMG builds the rigid-body near-null space from them.
+    Eigen::Matrix3Xd xr = sys_.model().x_ref;
+    petsc_check(PCSetCoordinates(pc, 3, static_cast<PetscInt>(xr.cols()), xr.data()), "PCSetCoordinates");
+  }
+  petsc_check(KSPSetTolerances(ksp_, set_.ksp_rtol, PETSC_DEFAULT, PETSC_DEFAULT, set_.ksp_max_it), "KSPSetTolerances");
+  petsc_check(KSPSetFromOptions(ksp_), "KSPSetFromOptions");
+}
+
+ImplicitIntegrator::~ImplicitIntegrator() {
+  if (ksp_ != nullptr) KSPDestroy(&ksp_);
+  if (u_ != nullptr) VecDestroy(&u_);
+  if (b_ != nullptr) VecDestroy(&b_);
+}
+
+std::string ImplicitIntegrator::name() const {
+  switch (kind_) {
+    case Kind::BackwardEuler:
+      return "backward_euler";
+    case Kind::BackwardEulerNewton:
+      return "backward_euler_newton";
+    case Kind::Static:
+      return "static";
+  }
+  return "?";
+}
+
+bool ImplicitIntegrator::solve(Vec rhs, Vec sol, int& its) {
+  petsc_check(KSPSetOperators(ksp_, a_.mat(), a_.mat()), "KSPSetOperators");
+  petsc_check(KSPSolve(ksp_, rhs, sol), "KSPSolve");
+  PetscInt n = 0;
+  KSPGetIterationNumber(ksp_, &n);
+  its += static_cast<int>(n);
+  KSPConvergedReason reason;
+  KSPGetConvergedReason(ksp_, &reason);
+  return reason > 0;
+}
+
+StepReport ImplicitIntegrator::step(State& s, double dt) {
+  StepReport rep;
+  double h = std::clamp(dt, set_.dt_min, set_.dt_max);
+  for (;;) {
+    if (attempt(s, h, rep)) break;
+    ++rep.rejected;
+    h *= 0.5;
+    if (h < set_.dt_min) {
+      std::ostringstream os;
+      os << name() << ": the step failed (" << (history_.empty() ? 0 : history_.size())
+         << " Newton iterations, residual " << (history_.empty() ? 0.0 : history_.back())
+         << " N) and halving it would go below dt_min = " << set_.dt_min << " s at t = " << s.t << " s";
+      throw NumericalError(os.str());
+    }
+  }
+  rep.dt = h;
+  double next = h;
+  if (set_.adapt) {
+    const bool easy =
+        kind_ == Kind::BackwardEuler ? rep.linear_iterations <= set_.ksp_max_it / 4 : rep.newton_iterations <= 3;
+    if (easy && rep.rejected == 0) next = std::min(1.5 * h, set_.dt_max);
+    if (kind_ != Kind::BackwardEuler && rep.newton_iterations >= 8) next = std::max(0.5 * h, set_.dt_min);
+  }
+  rep.next_dt = next;
+  return rep;
+}
+
+bool ImplicitIntegrator::attempt(State& s, double h, StepReport& rep) {
+  const Model& model = sys_.model();
+  const Eigen::VectorXd& m = model.mass;
+  const double t1 = s.t + h;
+  history_.clear();
+  last_newton_ = 0;
+  last_linear_ = 0;
+  int lin = 0;
+  x0_ = s.x;
+  v0_ = s.v;
+  // Prescribed values at t1 on the constrained coordinates.
+  State pres = s;
+  pres.t = t1;
+  pres.x = x0_ + h * v0_;
+  sys_.impose(pres);
+  std::vector<char> vel_ctl(static_cast<std::size_t>(3 * s.x.cols()), 0);
+  for (const auto& c : model.constraints.controls())
+    if (c.velocity) vel_ctl[static_cast<std::size_t>(3 * c.node + c.axis)] = 1;
+
+  auto finite_ok = [](const Eigen::Matrix3Xd& a) { return a.allFinite(); };
+
+  if (kind_ == Kind::Static) {
+    State cur = s;
+    cur.t = t1;
+    cur.v.setZero();
+    for (const PetscInt d : fixed_dofs_) cur.x.data()[d] = pres.x.data()[d];
+    double r0 = 0.0;
+    for (int it = 0;; ++it) {
+      sys_.forces(cur.x, cur.v, t1, f_);
+      ++rep.evaluations;
+      zero_dofs(f_, fixed_dofs_);
+      const double nr = f_.norm();
+      if (!std::isfinite(nr)) return false;
+      history_.push_back(nr);
+      if (it == 0) r0 = nr;
+      if (nr <= set_.newton_atol || nr <= set_.newton_rtol * r0) break;
+      if (it >= set_.max_newton) return false;
+      a_.zero();
+      const StateView view{cur.x, cur.v, t1};
+      for (const auto& term : model.terms) term->add_jacobian(view, a_.sink(-1.0, 0.0));
+      a_.assemble();
+      a_.eliminate(fixed_dofs_);
+      to_vec(f_, b_);
+      if (!solve(b_, u_, lin)) return false;
+      Eigen::Matrix3Xd dx(3, cur.x.cols());
+      from_vec(u_, dx);
+      zero_dofs(dx, fixed_dofs_);
+      // Backtracking line search on |r|.
+      double alpha = 1.0;
+      Eigen::Matrix3Xd trial;
+      for (;;) {
+        trial = cur.x + alpha * dx;
+        sys_.forces(trial, cur.v, t1, r_);
+        ++rep.evaluations;
+        zero_dofs(r_, fixed_dofs_);
+        const double nt = r_.norm();
+        if ((std::isfinite(nt) && nt <= (1.0 - 1e-4 * alpha) * nr) || alpha < 1.0 / 64.0) break;
+        alpha *= 0.5;
+      }
+      cur.x = trial;
+      ++last_newton_;
+      if (!finite_ok(cur.x)) return false;
+      if (alpha * dx.cwiseAbs().maxCoeff() <= set_.newton_xtol) {
+        sys_.forces(cur.x, cur.v, t1, f_);
+        zero_dofs(f_, fixed_dofs_);
+        history_.push_back(f_.norm());
+        break;
+      }
+    }
+    s = cur;
+  } else {
+    // Prescribed end-of-step velocities: x1 = x0 + h v1 must hit the imposed positions.
+    vp_ = v0_;
+    for (const PetscInt d : fixed_dofs_) {
+      vp_.data()[d] = vel_ctl[static_cast<std::size_t>(d)] ? pres.v.data()[d] : (pres.x.data()[d] - x0_.data()[d]) / h;
+    }
+    if (kind_ == Kind::BackwardEuler) {
+      // (M - h D - h^2 K) dv = h (f0 + h K v0), at (x0, v0, t1).
+      sys_.forces(x0_, v0_, t1, f_);
+      ++rep.evaluations;
+      r_ = f_;
+      const StateView view{x0_, v0_, t1};
+      {
+        KProduct kp(v0_, r_, h);
+        for (const auto& term : model.terms) term->add_jacobian(view, kp);
+      }
+      r_ *= h;
+      a_.zero();
+      for (const auto& term : model.terms) term->add_jacobian(view, a_.sink(-h * h, -h));
+      a_.add_diagonal(m, 1.0);
+      a_.assemble();
+      Eigen::Matrix3Xd dv_pres = vp_ - v0_;
+      to_vec(dv_pres, u_);
+      to_vec(r_, b_);
+      a_.eliminate(fixed_dofs_, u_, b_);
+      if (!solve(b_, u_, lin)) return false;
+      Eigen::Matrix3Xd dv(3, s.x.cols());
+      from_vec(u_, dv);
+      for (const PetscInt d : fixed_dofs_) dv.data()[d] = dv_pres.data()[d];
+      s.v = v0_ + dv;
+      history_.push_back(0.0);
+      last_newton_ = 1;
+    } else {
+      // Newton on g(v) = M (v - v0) - h f(x0 + h v, v, t1) = 0; r = -g on free dofs.
+      Eigen::Matrix3Xd v = vp_, x;
+      double r0 = 0.0;
+      for (int it = 0;; ++it) {
+        x = x0_ + h * v;
+        sys_.forces(x, v, t1, f_);
+        ++rep.evaluations;
+        r_ = h * f_ - ((v - v0_).array().rowwise() * m.transpose().array()).matrix();
+        zero_dofs(r_, fixed_dofs_);
+        const double nr = r_.norm();
+        if (!std::isfinite(nr)) return false;
+        history_.push_back(nr);
+        if (it == 0) r0 = nr;
+        if (nr <= set_.newton_atol || nr <= set_.newton_rtol * r0) break;
+        if (it >= set_.max_newton) return false;
+        a_.zero();
+        const StateView view{x, v, t1};
+        for (const auto& term : model.terms) term->add_jacobian(view, a_.sink(-h * h, -h));
+        a_.add_diagonal(m, 1.0);
+        a_.assemble();
+        a_.eliminate(fixed_dofs_);
+        to_vec(r_, b_);
+        if (!solve(b_, u_, lin)) return false;
+        Eigen::Matrix3Xd dv(3, v.cols());
+        from_vec(u_, dv);
+        zero_dofs(dv, fixed_dofs_);
+        v += dv;
+        ++last_newton_;
+        if (h * dv.cwiseAbs().maxCoeff() <= set_.newton_xtol) {
+          history_.push_back(0.0);
+          break;
+        }
+      }
+      s.v = v;
+    }
+    s.x = x0_ + h * s.v;
+    s.t = t1;
+    sys_.impose(s);
+  }
+  s.t = t1;
+  if (!finite_ok(s.x) || !finite_ok(s.v)) {
+    s.x = x0_;
+    s.v = v0_;
+    s.t = t1 - h;
+    return false;
+  }
+  last_linear_ = lin;
+  rep.newton_iterations = last_newton_;
+  rep.linear_iterations = lin;
+  return true;
+}
+
+}  // namespace adamss::solver

@@ -1,0 +1,59 @@
+#include "solver/petsc_env.hpp"
+
+#include <cstdlib>
+#include <mutex>
+
+#include "common/error.hpp"
+
+namespace adamss::solver {
+
+namespace {
+int g_argc = 0;
+char** g_argv = nullptr;
+bool g_started = false;
+}  // namespace
+
+void set_petsc_arguments(int argc, char** argv) {
+  g_argc = argc;
+  g_argv = argv;
+}
+
+void petsc_check(PetscErrorCode ierr, const char* what) {
+  if (ierr == 0) return;
+  const char* text = nullptr;
+  char* specific = nullptr;
+  PetscErrorMessage(ierr, &text, &specific);
+  std::string msg = std::string(what) + ": PETSc error " + std::to_string(static_cast<int>(ierr));
+  if (text != nullptr) msg += std::string(" (") + text + ")";
+  if (specific != nullptr && *specific != '\0') msg += std::string(": ") + specific;
+  throw NumericalError(msg);
+}
+
+void ensure_petsc(const std::string& options) {
+  PetscBool running = PETSC_FALSE;
+  PetscInitialized(&running);
+  if (!running) {
+    int argc = g_argc;
+    char** argv = g_argv;
+    const PetscErrorCode ierr =
+        argc > 0 ? PetscInitialize(&argc, &argv, nullptr, nullptr) : PetscInitializeNoArguments();
+    if (ierr != 0)
+      throw NumericalError("PETSc failed to initialise (error " + std::to_string(static_cast<int>(ierr)) + ")");
+    PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+    g_started = true;
+    std::atexit(finalize_petsc);
+  }
+  if (!options.empty()) petsc_check(PetscOptionsInsertString(nullptr, options.c_str()), "PETSc options");
+}
+
+void finalize_petsc() {
+  if (!g_started) return;
+  PetscBool running = PETSC_FALSE;
+  PetscInitialized(&running);
+  PetscBool finalized = PETSC_FALSE;
+  PetscFinalized(&finalized);
+  if (running && !finalized) PetscFinalize();
+  g_started = false;
+}
+
+}  // namespace adamss::solver
