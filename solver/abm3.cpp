@@ -39,7 +39,6 @@ StepReport Abm3::step(State& s, double dt) {
     push_current(s);
     ++rep.evaluations;
   }
-  const double h = h_;
   if (hist_.size() < 3) {
     // Start-up: Heun's predictor-corrector (forward-Euler predictor, eqs. 2.129-2.130, and a
     // trapezoidal corrector) under the same error control, until three points exist.
