@@ -1,5 +1,7 @@
 // adamss info FILE [--json]: what an image or a mesh holds.
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -8,6 +10,7 @@
 
 #include "app/commands.hpp"
 #include "common/error.hpp"
+#include "preprocess/cavities.hpp"
 #include "preprocess/mesh_io.hpp"
 #include "preprocess/mesh_quality.hpp"
 #include "preprocess/nifti_io.hpp"
@@ -78,9 +81,52 @@ json mesh_info(const std::string& path) {
   for (const auto& [name, nodes] : mesh.node_tags) tags[name] = nodes.size();
   json cavities = json::object();
   for (const auto& [name, c] : mesh.cavities) {
-    cavities[name] =
-        json{{"volume_m3", c.volume_m3}, {"closed", c.closed}, {"faces", c.faces.size()}, {"lid_faces", c.lid.size()}};
+    const CavityCheck ck = check_cavity(c);
+    cavities[name] = json{{"volume_m3", c.volume_m3},
+                          {"volume_ml", c.volume_m3 * 1e6},
+                          {"volume_recomputed_m3", cavity_volume(c, mesh.nodes)},
+                          {"closed", c.closed},
+                          {"faces", c.faces.size() + c.quads.size()},
+                          {"quads", c.quads.size()},
+                          {"lid_faces", c.lid.size()},
+                          {"open_edges", ck.open_edges},
+                          {"nonmanifold_edges", ck.nonmanifold_edges}};
   }
+  json fields = json::object();
+  for (const auto& [name, v] : mesh.cell_scalars) {
+    double lo = 0.0, hi = 0.0;
+    std::size_t nan = 0;
+    bool any = false;
+    for (Eigen::Index e = 0; e < v.size(); ++e) {
+      if (std::isnan(v[e])) {
+        ++nan;
+        continue;
+      }
+      lo = any ? std::min(lo, v[e]) : v[e];
+      hi = any ? std::max(hi, v[e]) : v[e];
+      any = true;
+    }
+    fields[name] = json{{"min", lo}, {"max", hi}, {"nan_elements", nan}};
+  }
+  const ConformityReport conf = check_conformity(mesh);
+  double vmin = 0.0, vmax = 0.0;
+  if (!q.element_volume.empty()) {
+    const auto [a, b] = std::minmax_element(q.element_volume.begin(), q.element_volume.end());
+    vmin = *a;
+    vmax = *b;
+  }
+  const json quality{{"min_dihedral_deg", q.min_dihedral_deg},
+                     {"mean_dihedral_deg", q.mean_dihedral_deg},
+                     {"elements_below_10_deg", q.below_10_deg},
+                     {"inverted_elements", q.inverted},
+                     {"min_element_volume_m3", vmin},
+                     {"max_element_volume_m3", vmax},
+                     {"boundary_faces", conf.boundary_faces},
+                     {"overshared_faces", conf.overshared_faces},
+                     {"nonmanifold_edges", conf.nonmanifold_edges},
+                     {"nonmanifold_vertices", conf.nonmanifold_vertices},
+                     {"boundary_closed_manifold", conf.closed_manifold()},
+                     {"boundary_area_m2", conf.boundary_area_m2}};
   json attrs = json::object();
   for (const auto& [k, v] : mesh.attributes) attrs[k] = v;
   Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
@@ -103,6 +149,8 @@ json mesh_info(const std::string& path) {
               {"has_fibres", mesh.has_fibres()},
               {"node_tags", tags},
               {"cavities", cavities},
+              {"cell_fields", fields},
+              {"quality", quality},
               {"voxel_size_m", mesh.voxel_size_m},
               {"attributes", attrs},
               {"read_seconds", secs}};
@@ -130,14 +178,32 @@ void print_human(const json& j) {
               << " inverted\n"
               << "  dihedral angle: min " << j["min_dihedral_deg"].get<double>() << " deg, mean of element minima "
               << j["mean_dihedral_deg"].get<double>() << " deg, " << j["elements_below_10_deg"]
-              << " elements under 10 deg\n"
+              << " elements under 10 deg\n";
+    const json& qj = j["quality"];
+    std::cout << "  element volume: min " << qj["min_element_volume_m3"].get<double>() * 1e9 << " mm^3, max "
+              << qj["max_element_volume_m3"].get<double>() * 1e9 << " mm^3\n"
+              << "  boundary: " << qj["boundary_faces"] << " faces, area " << qj["boundary_area_m2"].get<double>() * 1e6
+              << " mm^2, "
+              << (qj["boundary_closed_manifold"].get<bool>() ? "closed 2-manifold" : "NOT a closed 2-manifold") << " ("
+              << qj["nonmanifold_edges"] << " non-manifold edges, " << qj["nonmanifold_vertices"]
+              << " non-manifold vertices)\n"
               << "  fibres: " << (j["has_fibres"].get<bool>() ? "yes" : "no") << "\n";
     for (const auto& [label, count] : j["labels"].items())
       std::cout << "  label " << label << ": " << count << " elements\n";
     for (const auto& [name, n] : j["node_tags"].items()) std::cout << "  node tag " << name << ": " << n << " nodes\n";
     for (const auto& [name, c] : j["cavities"].items()) {
-      std::cout << "  cavity " << name << ": " << c["volume_m3"].get<double>() * 1e9 << " mm^3, "
-                << (c["closed"].get<bool>() ? "closed" : "OPEN") << "\n";
+      std::cout << "  cavity " << name << ": " << c["faces"] << " wall faces"
+                << (c["quads"].get<std::size_t>() > 0 ? " (quads)" : "") << ", " << c["lid_faces"]
+                << " lid faces, volume " << c["volume_ml"].get<double>() << " ml ("
+                << c["volume_m3"].get<double>() * 1e9 << " mm^3), " << (c["closed"].get<bool>() ? "closed" : "OPEN");
+      if (c["nonmanifold_edges"].get<std::size_t>() > 0)
+        std::cout << ", " << c["nonmanifold_edges"] << " edges in more than two faces";
+      std::cout << "\n";
+    }
+    for (const auto& [name, f] : j["cell_fields"].items()) {
+      std::cout << "  cell field " << name << ": min " << f["min"].get<double>() << ", max " << f["max"].get<double>();
+      if (f["nan_elements"].get<std::size_t>() > 0) std::cout << ", " << f["nan_elements"] << " NaN";
+      std::cout << "\n";
     }
     if (j["attributes"].contains("meshing_seconds")) {
       std::cout << "  meshing time: " << j["attributes"]["meshing_seconds"].get<std::string>() << " s\n";

@@ -7,11 +7,15 @@
 
 #include "app/commands.hpp"
 #include "common/error.hpp"
+#include "preprocess/boundary_labels.hpp"
+#include "preprocess/cavities.hpp"
+#include "preprocess/cell_fields.hpp"
 #include "preprocess/fibre_field.hpp"
 #include "preprocess/lattice_mesher.hpp"
 #include "preprocess/mesh_io.hpp"
 #include "preprocess/mesh_quality.hpp"
 #include "preprocess/nifti_io.hpp"
+#include "preprocess/node_tags.hpp"
 
 namespace adamss::app {
 namespace {
@@ -26,6 +30,9 @@ struct MeshArgs {
   std::string output;
   std::string vtu;
   bool no_vtu = false;
+  std::vector<std::string> cavities;     ///< NAME=LABEL
+  std::vector<std::string> tag_planes;   ///< NAME=AXIS:VALUE[:TOL]
+  std::vector<std::string> cell_fields;  ///< NAME=FILE[:nearest|:trilinear]
 };
 
 using Clock = std::chrono::steady_clock;
@@ -45,6 +52,18 @@ void run_mesh(const MeshArgs& a) {
   const std::string vtu =
       a.no_vtu ? "" : (a.vtu.empty() ? std::filesystem::path(a.output).replace_extension(".vtu").string() : a.vtu);
   if (!vtu.empty()) require_parent_dir(vtu, "--vtu");
+  // Option texts are checked before any file is read.
+  std::vector<CavitySpec> cavity_specs;
+  for (const std::string& c : a.cavities) cavity_specs.push_back(parse_cavity_spec(c, "--cavity"));
+  std::vector<TagPlane> planes;
+  for (const std::string& p : a.tag_planes) planes.push_back(parse_tag_plane(p, "--tag-plane"));
+  std::vector<CellFieldSpec> field_specs;
+  for (const std::string& f : a.cell_fields) {
+    field_specs.push_back(parse_cell_field_spec(f, "--cell-field"));
+    if (!std::filesystem::exists(field_specs.back().file))
+      throw InputError("--cell-field " + field_specs.back().name + ": image '" + field_specs.back().file +
+                       "' does not exist");
+  }
 
   auto t = Clock::now();
   const LabelImage image = read_label_image(a.image);
@@ -74,6 +93,31 @@ void run_mesh(const MeshArgs& a) {
     }
   }
 
+  // Boundary surfaces: automatic label-pair tags, plane tags, cavities.
+  t = Clock::now();
+  const std::vector<BoundaryFace> faces = boundary_faces_with_labels(mesh, image);
+  mesh.node_tags = label_pair_tags(faces);
+  for (const TagPlane& p : planes) {
+    if (mesh.node_tags.count(p.name) != 0)
+      throw InputError("--tag-plane " + p.name + ": a node tag of that name already exists");
+    mesh.node_tags[p.name] = nodes_on_plane(mesh, p, "--tag-plane");
+  }
+  std::vector<CavityBuildInfo> cavity_info;
+  if (!cavity_specs.empty()) {
+    check_cavity_labels_present(image, cavity_specs);
+    add_cavities(mesh, faces, cavity_specs, &cavity_info);
+  }
+  const double t_surfaces = since(t);
+
+  t = Clock::now();
+  std::vector<CellFieldReport> field_reports;
+  for (const CellFieldSpec& f : field_specs) {
+    const ScalarImage field = read_scalar_image(f.file);
+    field_reports.push_back(add_cell_field(mesh, f.name, field, f.method));
+    mesh.attributes["cell_field_" + f.name] = f.file + ":" + interpolation_name(f.method);
+  }
+  const double t_fields = since(t);
+
   t = Clock::now();
   const QualitySummary q = summarize_quality(mesh);
   const ConformityReport conf = check_conformity(mesh);
@@ -83,7 +127,7 @@ void run_mesh(const MeshArgs& a) {
     throw NumericalError("mesher produced a non-conforming mesh (" + std::to_string(conf.overshared_faces) +
                          " faces in more than two elements)");
   }
-  mesh.attributes["meshing_seconds"] = std::to_string(t_mesh + t_fibre);
+  mesh.attributes["meshing_seconds"] = std::to_string(t_mesh + t_fibre + t_surfaces + t_fields);
 
   t = Clock::now();
   write_mesh_h5(a.output, mesh);
@@ -98,9 +142,33 @@ void run_mesh(const MeshArgs& a) {
             << "  boundary: " << conf.boundary_faces << " faces, "
             << (conf.closed_manifold() ? "closed 2-manifold" : "NOT a closed 2-manifold") << " ("
             << conf.nonmanifold_edges << " non-manifold edges, " << conf.nonmanifold_vertices
-            << " non-manifold vertices)\n"
-            << "  time: read " << t_read << " s, mesh " << t_mesh << " s, fibres " << t_fibre << " s, checks "
-            << t_check << " s, write " << t_write << " s, total " << since(t_start) << " s\n"
+            << " non-manifold vertices)\n";
+  std::cout << "  node tags:";
+  for (const auto& [name, nodes] : mesh.node_tags) std::cout << " " << name << " (" << nodes.size() << ")";
+  std::cout << "\n";
+  for (std::size_t i = 0; i < cavity_specs.size(); ++i) {
+    const Cavity& c = mesh.cavities.at(cavity_specs[i].name);
+    const CavityBuildInfo& ci = cavity_info[i];
+    std::cout << "  cavity " << cavity_specs[i].name << " (label " << cavity_specs[i].label << "): " << ci.wall_faces
+              << (c.quads.empty() ? " wall triangles, " : " wall quads, ") << c.lid.size() << " lid triangles ("
+              << ci.loops << (ci.loops == 1 ? " opening" : " openings");
+    if (ci.loops > 0) std::cout << ", max distance from its plane " << ci.lid_max_deviation_m * 1e3 << " mm";
+    std::cout << "), volume " << c.volume_m3 * 1e9 << " mm^3 = " << c.volume_m3 * 1e6 << " ml, "
+              << (ci.check.closed_manifold()
+                      ? "closed (every edge in two faces)"
+                      : "watertight, " + std::to_string(ci.check.nonmanifold_edges) + " edges in more than two faces")
+              << "\n";
+  }
+  for (std::size_t i = 0; i < field_specs.size(); ++i) {
+    const CellFieldReport& r = field_reports[i];
+    std::cout << "  cell field " << field_specs[i].name << " (" << interpolation_name(field_specs[i].method) << " from "
+              << field_specs[i].file << "): min " << r.min << ", max " << r.max;
+    if (r.nan_elements > 0) std::cout << ", " << r.nan_elements << " elements NaN (only NaN voxels around them)";
+    std::cout << "\n";
+  }
+  std::cout << "  time: read " << t_read << " s, mesh " << t_mesh << " s, fibres " << t_fibre << " s, surfaces "
+            << t_surfaces << " s, cell fields " << t_fields << " s, checks " << t_check << " s, write " << t_write
+            << " s, total " << since(t_start) << " s\n"
             << "wrote " << a.output << (vtu.empty() ? "" : " and " + vtu) << "\n";
 }
 
@@ -122,6 +190,18 @@ void add_mesh_command(CLI::App& app) {
   sub->add_option("-o,--output", args->output, "Output mesh.h5")->required();
   sub->add_option("--vtu", args->vtu, "Where to write the .vtu (default: the output name with .vtu)");
   sub->add_flag("--no-vtu", args->no_vtu, "Do not write the .vtu");
+  sub->add_option("--cavity", args->cavities,
+                  "NAME=LABEL: the closed surface between the solid and image label LABEL (lid over its openings), "
+                  "stored as /cavities/NAME with its volume; repeatable (e.g. --cavity lv=2 --cavity rv=3)")
+      ->allow_extra_args(false);
+  sub->add_option("--tag-plane", args->tag_planes,
+                  "NAME=AXIS:VALUE[:TOL]: node tag NAME = nodes with coordinate AXIS (x|y|z) within TOL (default "
+                  "1e-3 voxel) of VALUE, e.g. base=z:5mm for the lv/biv phantoms; repeatable")
+      ->allow_extra_args(false);
+  sub->add_option("--cell-field", args->cell_fields,
+                  "NAME=IMAGE[:nearest|:trilinear]: sample a scalar NIfTI at element barycentres into cell data "
+                  "NAME (default nearest); repeatable")
+      ->allow_extra_args(false);
   sub->callback([args]() { run_mesh(*args); });
 }
 

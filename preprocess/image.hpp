@@ -60,6 +60,14 @@ struct LabelImage {
   }
 };
 
+/// One real value per voxel (a scar map, a stiffness map, ...); NaN allowed.
+struct ScalarImage {
+  Grid grid;
+  std::vector<double> values;
+
+  [[nodiscard]] double at(std::int64_t i, std::int64_t j, std::int64_t k) const { return values[grid.linear(i, j, k)]; }
+};
+
 /// Three float components per voxel (fibre or sheet direction); column v is voxel v.
 struct VectorImage {
   Grid grid;

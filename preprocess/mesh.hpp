@@ -23,12 +23,16 @@ enum class ElementType { Tet4, Hex8 };
   return t == ElementType::Tet4 ? "tet4" : "hex8";
 }
 
-/// A closed surface bounding a cavity (filled by the preprocessing issue).
+/// A closed surface bounding a cavity (built by preprocess/cavities.hpp). Every face and
+/// lid triangle is ordered so that its vector area points INTO the cavity (for wall faces:
+/// outward of the solid). Tetrahedral meshes give wall triangles, hexahedral meshes wall
+/// quads (VTK quad order, bilinear); the lid is always triangles and carries no load.
 struct Cavity {
   std::vector<std::array<Index, 3>> faces;  ///< wall triangles, normals into the cavity
+  std::vector<std::array<Index, 4>> quads;  ///< wall quads (hex meshes), normals into the cavity
   std::vector<std::array<Index, 3>> lid;    ///< closing triangles (not part of the wall)
-  double volume_m3 = 0.0;                   ///< reference volume (divergence theorem)
-  bool closed = false;
+  double volume_m3 = 0.0;                   ///< reference volume (divergence theorem over faces + quads + lid)
+  bool closed = false;                      ///< every edge's two orientations cancel (watertight)
 };
 
 struct Mesh {

@@ -9,7 +9,9 @@
 //   /elements/fiber,sheet,normal float64 E x 3 (present only when the mesh has fibres)
 //   /elements/scalars/NAME      float64 E (extra per-element fields)
 //   /node_tags/NAME             int32 (node indices)
-//   /cavities/NAME/faces        int32 F x 3, /cavities/NAME/lid int32 L x 3,
+//   /cavities/NAME/faces        int32 F x 3 (wall triangles), /cavities/NAME/quads int32 Q x 4
+//                               (wall quads of hex meshes; written only when Q > 0, optional
+//                               when reading), /cavities/NAME/lid int32 L x 3,
 //                               attributes volume_m3 (double), closed (int)
 //   root attributes: format ("adamss-mesh"), version (int), voxel_size_m (double),
 //                    and every entry of Mesh::attributes as a string attribute.

@@ -33,6 +33,7 @@ namespace fs = std::filesystem;
 constexpr const char* kFormatName = "adamss-mesh";
 
 static_assert(sizeof(std::array<Index, 3>) == 3 * sizeof(Index), "cavity faces must be contiguous");
+static_assert(sizeof(std::array<Index, 4>) == 4 * sizeof(Index), "cavity quads must be contiguous");
 static_assert(sizeof(Index) == 4, "Index is stored as int32");
 
 // ---------------------------------------------------------------------------------------------
@@ -293,6 +294,8 @@ void check_mesh_for_writing(const Ctx& ctx, const Mesh& mesh) {
     check_link_name(ctx, name, "cavity");
     check_indices(ctx, reinterpret_cast<const Index*>(cavity.faces.data()), 3 * cavity.faces.size(), N,
                   "/cavities/" + name + "/faces", 3, "face");
+    check_indices(ctx, reinterpret_cast<const Index*>(cavity.quads.data()), 4 * cavity.quads.size(), N,
+                  "/cavities/" + name + "/quads", 4, "quad");
     check_indices(ctx, reinterpret_cast<const Index*>(cavity.lid.data()), 3 * cavity.lid.size(), N,
                   "/cavities/" + name + "/lid", 3, "face");
   }
@@ -363,6 +366,10 @@ void write_contents(const Ctx& ctx, hid_t file, const Mesh& mesh) {
       const Handle g = create_group(ctx, cavities.get(), name, where);
       write_dataset(ctx, g.get(), "faces", where + "/faces", H5T_STD_I32LE, H5T_NATIVE_INT32, {cavity.faces.size(), 3},
                     cavity.faces.data());
+      if (!cavity.quads.empty()) {  // hexahedral walls only: tetrahedral files stay as they were
+        write_dataset(ctx, g.get(), "quads", where + "/quads", H5T_STD_I32LE, H5T_NATIVE_INT32,
+                      {cavity.quads.size(), 4}, cavity.quads.data());
+      }
       write_dataset(ctx, g.get(), "lid", where + "/lid", H5T_STD_I32LE, H5T_NATIVE_INT32, {cavity.lid.size(), 3},
                     cavity.lid.data());
       write_double_attribute(ctx, g.get(), "volume_m3", where + "/", cavity.volume_m3);
@@ -581,13 +588,14 @@ Handle open_group(const Ctx& ctx, hid_t loc, const std::string& path) {
   return g;
 }
 
-std::vector<std::array<Index, 3>> read_triangles(const Ctx& ctx, hid_t file, const std::string& path,
-                                                 std::size_t node_count) {
+template <std::size_t K>
+std::vector<std::array<Index, K>> read_polygons(const Ctx& ctx, hid_t file, const std::string& path,
+                                                std::size_t node_count) {
   const DatasetInfo info = open_dataset(ctx, file, path);
-  check_shape(ctx, info, path, -1, 3, H5T_INTEGER, "F x 3 int32");
+  check_shape(ctx, info, path, -1, K, H5T_INTEGER, "F x " + std::to_string(K) + " int32");
   const std::vector<Index> flat = read_ints(ctx, info, path);
-  check_indices(ctx, flat.data(), flat.size(), node_count, path, 3, "face");
-  std::vector<std::array<Index, 3>> tris(flat.size() / 3);
+  check_indices(ctx, flat.data(), flat.size(), node_count, path, K, K == 3 ? "face" : "quad");
+  std::vector<std::array<Index, K>> tris(flat.size() / K);
   if (!flat.empty()) std::memcpy(tris.data(), flat.data(), flat.size() * sizeof(Index));
   return tris;
 }
@@ -700,8 +708,9 @@ Mesh read_contents(const Ctx& ctx, hid_t file) {
       const std::string where = "/cavities/" + name;
       const Handle cg = open_group(ctx, file, where);
       Cavity cavity;
-      cavity.faces = read_triangles(ctx, file, where + "/faces", N);
-      if (path_exists(file, where + "/lid")) cavity.lid = read_triangles(ctx, file, where + "/lid", N);
+      cavity.faces = read_polygons<3>(ctx, file, where + "/faces", N);
+      if (path_exists(file, where + "/quads")) cavity.quads = read_polygons<4>(ctx, file, where + "/quads", N);
+      if (path_exists(file, where + "/lid")) cavity.lid = read_polygons<3>(ctx, file, where + "/lid", N);
       cavity.volume_m3 = read_double_attribute(ctx, cg.get(), "volume_m3", where + "/volume_m3", false, 0.0);
       cavity.closed = read_int_attribute(ctx, cg.get(), "closed", where + "/closed", false, 0) != 0;
       mesh.cavities.emplace(name, std::move(cavity));

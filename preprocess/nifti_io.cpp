@@ -51,7 +51,7 @@ constexpr std::int64_t kMaxNifti1Dim = 32767;
 /// Bytes of a NIfTI-1 header plus the 4-byte extender: offset of the voxel data.
 constexpr int kNifti1VoxOffset = 352;
 
-enum class Kind { kLabels, kVectors };
+enum class Kind { kLabels, kVectors, kScalars };
 
 struct NimDeleter {
   void operator()(nifti_image* nim) const {
@@ -232,18 +232,19 @@ void check_raw_header(const fs::path& path, const RawHeader& h, Kind kind) {
     fail_read(path, fmt::format("unsupported voxel type {} (code {}); {} images must be stored as "
                                 "uint8, int8, int16, uint16, int32, uint32, int64, uint64, "
                                 "float32 or float64",
-                                type_name(h.datatype), h.datatype, kind == Kind::kLabels ? "label" : "vector"));
+                                type_name(h.datatype), h.datatype,
+                                kind == Kind::kLabels ? "label" : (kind == Kind::kScalars ? "scalar" : "vector")));
   }
   // Extra dimensions beyond x, y, z.
   std::array<std::int64_t, 4> extra{};
   for (int i = 4; i <= 7; ++i) extra[static_cast<std::size_t>(i - 4)] = dim_at(h, i);
-  if (kind == Kind::kLabels) {
+  if (kind == Kind::kLabels || kind == Kind::kScalars) {
     for (int i = 4; i <= 7; ++i) {
       if (dim_at(h, i) != 1) {
-        fail_read(path, fmt::format("a label image must be 3-D, but the dimensions are {} "
+        fail_read(path, fmt::format("a {} image must be 3-D, but the dimensions are {} "
                                     "(dim[{}] = {}; only trailing dimensions of size 1 are "
                                     "accepted)",
-                                    dims_text(h), i, dim_at(h, i)));
+                                    kind == Kind::kLabels ? "label" : "scalar", dims_text(h), i, dim_at(h, i)));
       }
     }
   } else {
@@ -503,6 +504,18 @@ void convert_vectors(const Loaded& in, Eigen::Matrix3Xf& vectors) {
   }
 }
 
+template <typename T>
+void convert_scalars(const Loaded& in, std::vector<double>& values) {
+  const unsigned char* bytes = in.data.get();
+  for (std::size_t v = 0; v < values.size(); ++v) {
+    T raw;
+    std::memcpy(&raw, bytes + v * sizeof(T), sizeof(T));
+    double x = static_cast<double>(raw);
+    if (in.scaled) x = x * in.slope + in.inter;
+    values[v] = x;
+  }
+}
+
 /// Calls f.template operator()<T>() for the C++ type of a supported NIfTI type.
 template <typename F>
 void dispatch(int datatype, F&& f) {
@@ -667,6 +680,29 @@ VectorImage read_vector_image(const std::filesystem::path& path, NiftiNotes* not
   dispatch(in.nim->datatype, [&](auto tag) { convert_vectors<decltype(tag)>(in, image.vectors); });
   if (notes != nullptr) *notes = std::move(in.notes);
   return image;
+}
+
+ScalarImage read_scalar_image(const std::filesystem::path& path, NiftiNotes* notes) {
+  Loaded in = load(path, Kind::kScalars);
+  ScalarImage image;
+  image.grid = in.grid;
+  image.values.resize(in.grid.voxel_count());
+  dispatch(in.nim->datatype, [&](auto tag) { convert_scalars<decltype(tag)>(in, image.values); });
+  if (notes != nullptr) *notes = std::move(in.notes);
+  return image;
+}
+
+void write_scalar_image(const std::filesystem::path& path, const ScalarImage& image) {
+  const Grid& g = image.grid;
+  if (g.dims[0] < 1 || g.dims[1] < 1 || g.dims[2] < 1) {
+    fail_write(path, fmt::format("invalid dimensions {} x {} x {}", g.dims[0], g.dims[1], g.dims[2]));
+  }
+  if (image.values.size() != g.voxel_count()) {
+    fail_write(path, fmt::format("{} values for {} voxels", image.values.size(), g.voxel_count()));
+  }
+  const std::array<std::int64_t, 8> dims{3, g.dims[0], g.dims[1], g.dims[2], 1, 1, 1, 1};
+  const std::vector<float> buf(image.values.begin(), image.values.end());
+  write_nifti1(path, g, dims, NIFTI_TYPE_FLOAT32, NIFTI_INTENT_NONE, buf.data(), buf.size() * sizeof(float));
 }
 
 void write_label_image(const std::filesystem::path& path, const LabelImage& image) {

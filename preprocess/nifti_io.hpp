@@ -32,6 +32,14 @@ LabelImage read_label_image(const std::filesystem::path& path, NiftiNotes* notes
 /// as NIfTI stores vectors (intent VECTOR), or (nx, ny, nz, 3). float32 or float64.
 VectorImage read_vector_image(const std::filesystem::path& path, NiftiNotes* notes = nullptr);
 
+/// Reads a 3-D scalar image (a per-voxel field for `mesh --cell-field`): any numeric type
+/// (uint8 .. uint64, int8 .. int64, float32, float64), scl_slope/scl_inter applied, NaN
+/// kept. Same geometry rules and errors as read_label_image.
+ScalarImage read_scalar_image(const std::filesystem::path& path, NiftiNotes* notes = nullptr);
+
+/// Writes a scalar image as NIfTI-1 float32 (values rounded to float).
+void write_scalar_image(const std::filesystem::path& path, const ScalarImage& image);
+
 /// Writes a label image as NIfTI-1 (.nii or .nii.gz by extension), uint8 when all
 /// labels fit, else int16 or int32; sform and qform both set from the affine,
 /// units millimetres.

@@ -175,6 +175,7 @@ Surface cavity_surface(const preprocess::Mesh& mesh, const std::string& name) {
   Surface s;
   s.name = name;
   s.triangles = it->second.faces;
+  s.quads = it->second.quads;
   s.lid = it->second.lid;
   if (s.face_count() == 0) throw InputError("cavity '" + name + "' has no wall faces");
   validate_surface(s, mesh.node_count());

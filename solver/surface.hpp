@@ -61,7 +61,7 @@ struct Surface {
 /// and the region if it selects no boundary face.
 [[nodiscard]] Surface boundary_surface(const preprocess::Mesh& mesh, const Region& region, std::string name);
 
-/// The surface of mesh.cavities[name]: its wall triangles (loaded) and lid (not
+/// The surface of mesh.cavities[name]: its wall triangles and quads (loaded) and lid (not
 /// loaded). Throws adamss::InputError listing the available cavity names if there is
 /// none of that name, or if a face references a node outside the mesh.
 [[nodiscard]] Surface cavity_surface(const preprocess::Mesh& mesh, const std::string& name);

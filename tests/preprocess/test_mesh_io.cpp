@@ -117,6 +117,7 @@ Mesh two_hexes() {
   m.cell_scalars["b"] = -t;
   Cavity c;
   c.faces = {{0, 1, 4}};
+  c.quads = {{0, 3, 4, 1}, {6, 7, 10, 9}};  // hex walls are stored as quads
   c.volume_m3 = 3e-9;
   c.closed = false;
   m.cavities["c"] = c;
@@ -158,6 +159,7 @@ void expect_same_mesh(const Mesh& a, const Mesh& b) {
     ASSERT_TRUE(b.cavities.count(name)) << name;
     const Cavity& other = b.cavities.at(name);
     EXPECT_EQ(cav.faces, other.faces) << name;
+    EXPECT_EQ(cav.quads, other.quads) << name;
     EXPECT_EQ(cav.lid, other.lid) << name;
     EXPECT_TRUE(bitwise_equal(&cav.volume_m3, &other.volume_m3, 1)) << name;
     EXPECT_EQ(cav.closed, other.closed) << name;

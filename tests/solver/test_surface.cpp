@@ -8,6 +8,7 @@
 
 #include "common/error.hpp"
 #include "force_term_harness.hpp"
+#include "preprocess/cavities.hpp"
 #include "preprocess/lattice_mesher.hpp"
 #include "preprocess/phantom.hpp"
 #include "solver/surface.hpp"
@@ -279,5 +280,27 @@ TEST(Surface, ErrorsNameTheSurfaceAndRegion) {
     ADD_FAILURE() << "no error for a repeated node";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("'hole'"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Surface, CavitiesBuiltByPreprocessAreClosedWithTheSameVolume) {
+  // preprocess::add_cavities (tet faces or hex quads + lid) -> cavity_surface: closed, and the
+  // solver's enclosed volume equals the stored reference volume.
+  preprocess::PhantomOptions po;
+  po.voxel_size_m = 1.25e-3;
+  const preprocess::Phantom ph = preprocess::make_phantom("lv", po);
+  for (const auto t : {preprocess::Topology::Tet6m, preprocess::Topology::Hex}) {
+    preprocess::LatticeMeshOptions o;
+    o.topology = t;
+    o.solid_labels = {preprocess::kMyocardium};
+    auto mesh = preprocess::mesh_lattice(ph.image, o);
+    preprocess::add_cavities(mesh, ph.image, {{"lv", preprocess::kLvCavity}});
+    const preprocess::Cavity& c = mesh.cavities.at("lv");
+    const Surface s = solver::cavity_surface(mesh, "lv");
+    EXPECT_EQ(s.triangles.size(), c.faces.size());
+    EXPECT_EQ(s.quads.size(), c.quads.size());
+    EXPECT_EQ(t == preprocess::Topology::Hex, !s.quads.empty());
+    EXPECT_EQ(solver::open_edge_count(s), 0u);
+    EXPECT_NEAR(solver::enclosed_volume(s, mesh.nodes), c.volume_m3, 1e-12 * c.volume_m3);
   }
 }
