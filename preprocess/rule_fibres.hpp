@@ -75,7 +75,8 @@
 //     connected part of a wall that misses one of its two surfaces keeps t = phi.
 //   Harmonic: t = phi (Bayer 2012).
 // On the lv phantom (0.5 mm, tet6m) the RMS helix error against the analytic
-// field is 4.0 deg with Thickness and 6.7 deg with Harmonic.
+// field is 3.9 deg with Thickness and 6.7 deg with Harmonic (docs/meshing.md has the
+// resolution study).
 //
 // Frame per element, with t the mean of the element's nodal t:
 //   e_l  = long axis (apex -> base) made orthogonal to e_t, normalised
@@ -94,8 +95,9 @@
 // base), e_c = e_l x e_t is e_v (counter-clockwise about the long axis seen from
 // the base), e_t is the outward normal n, and f = sin(alpha) e_u + cos(alpha) e_v,
 // s = n. So alpha = 0 is circumferential, alpha = +90 deg runs along the long axis
-// towards the base, and helix_endo = +60 deg, helix_epi = -60 deg gives the usual
-// right-handed endocardium / left-handed epicardium.
+// towards the base, and the defaults helix_endo = +60 deg, helix_epi = -60 deg are
+// the phantom's defaults. Checked exactly on a flat wall and against the analytic
+// lv field (tests/preprocess/test_rule_fibres.cpp).
 //
 // Long axis: options.long_axis (any non-zero length, pointing from apex to base)
 // or, when not given, n_b (the mean normal of the valve openings, which points
@@ -155,7 +157,7 @@ struct RuleFibreReport {
   std::size_t filled_direction_elements = 0;    ///< elements whose recovered gradient vanished too
   std::size_t apex_elements = 0;                ///< elements with e_t parallel to the long axis
   int solves = 0;
-  std::size_t unknowns = 0;    ///< free nodes of the (last) solve
+  std::size_t unknowns = 0;    ///< largest number of free nodes over the solves
   int max_iterations = 0;      ///< largest CG iteration count over the solves
   double solve_seconds = 0.0;  ///< assembly + Laplace solves
   double total_seconds = 0.0;
