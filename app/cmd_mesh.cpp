@@ -1,9 +1,13 @@
 // adamss mesh IMAGE --solid 1 --topology T -o mesh.h5: voxel lattice -> mesh.
+#include <Eigen/Core>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <numbers>
+#include <sstream>
 
 #include "app/commands.hpp"
 #include "common/error.hpp"
@@ -16,6 +20,7 @@
 #include "preprocess/mesh_quality.hpp"
 #include "preprocess/nifti_io.hpp"
 #include "preprocess/node_tags.hpp"
+#include "preprocess/rule_fibres.hpp"
 
 namespace adamss::app {
 namespace {
@@ -33,12 +38,73 @@ struct MeshArgs {
   std::vector<std::string> cavities;     ///< NAME=LABEL
   std::vector<std::string> tag_planes;   ///< NAME=AXIS:VALUE[:TOL]
   std::vector<std::string> cell_fields;  ///< NAME=FILE[:nearest|:trilinear]
+  // --fiber rule (rule-based fibres, preprocess/rule_fibres.hpp); empty = not given.
+  std::string helix_endo, helix_epi, sheet_angle, long_axis;
 };
 
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
+
+// ---- rule-based fibres (--fiber rule): options and the call, kept together.
+bool rule_requested(const MeshArgs& a) {
+  const bool rule = a.fiber == "rule";
+  const bool rule_options =
+      !a.helix_endo.empty() || !a.helix_epi.empty() || !a.sheet_angle.empty() || !a.long_axis.empty();
+  if (rule_options && !rule)
+    throw InputError("--helix-endo/--helix-epi/--sheet-angle/--long-axis apply only with --fiber rule");
+  if (rule && !a.sheet.empty()) throw InputError("--sheet: not used with --fiber rule (the rule makes the sheet)");
+  return rule;
+}
+
+preprocess::RuleFibreOptions rule_options(const MeshArgs& a) {
+  preprocess::RuleFibreOptions o;
+  auto angle = [](const std::string& text, const std::string& fallback, const char* name) {
+    const double v = parse_angle_deg_default(text.empty() ? fallback : text, name);
+    if (!(std::abs(v) <= std::numbers::pi / 2 + 1e-12))
+      throw InputError(std::string(name) + ": angle must lie in [-90, 90] degrees, got '" + text + "'");
+    return v;
+  };
+  o.helix_endo_rad = angle(a.helix_endo, "60", "--helix-endo");
+  o.helix_epi_rad = angle(a.helix_epi, "-60", "--helix-epi");
+  o.sheet_angle_rad = angle(a.sheet_angle, "0", "--sheet-angle");
+  if (!a.long_axis.empty()) {
+    std::stringstream ss(a.long_axis);
+    std::string item;
+    std::vector<double> v;
+    bool ok = true;
+    while (ok && std::getline(ss, item, ',')) {
+      try {
+        std::size_t used = 0;
+        v.push_back(std::stod(item, &used));
+        ok = item.find_first_not_of(" \t", used) == std::string::npos;
+      } catch (const std::exception&) {
+        ok = false;
+      }
+    }
+    const Eigen::Vector3d axis = ok && v.size() == 3 ? Eigen::Vector3d(v[0], v[1], v[2]) : Eigen::Vector3d::Zero();
+    if (!axis.allFinite() || !(axis.norm() > 0.0))
+      throw InputError("--long-axis: '" + a.long_axis + "' is not X,Y,Z (a non-zero direction from apex to base)");
+    o.long_axis = axis;
+  }
+  return o;
+}
+
+double assign_rule(preprocess::Mesh& mesh, const preprocess::LabelImage& image, const MeshArgs& a) {
+  const preprocess::RuleFibreReport r = preprocess::assign_rule_fibres(mesh, image, rule_options(a));
+  const Eigen::Vector3d& l = r.long_axis;
+  std::cout << "fibres: rule, " << (r.biv ? "LV + RV" : "one ventricle") << "; faces: " << r.lv_endo_faces
+            << " LV endo, " << r.rv_endo_faces << " RV endo, " << r.epi_faces << " epi, " << r.base_faces << " base, "
+            << r.other_faces << " other\n"
+            << "  long axis (" << l.x() << ", " << l.y() << ", " << l.z() << ") "
+            << (r.long_axis_estimated ? "estimated from the valve openings" : "given")
+            << (r.biv ? "; RV free wall " + std::to_string(r.rv_elements) + " elements" : "") << "\n"
+            << "  Laplace: " << r.solves << " solves, up to " << r.unknowns << " unknowns, " << r.max_iterations
+            << " CG iterations, " << r.solve_seconds << " s\n";
+  return r.total_seconds;
+}
+// ---- end of rule-based fibres
 
 void run_mesh(const MeshArgs& a) {
   using namespace preprocess;
@@ -47,7 +113,8 @@ void run_mesh(const MeshArgs& a) {
   if (topo == Topology::Cgal) {
     throw InputError("--topology cgal: the CGAL Mesh_3 mesher is not built yet (use hex, tet5, tet5m, tet6, tet6m)");
   }
-  if (a.fiber.empty() != a.sheet.empty()) throw InputError("--fiber and --sheet must be given together");
+  const bool rule = rule_requested(a);
+  if (!rule && a.fiber.empty() != a.sheet.empty()) throw InputError("--fiber and --sheet must be given together");
   require_parent_dir(a.output, "-o");
   const std::string vtu =
       a.no_vtu ? "" : (a.vtu.empty() ? std::filesystem::path(a.output).replace_extension(".vtu").string() : a.vtu);
@@ -78,7 +145,9 @@ void run_mesh(const MeshArgs& a) {
   const double t_mesh = since(t);
 
   double t_fibre = 0.0;
-  if (!a.fiber.empty()) {
+  if (rule) {
+    t_fibre = assign_rule(mesh, image, a);
+  } else if (!a.fiber.empty()) {
     t = Clock::now();
     const VectorImage f = read_vector_image(a.fiber);
     const VectorImage s = read_vector_image(a.sheet);
@@ -184,7 +253,9 @@ void add_mesh_command(CLI::App& app) {
   sub->add_option("image", args->image, "Labelled image (.nii or .nii.gz)")->required();
   sub->add_option("--solid", args->solid, "Label(s) to mesh, comma separated")->delimiter(',')->capture_default_str();
   sub->add_option("--topology", args->topology, "hex | tet5 | tet5m | tet6 | tet6m")->capture_default_str();
-  sub->add_option("--fiber", args->fiber, "Fibre vector image on the same lattice (interpolated to elements)");
+  sub->add_option("--fiber", args->fiber,
+                  "Fibre vector image on the same lattice (interpolated to elements), or 'rule' for rule-based "
+                  "fibres from Laplace transmural coordinates");
   sub->add_option("--sheet", args->sheet, "Sheet vector image on the same lattice");
   sub->add_flag("--strict", args->strict, "Reject elements without a valid fibre sample instead of filling them");
   sub->add_option("-o,--output", args->output, "Output mesh.h5")->required();
@@ -202,6 +273,12 @@ void add_mesh_command(CLI::App& app) {
                   "NAME=IMAGE[:nearest|:trilinear]: sample a scalar NIfTI at element barycentres into cell data "
                   "NAME (default nearest); repeatable")
       ->allow_extra_args(false);
+  sub->add_option("--helix-endo", args->helix_endo,
+                  "--fiber rule: helix angle at the endocardium, degrees (default 60)");
+  sub->add_option("--helix-epi", args->helix_epi, "--fiber rule: helix angle at the epicardium, degrees (default -60)");
+  sub->add_option("--sheet-angle", args->sheet_angle, "--fiber rule: sheet angle about the fibre, degrees (default 0)");
+  sub->add_option("--long-axis", args->long_axis,
+                  "--fiber rule: X,Y,Z direction from apex to base (default: normal of the valve openings)");
   sub->callback([args]() { run_mesh(*args); });
 }
 
