@@ -1,19 +1,23 @@
-// adamss mesh IMAGE --solid 1 --topology T -o mesh.h5: voxel lattice -> mesh.
+// adamss mesh IMAGE --solid 1 --topology T -o mesh.h5: voxel lattice or CGAL Mesh_3 -> mesh.
 #include <Eigen/Core>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <sstream>
 
 #include "app/commands.hpp"
 #include "common/error.hpp"
+#include "common/units.hpp"
 #include "preprocess/boundary_labels.hpp"
 #include "preprocess/cavities.hpp"
 #include "preprocess/cell_fields.hpp"
+#include "preprocess/cgal_mesher.hpp"
 #include "preprocess/fibre_field.hpp"
 #include "preprocess/lattice_mesher.hpp"
 #include "preprocess/mesh_io.hpp"
@@ -40,6 +44,17 @@ struct MeshArgs {
   std::vector<std::string> cell_fields;  ///< NAME=FILE[:nearest|:trilinear]
   // --fiber rule (rule-based fibres, preprocess/rule_fibres.hpp); empty = not given.
   std::string helix_endo, helix_epi, sheet_angle, long_axis;
+  // --topology cgal only (empty = default relative to the voxel size).
+  std::string cgal_facet_angle;
+  std::string cgal_facet_size;
+  std::string cgal_facet_distance;
+  std::string cgal_cell_ratio;
+  std::string cgal_cell_size;
+  bool cgal_no_perturb = false;
+  bool cgal_no_exude = false;
+  bool cgal_lloyd = false;
+  bool cgal_odt = false;
+  std::string seed;
 };
 
 using Clock = std::chrono::steady_clock;
@@ -91,6 +106,41 @@ preprocess::RuleFibreOptions rule_options(const MeshArgs& a) {
   return o;
 }
 
+/// The --cgal-* options (and --seed) as mesher options; InputError naming the option.
+preprocess::CgalMeshOptions cgal_options(const MeshArgs& a) {
+  preprocess::CgalMeshOptions o;
+  o.solid_labels.assign(a.solid.begin(), a.solid.end());
+  auto length = [](const std::string& text, const char* what) -> std::optional<double> {
+    if (text.empty()) return std::nullopt;
+    return common::parse_quantity(text, common::Dimension::Length, what);
+  };
+  if (!a.cgal_facet_angle.empty()) {
+    o.facet_angle_deg = parse_angle_deg_default(a.cgal_facet_angle, "--cgal-facet-angle") * 180.0 / std::numbers::pi;
+  }
+  o.facet_size_m = length(a.cgal_facet_size, "--cgal-facet-size");
+  o.facet_distance_m = length(a.cgal_facet_distance, "--cgal-facet-distance");
+  o.cell_size_m = length(a.cgal_cell_size, "--cgal-cell-size");
+  if (!a.cgal_cell_ratio.empty()) {
+    o.cell_radius_edge_ratio =
+        common::parse_quantity(a.cgal_cell_ratio, common::Dimension::Dimensionless, "--cgal-cell-ratio");
+  }
+  o.perturb = !a.cgal_no_perturb;
+  o.exude = !a.cgal_no_exude;
+  o.lloyd = a.cgal_lloyd;
+  o.odt = a.cgal_odt;
+  if (!a.seed.empty()) {
+    try {
+      std::size_t used = 0;
+      const unsigned long long v = std::stoull(a.seed, &used);
+      if (used != a.seed.size() || a.seed.front() == '-' || v > 0xffffffffULL) throw std::invalid_argument("bad");
+      o.seed = static_cast<std::uint32_t>(v);
+    } catch (const std::exception&) {
+      throw InputError("--seed: '" + a.seed + "' is not an integer in [0, 4294967295]");
+    }
+  }
+  return o;
+}
+
 double assign_rule(preprocess::Mesh& mesh, const preprocess::LabelImage& image, const MeshArgs& a) {
   const preprocess::RuleFibreReport r = preprocess::assign_rule_fibres(mesh, image, rule_options(a));
   const Eigen::Vector3d& l = r.long_axis;
@@ -105,15 +155,33 @@ double assign_rule(preprocess::Mesh& mesh, const preprocess::LabelImage& image, 
   return r.total_seconds;
 }
 // ---- end of rule-based fibres
+/// The first --cgal-* option given on the command line, or "" (for lattice topologies).
+std::string first_cgal_option(const MeshArgs& a) {
+  const std::pair<bool, const char*> given[] = {{!a.cgal_facet_angle.empty(), "--cgal-facet-angle"},
+                                                {!a.cgal_facet_size.empty(), "--cgal-facet-size"},
+                                                {!a.cgal_facet_distance.empty(), "--cgal-facet-distance"},
+                                                {!a.cgal_cell_ratio.empty(), "--cgal-cell-ratio"},
+                                                {!a.cgal_cell_size.empty(), "--cgal-cell-size"},
+                                                {a.cgal_no_perturb, "--cgal-no-perturb"},
+                                                {a.cgal_no_exude, "--cgal-no-exude"},
+                                                {a.cgal_lloyd, "--cgal-lloyd"},
+                                                {a.cgal_odt, "--cgal-odt"},
+                                                {!a.seed.empty(), "--seed"}};
+  for (const auto& [yes, name] : given)
+    if (yes) return name;
+  return "";
+}
 
 void run_mesh(const MeshArgs& a) {
   using namespace preprocess;
   const auto t_start = Clock::now();
   const Topology topo = parse_topology(a.topology);
-  if (topo == Topology::Cgal) {
-    throw InputError("--topology cgal: the CGAL Mesh_3 mesher is not built yet (use hex, tet5, tet5m, tet6, tet6m)");
+  if (topo != Topology::Cgal) {
+    const std::string opt = first_cgal_option(a);
+    if (!opt.empty()) throw InputError(opt + ": only with --topology cgal (got --topology " + a.topology + ")");
   }
   const bool rule = rule_requested(a);
+  const CgalMeshOptions cgal_opt = topo == Topology::Cgal ? cgal_options(a) : CgalMeshOptions{};
   if (!rule && a.fiber.empty() != a.sheet.empty()) throw InputError("--fiber and --sheet must be given together");
   require_parent_dir(a.output, "-o");
   const std::string vtu =
@@ -137,10 +205,38 @@ void run_mesh(const MeshArgs& a) {
   const double t_read = since(t);
 
   t = Clock::now();
-  LatticeMeshOptions opt;
-  opt.topology = topo;
-  opt.solid_labels.assign(a.solid.begin(), a.solid.end());
-  Mesh mesh = mesh_lattice(image, opt);
+  Mesh mesh;
+  std::ostringstream cgal_report;
+  std::vector<SurfacePatchFace> cgal_patches;
+  if (topo == Topology::Cgal) {
+    CgalMeshResult r = mesh_cgal(image, cgal_opt);
+    mesh = std::move(r.mesh);
+    cgal_patches = r.patches;
+    const CgalCriteria& c = r.criteria;
+    std::map<std::pair<int, int>, std::size_t> pairs;
+    for (const SurfacePatchFace& f : r.patches) ++pairs[{f.label_in, f.label_out}];
+    cgal_report << std::setprecision(4) << "  cgal: facet angle " << c.facet_angle_deg << " deg, facet size "
+                << c.facet_size_m * 1e3 << " mm, facet distance " << c.facet_distance_m * 1e3
+                << " mm, cell radius-edge ratio " << c.cell_radius_edge_ratio << ", cell size " << c.cell_size_m * 1e3
+                << " mm (voxel " << c.voxel_size_m * 1e3 << " mm), seed " << cgal_opt.seed << "\n"
+                << "  cgal time: refine " << r.refine_seconds << " s"
+                << (cgal_opt.odt || cgal_opt.lloyd ? ", smoothing " + std::to_string(r.smooth_seconds) + " s" : "")
+                << ", perturb " << r.perturb_seconds << " s (" << r.perturb_attempts << " attempts"
+                << (r.perturb_capped ? ", capped" : "") << "), exude " << r.exude_seconds << " s (" << r.initial_points
+                << " initial points)\n"
+                << "  surface patches (label inside-outside: faces):";
+    for (const auto& [pr, n] : pairs) cgal_report << " " << pr.first << "-" << pr.second << ": " << n;
+    cgal_report << "\n";
+    if (r.inconsistent_patch_faces > 0) {
+      cgal_report << "  warning: " << r.inconsistent_patch_faces
+                  << " boundary faces had no matching CGAL surface patch (outside label taken from the neighbour)\n";
+    }
+  } else {
+    LatticeMeshOptions opt;
+    opt.topology = topo;
+    opt.solid_labels.assign(a.solid.begin(), a.solid.end());
+    mesh = mesh_lattice(image, opt);
+  }
   mesh.attributes["source"] = a.image;
   const double t_mesh = since(t);
 
@@ -164,7 +260,21 @@ void run_mesh(const MeshArgs& a) {
 
   // Boundary surfaces: automatic label-pair tags, plane tags, cavities.
   t = Clock::now();
-  const std::vector<BoundaryFace> faces = boundary_faces_with_labels(mesh, image);
+  // CGAL meshes: the mesher's own surface patches know the label beyond each face exactly; the
+  // lattice meshes read it from the image next to the face.
+  std::vector<BoundaryFace> faces;
+  if (topo == Topology::Cgal) {
+    for (const SurfacePatchFace& pf : cgal_patches) {
+      BoundaryFace f;
+      f.nodes = {pf.nodes[0], pf.nodes[1], pf.nodes[2], -1};
+      f.element = pf.element;
+      f.inside_label = pf.label_in;
+      f.outside_label = pf.label_out;
+      faces.push_back(f);
+    }
+  } else {
+    faces = boundary_faces_with_labels(mesh, image);
+  }
   mesh.node_tags = label_pair_tags(faces);
   for (const TagPlane& p : planes) {
     if (mesh.node_tags.count(p.name) != 0)
@@ -207,8 +317,8 @@ void run_mesh(const MeshArgs& a) {
             << mesh.element_count() << " " << element_type_name(mesh.type) << " elements, volume " << q.volume_m3 * 1e9
             << " mm^3\n"
             << "  dihedral angle min " << q.min_dihedral_deg << " deg, mean of element minima " << q.mean_dihedral_deg
-            << " deg\n"
-            << "  boundary: " << conf.boundary_faces << " faces, "
+            << " deg, " << q.below_10_deg << " elements under 10 deg\n"
+            << cgal_report.str() << "  boundary: " << conf.boundary_faces << " faces, "
             << (conf.closed_manifold() ? "closed 2-manifold" : "NOT a closed 2-manifold") << " ("
             << conf.nonmanifold_edges << " non-manifold edges, " << conf.nonmanifold_vertices
             << " non-manifold vertices)\n";
@@ -249,10 +359,11 @@ void add_mesh_command(CLI::App& app) {
       "mesh",
       "Mesh the solid labels of a labelled NIfTI image: hex (one hexahedron per voxel), tet5/tet5m "
       "(5 tetrahedra per voxel, alternating so faces match), tet6 (6 per voxel around the main diagonal), "
-      "tet6m (6 per voxel, mirrored 2x2x2 kernel). Writes mesh.h5 and a .vtu for ParaView.");
+      "tet6m (6 per voxel, mirrored 2x2x2 kernel), cgal (unstructured tetrahedra from CGAL Mesh_3 on the labelled "
+      "image). Writes mesh.h5 and a .vtu for ParaView.");
   sub->add_option("image", args->image, "Labelled image (.nii or .nii.gz)")->required();
   sub->add_option("--solid", args->solid, "Label(s) to mesh, comma separated")->delimiter(',')->capture_default_str();
-  sub->add_option("--topology", args->topology, "hex | tet5 | tet5m | tet6 | tet6m")->capture_default_str();
+  sub->add_option("--topology", args->topology, "hex | tet5 | tet5m | tet6 | tet6m | cgal")->capture_default_str();
   sub->add_option("--fiber", args->fiber,
                   "Fibre vector image on the same lattice (interpolated to elements), or 'rule' for rule-based "
                   "fibres from Laplace transmural coordinates");
@@ -279,6 +390,21 @@ void add_mesh_command(CLI::App& app) {
   sub->add_option("--sheet-angle", args->sheet_angle, "--fiber rule: sheet angle about the fibre, degrees (default 0)");
   sub->add_option("--long-axis", args->long_axis,
                   "--fiber rule: X,Y,Z direction from apex to base (default: normal of the valve openings)");
+  sub->add_option("--cgal-facet-angle", args->cgal_facet_angle,
+                  "cgal: lower bound on surface triangle angles, degrees, in (0, 30] (default 25)");
+  sub->add_option("--cgal-facet-size", args->cgal_facet_size,
+                  "cgal: upper bound on the surface Delaunay ball radius, a length (default 2 voxels)");
+  sub->add_option("--cgal-facet-distance", args->cgal_facet_distance,
+                  "cgal: upper bound on the facet-to-surface distance, a length (default half a voxel)");
+  sub->add_option("--cgal-cell-ratio", args->cgal_cell_ratio,
+                  "cgal: upper bound on the tetrahedron radius-edge ratio, >= 2 (default 3)");
+  sub->add_option("--cgal-cell-size", args->cgal_cell_size,
+                  "cgal: upper bound on the tetrahedron circumradius, a length (default 2 voxels)");
+  sub->add_flag("--cgal-no-perturb", args->cgal_no_perturb, "cgal: skip the sliver perturbation");
+  sub->add_flag("--cgal-no-exude", args->cgal_no_exude, "cgal: skip the sliver exudation");
+  sub->add_flag("--cgal-lloyd", args->cgal_lloyd, "cgal: Lloyd smoothing before perturbation");
+  sub->add_flag("--cgal-odt", args->cgal_odt, "cgal: ODT smoothing before perturbation");
+  sub->add_option("--seed", args->seed, "cgal: random seed (default 0); the same seed gives the same mesh");
   sub->callback([args]() { run_mesh(*args); });
 }
 
