@@ -12,7 +12,10 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "preprocess/boundary_labels.hpp"
+#include "preprocess/cavities.hpp"
 #include "preprocess/fibre_field.hpp"
+#include "preprocess/node_tags.hpp"
 #include "preprocess/lattice_mesher.hpp"
 #include "preprocess/mesh_io.hpp"
 #include "preprocess/phantom.hpp"
@@ -73,7 +76,7 @@ preprocess::Mesh load_mesh(SceneNode node, const fs::path& base, const SceneOpti
     }
     const std::string topo = node.choice("topology", {"hex", "tet5", "tet5m", "tet6", "tet6m"}, "tet6m");
     std::ostringstream key;
-    key << std::setprecision(17) << "v1;" << kind << ';' << po.voxel_size_m << ';' << po.helix_endo_rad << ';'
+    key << std::setprecision(17) << "v2;" << kind << ';' << po.voxel_size_m << ';' << po.helix_endo_rad << ';'
         << po.helix_epi_rad << ';' << po.slab_size[0] << ',' << po.slab_size[1] << ',' << po.slab_size[2] << ';'
         << topo;
     const fs::path dir = opt.cache_dir.empty() ? default_cache_dir() : opt.cache_dir;
@@ -92,6 +95,23 @@ preprocess::Mesh load_mesh(SceneNode node, const fs::path& base, const SceneOpti
       mesh = preprocess::mesh_lattice(ph.image, lo);
       if (ph.fiber && ph.sheet) {
         preprocess::assign_fibres(mesh, ph.image.grid, *ph.fiber, "phantom fibre", *ph.sheet, "phantom sheet", false);
+      }
+      // Surfaces for scenes: label-pair node tags (surface:1-0, surface:1-2, ...), the cavities
+      // of the lv/biv phantoms (lv = label 2, rv = label 3) and the base plane z = 5 mm.
+      const std::vector<preprocess::BoundaryFace> faces = preprocess::boundary_faces_with_labels(mesh, ph.image);
+      mesh.node_tags = preprocess::label_pair_tags(faces);
+      if (kind == "lv" || kind == "biv") {
+        std::vector<preprocess::CavitySpec> specs{{"lv", preprocess::kLvCavity}};
+        if (kind == "biv") specs.push_back({"rv", preprocess::kRvCavity});
+        preprocess::add_cavities(mesh, faces, specs);
+        preprocess::TagPlane base{"base", 2, preprocess::kPhantomBaseZ_m, 1e-3 * po.voxel_size_m};
+        std::vector<Index> b;
+        try {
+          b = preprocess::nodes_on_plane(mesh, base, "base");
+        } catch (const InputError&) {
+          // z = 5 mm is not a voxel face at this voxel size: no base tag.
+        }
+        if (!b.empty()) mesh.node_tags["base"] = std::move(b);
       }
       mesh.attributes["source"] = "phantom " + kind + " (scene recipe)";
       preprocess::write_mesh_h5(file, mesh);
