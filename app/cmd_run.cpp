@@ -22,6 +22,7 @@ struct RunArgs {
   std::string scene;
   std::string output;
   std::string cache;
+  std::string petsc;
   bool check_only = false;
   bool quiet = false;
 };
@@ -85,14 +86,16 @@ void write_summary(const fs::path& file, const solver::LoadedScene& sc, const so
     cav.push_back(one);
   }
   j["cavities"] = cav;
-  json probes = json::object();
+  // "probes": {NAME: [x, y, z]} (final positions, m); the details beside it.
+  json probes = json::object(), details = json::object();
   for (const auto& p : m.probes) {
-    probes[p.name] = {{"node", p.node},
-                      {"reference_m", vec(m.x_ref.col(p.node))},
-                      {"position_m", vec(s.x.col(p.node))},
-                      {"displacement_m", vec(s.x.col(p.node) - m.x_ref.col(p.node))}};
+    probes[p.name] = vec(s.x.col(p.node));
+    details[p.name] = {{"node", p.node},
+                       {"reference_m", vec(m.x_ref.col(p.node))},
+                       {"displacement_m", vec(s.x.col(p.node) - m.x_ref.col(p.node))}};
   }
   j["probes"] = probes;
+  j["probe_details"] = details;
   if (out.bad_element) j["bad_element"] = *out.bad_element;
   j["terms"] = sc.term_summary;
   j["axis_frame_elements"] = sc.axis_frame_elements;
@@ -127,6 +130,7 @@ int run_scene(const RunArgs& a) {
     std::cout << "\n";
     for (const auto& w : sc.warnings) std::cerr << "adamss: warning: " << w << "\n";
   }
+  if (!a.petsc.empty()) sc.run.implicit.petsc_options += " " + a.petsc;
   if (a.check_only) return 0;
   if (a.output.empty()) throw InputError("-o/--output is required (the results folder)");
 
@@ -160,6 +164,9 @@ void add_run_command(CLI::App& app) {
   sub->add_option("-o,--output", args->output, "Results folder (created)");
   sub->add_option("--cache", args->cache,
                   "Folder for meshes built from scene recipes (default $ADAMSS_CACHE_DIR or ~/.cache/adamss)");
+  sub->add_option("--petsc", args->petsc,
+                  "PETSc options for the implicit and static integrators, e.g. \"-ksp_monitor -pc_type gamg\" "
+                  "(added after the scene's integrator.petsc_options)");
   sub->add_flag("--check", args->check_only, "Validate the scene and print the model summary, do not run");
   sub->add_flag("-q,--quiet", args->quiet, "No progress line and no summary on stdout");
   sub->callback([args]() {

@@ -12,6 +12,9 @@ namespace adamss::solver {
 
 namespace {
 
+/// Below this many unknowns the default linear solver is a direct LU factorisation.
+constexpr PetscInt kDirectSolveMaxDofs = 60000;
+
 /// y += c * dF/dx * u on the fly (for K v0 in the linearised step).
 class KProduct final : public JacobianSink {
  public:
@@ -54,12 +57,17 @@ ImplicitIntegrator::ImplicitIntegrator(System& system, Kind kind, const Implicit
   fixed_dofs_ = constrained_dofs(sys_.model().constraints.mask());
   petsc_check(MatCreateVecs(a_.mat(), &u_, &b_), "MatCreateVecs");
   petsc_check(KSPCreate(PETSC_COMM_WORLD, &ksp_), "KSPCreate");
-  petsc_check(KSPSetType(ksp_, KSPGMRES), "KSPSetType");
   petsc_check(KSPSetOperators(ksp_, a_.mat(), a_.mat()), "KSPSetOperators");  // PCSetCoordinates needs them
   PC pc = nullptr;
   petsc_check(KSPGetPC(ksp_, &pc), "KSPGetPC");
-  petsc_check(PCSetType(pc, PCGAMG), "PCSetType");
-  {
+  if (a_.size() <= kDirectSolveMaxDofs) {
+    // Small systems: a direct LU solve (exact Newton steps, robust for nearly incompressible
+    // and thin structures where Krylov + AMG struggles).
+    petsc_check(KSPSetType(ksp_, KSPPREONLY), "KSPSetType");
+    petsc_check(PCSetType(pc, PCLU), "PCSetType");
+  } else {
+    petsc_check(KSPSetType(ksp_, KSPGMRES), "KSPSetType");
+    petsc_check(PCSetType(pc, PCGAMG), "PCSetType");
     // Particle coordinates: GAMG builds the rigid-body near-null space from them.
     Eigen::Matrix3Xd xr = sys_.model().x_ref;
     petsc_check(PCSetCoordinates(pc, 3, static_cast<PetscInt>(xr.cols()), xr.data()), "PCSetCoordinates");

@@ -13,8 +13,10 @@
 //                           loads are time courses, so "time" is the load parameter): Newton with
 //                           a backtracking line search on |r|, Jacobian -K
 // Fixed and controlled coordinates are eliminated (rows and columns, unit diagonal) with their
-// prescribed values, not given huge masses. Linear solves: KSP (default GMRES + GAMG with the
-// particle coordinates for the rigid-body near-null space), overridable with PETSc options.
+// prescribed values, not given huge masses. Linear solves: KSP, by default a direct LU
+// factorisation up to 60 000 unknowns and GMRES + GAMG (with the particle coordinates for the
+// rigid-body near-null space) above; any PETSc option (-ksp_type, -pc_type, -ksp_monitor, ...)
+// overrides it.
 //
 // Step control (sec. 2.5.5): a step fails when the linear solver diverges, Newton does not
 // converge within max_newton iterations, or the state is not finite; the state is rolled back,
