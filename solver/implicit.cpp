@@ -52,6 +52,13 @@ void zero_dofs(Eigen::Matrix3Xd& m, const std::vector<PetscInt>& dofs) {
 ImplicitIntegrator::ImplicitIntegrator(System& system, Kind kind, const ImplicitSettings& settings)
     : sys_(system), kind_(kind), set_(settings), a_(*system.model().mesh) {
   require_jacobians(sys_.model().terms, name());
+  for (const auto& t : sys_.model().terms) {
+    if (auto* c = dynamic_cast<CavityConstraintTerm*>(t.get())) {
+      if (kind_ != Kind::Static)
+        throw InputError(name() + " cannot hold a cavity volume (" + c->name() + "); use the integrator type static");
+      constraints_.push_back(c);
+    }
+  }
   if (!(set_.dt_min > 0.0) || !(set_.dt_max >= set_.dt_min)) throw InputError(name() + ": need 0 < dt_min <= dt_max");
   ensure_petsc(set_.petsc_options);
   fixed_dofs_ = constrained_dofs(sys_.model().constraints.mask());
@@ -153,7 +160,9 @@ bool ImplicitIntegrator::attempt(State& s, double h, StepReport& rep) {
 
   auto finite_ok = [](const Eigen::Matrix3Xd& a) { return a.allFinite(); };
 
-  if (kind_ == Kind::Static) {
+  if (kind_ == Kind::Static && !constraints_.empty()) {
+    if (!attempt_constrained_static(s, h, rep, lin)) return false;
+  } else if (kind_ == Kind::Static) {
     State cur = s;
     cur.t = t1;
     cur.v.setZero();
@@ -284,6 +293,87 @@ bool ImplicitIntegrator::attempt(State& s, double h, StepReport& rep) {
   last_linear_ = lin;
   rep.newton_iterations = last_newton_;
   rep.linear_iterations = lin;
+  return true;
+}
+
+bool ImplicitIntegrator::attempt_constrained_static(State& s, double h, StepReport& rep, int& lin) {
+  const Model& model = sys_.model();
+  const double t1 = s.t + h;
+  const std::size_t m = constraints_.size();
+  std::vector<double> p_saved(m);
+  for (std::size_t k = 0; k < m; ++k) p_saved[k] = constraints_[k]->multiplier();
+  auto restore = [&] {
+    for (std::size_t k = 0; k < m; ++k) constraints_[k]->set_multiplier(p_saved[k]);
+    return false;
+  };
+  State pres = s;
+  pres.t = t1;
+  pres.v.setZero();
+  sys_.impose(pres);
+  State cur = s;
+  cur.t = t1;
+  cur.v.setZero();
+  for (const PetscInt d : fixed_dofs_) cur.x.data()[d] = pres.x.data()[d];
+  const Eigen::Index n = cur.x.cols();
+  std::vector<Eigen::Matrix3Xd> g(m), y(m);
+  Eigen::Matrix3Xd y1(3, n);
+  double r0 = 0.0;
+  for (int it = 0;; ++it) {
+    sys_.forces(cur.x, cur.v, t1, f_);
+    ++rep.evaluations;
+    zero_dofs(f_, fixed_dofs_);
+    const double nr = f_.norm();
+    Eigen::VectorXd rv(static_cast<Eigen::Index>(m));
+    bool volumes_ok = true;
+    for (std::size_t k = 0; k < m; ++k) {
+      const auto* c = constraints_[k];
+      rv[static_cast<Eigen::Index>(k)] = c->target_volume(t1) - c->volume(cur.x);
+      volumes_ok = volumes_ok && std::abs(rv[static_cast<Eigen::Index>(k)]) <= 1e-10 * c->reference_volume();
+    }
+    if (!std::isfinite(nr) || !rv.allFinite()) return restore();
+    history_.push_back(nr);
+    if (it == 0) r0 = std::max(nr, 1e-300);
+    const bool forces_ok = nr <= set_.newton_atol || nr <= set_.newton_rtol * r0;
+    if (it > 0 && forces_ok && volumes_ok) break;
+    if (it >= set_.max_newton) return restore();
+    a_.zero();
+    const StateView view{cur.x, cur.v, t1};
+    for (const auto& term : model.terms) term->add_jacobian(view, a_.sink(-1.0, 0.0));
+    a_.assemble();
+    a_.eliminate(fixed_dofs_);
+    to_vec(f_, b_);
+    if (!solve(b_, u_, lin)) return restore();
+    from_vec(u_, y1);
+    for (std::size_t k = 0; k < m; ++k) {
+      g[k].setZero(3, n);
+      constraints_[k]->add_volume_gradient(cur.x, g[k]);
+      zero_dofs(g[k], fixed_dofs_);
+      to_vec(g[k], b_);
+      if (!solve(b_, u_, lin)) return restore();
+      y[k].resize(3, n);
+      from_vec(u_, y[k]);
+    }
+    // Schur complement: (G^T Y) dP = (V* - V) - G^T y1.
+    Eigen::MatrixXd schur(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
+    Eigen::VectorXd rhs(static_cast<Eigen::Index>(m));
+    for (std::size_t k = 0; k < m; ++k) {
+      rhs[static_cast<Eigen::Index>(k)] = rv[static_cast<Eigen::Index>(k)] - g[k].cwiseProduct(y1).sum();
+      for (std::size_t l = 0; l < m; ++l)
+        schur(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(l)) = g[k].cwiseProduct(y[l]).sum();
+    }
+    const Eigen::VectorXd dp = schur.fullPivLu().solve(rhs);
+    if (!dp.allFinite()) return restore();
+    Eigen::Matrix3Xd dx = y1;
+    for (std::size_t k = 0; k < m; ++k) {
+      dx += dp[static_cast<Eigen::Index>(k)] * y[k];
+      constraints_[k]->set_multiplier(constraints_[k]->multiplier() + dp[static_cast<Eigen::Index>(k)]);
+    }
+    zero_dofs(dx, fixed_dofs_);
+    cur.x += dx;
+    ++last_newton_;
+    if (!cur.x.allFinite()) return restore();
+  }
+  s = cur;
   return true;
 }
 

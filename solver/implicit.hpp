@@ -24,12 +24,15 @@
 // easy step (Newton <= 3 iterations, or linear iterations <= 1/4 of the limit) dt grows by 1.5
 // up to dt_max; after a hard one (Newton >= 8) it shrinks by 2.
 // A term without a Jacobian makes these integrators refuse the scene by name (require_jacobians).
+// Cavity volume constraints (solver/cavity_constraint.hpp) are enforced by `static` through a
+// bordered Newton system; the other integrators refuse them by name.
 #include <petscksp.h>
 
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "solver/cavity_constraint.hpp"
 #include "solver/integrator.hpp"
 #include "solver/petsc_matrix.hpp"
 
@@ -67,12 +70,14 @@ class ImplicitIntegrator : public Integrator {
   /// One attempt; false if it failed (s unchanged then).
   bool attempt(State& s, double h, StepReport& rep);
   bool solve(Vec rhs, Vec sol, int& its);  ///< KSP solve with the current matrix
+  bool attempt_constrained_static(State& s, double h, StepReport& rep, int& lin);
 
   System& sys_;
   Kind kind_;
   ImplicitSettings set_;
   BlockMatrix a_;
   std::vector<PetscInt> fixed_dofs_;
+  std::vector<CavityConstraintTerm*> constraints_;  ///< cavity volume constraints (static only)
   KSP ksp_ = nullptr;
   Vec b_ = nullptr, u_ = nullptr;
   std::vector<double> history_;

@@ -4,6 +4,7 @@
 
 #include "common/error.hpp"
 #include "solver/abm3.hpp"
+#include "solver/cavity_constraint.hpp"
 #include "solver/implicit.hpp"
 
 namespace adamss::solver {
@@ -83,6 +84,11 @@ class SymplecticEuler final : public Integrator {
 
 std::unique_ptr<Integrator> make_integrator(const std::string& name, System& system, const Abm3Settings& abm,
                                             const ImplicitSettings* implicit) {
+  if (name == "forward_euler" || name == "symplectic_euler" || name == "abm3") {
+    for (const auto& t : system.model().terms)
+      if (dynamic_cast<const CavityConstraintTerm*>(t.get()) != nullptr)
+        throw InputError(name + " cannot hold a cavity volume (" + t->name() + "); use the integrator type static");
+  }
   if (name == "forward_euler") return std::make_unique<ForwardEuler>(system);
   if (name == "symplectic_euler") return std::make_unique<SymplecticEuler>(system);
   if (name == "abm3") return std::make_unique<Abm3>(system, abm);

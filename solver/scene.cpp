@@ -104,10 +104,10 @@ preprocess::Mesh load_mesh(SceneNode node, const fs::path& base, const SceneOpti
         std::vector<preprocess::CavitySpec> specs{{"lv", preprocess::kLvCavity}};
         if (kind == "biv") specs.push_back({"rv", preprocess::kRvCavity});
         preprocess::add_cavities(mesh, faces, specs);
-        preprocess::TagPlane base{"base", 2, preprocess::kPhantomBaseZ_m, 1e-3 * po.voxel_size_m};
+        preprocess::TagPlane base_plane{"base", 2, preprocess::kPhantomBaseZ_m, 1e-3 * po.voxel_size_m};
         std::vector<Index> b;
         try {
-          b = preprocess::nodes_on_plane(mesh, base, "base");
+          b = preprocess::nodes_on_plane(mesh, base_plane, "base");
         } catch (const InputError&) {
           // z = 5 mm is not a voxel face at this voxel size: no base tag.
         }

@@ -3,6 +3,7 @@
 #include <set>
 
 #include "common/error.hpp"
+#include "solver/cavity_constraint.hpp"
 #include "solver/cavity_pressure.hpp"
 #include "solver/global_friction.hpp"
 #include "solver/surface.hpp"
@@ -24,6 +25,18 @@ class SurfaceMonitor final : public VolumeMonitor {
  private:
   Surface surface_;
   TimeCourse pressure_;
+};
+
+/// Reports a held cavity through its constraint term (volume, current pressure multiplier).
+class ConstraintMonitor final : public VolumeMonitor {
+ public:
+  explicit ConstraintMonitor(const CavityConstraintTerm* term) : term_(term) {}
+  [[nodiscard]] std::string name() const override { return term_->name().substr(std::string("cavity_volume:").size()); }
+  [[nodiscard]] double volume(const Eigen::Matrix3Xd& x) const override { return term_->volume(x); }
+  [[nodiscard]] double pressure(double t) const override { return term_->pressure(t); }
+
+ private:
+  const CavityConstraintTerm* term_;
 };
 
 }  // namespace
@@ -58,10 +71,23 @@ void build_loads(SceneNode& loads, Model& model, const std::filesystem::path& /*
       surface = boundary_surface(*model.mesh, sel.region("region"), name);
     }
     sel.finish();
-    const TimeCourse course = p.course("pressure", Dimension::Pressure);
-    p.finish();
-    model.terms.push_back(make_cavity_pressure_term(surface, course, model.node_count()));
-    model.cavities.push_back(std::make_unique<SurfaceMonitor>(std::move(surface), course));
+    const bool given_p = p.has("pressure"), given_v = p.has("volume_ratio");
+    if (given_p == given_v)
+      throw InputError(p.path() +
+                       ": give either pressure: (a load, Pa) or volume_ratio: (hold V = r(t) V0; the "
+                       "pressure becomes an unknown, integrator static)");
+    if (given_p) {
+      const TimeCourse course = p.course("pressure", Dimension::Pressure);
+      p.finish();
+      model.terms.push_back(make_cavity_pressure_term(surface, course, model.node_count()));
+      model.cavities.push_back(std::make_unique<SurfaceMonitor>(std::move(surface), course));
+    } else {
+      const TimeCourse ratio = p.course("volume_ratio", Dimension::Dimensionless);
+      p.finish();
+      auto term = std::make_unique<CavityConstraintTerm>(surface, ratio, model.x_ref);
+      model.cavities.push_back(std::make_unique<ConstraintMonitor>(term.get()));
+      model.terms.push_back(std::move(term));
+    }
   }
 }
 

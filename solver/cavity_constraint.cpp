@@ -1,0 +1,65 @@
+#include "solver/cavity_constraint.hpp"
+
+#include <sstream>
+#include <stdexcept>
+
+#include "common/error.hpp"
+
+namespace adamss::solver {
+
+namespace {
+/// Multiplies every block by a factor before passing it on.
+class ScaledSink final : public JacobianSink {
+ public:
+  ScaledSink(JacobianSink& inner, double c) : inner_(inner), c_(c) {}
+  void add_block(Index a, Index b, const Eigen::Matrix3d& dfdx, const Eigen::Matrix3d& dfdv) override {
+    inner_.add_block(a, b, c_ * dfdx, c_ * dfdv);
+  }
+
+ private:
+  JacobianSink& inner_;
+  double c_;
+};
+}  // namespace
+
+CavityConstraintTerm::CavityConstraintTerm(const Surface& surface, TimeCourse ratio, const Eigen::Matrix3Xd& x_ref)
+    : surface_(surface), ratio_(std::move(ratio)) {
+  if (open_edge_count(surface_) != 0) {
+    throw InputError("cavity_volume:" + surface_.name + ": the surface is open (" +
+                     std::to_string(open_edge_count(surface_)) +
+                     " boundary edges); a volume constraint needs a closed cavity with its lid (e.g. mesh "
+                     "--cavity or a phantom recipe)");
+  }
+  v0_ = enclosed_volume(surface_, x_ref);
+  if (!(v0_ > 0.0)) throw InputError("cavity_volume:" + surface_.name + ": reference volume is not positive");
+  unit_ = make_cavity_pressure_term(surface_, TimeCourse::constant(1.0), static_cast<std::size_t>(x_ref.cols()));
+}
+
+double CavityConstraintTerm::energy(const StateView& /*s*/) const {
+  throw std::logic_error("force term '" + name() + "' has no energy");
+}
+
+void CavityConstraintTerm::add_forces(const StateView& s, Eigen::Matrix3Xd& f) const {
+  if (p_ == 0.0) return;
+  Eigen::Matrix3Xd g = Eigen::Matrix3Xd::Zero(3, s.x.cols());
+  unit_->add_forces(s, g);
+  f += p_ * g;
+}
+
+void CavityConstraintTerm::add_jacobian(const StateView& s, JacobianSink& sink) const {
+  ScaledSink scaled(sink, p_);
+  unit_->add_jacobian(s, scaled);
+}
+
+void CavityConstraintTerm::add_volume_gradient(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& g) const {
+  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, x.cols());
+  unit_->add_forces({x, v, 0.0}, g);
+}
+
+std::string CavityConstraintTerm::describe() const {
+  std::ostringstream os;
+  os << "volume held at r(t) V0, V0 = " << v0_ * 1e6 << " ml, r " << ratio_.describe();
+  return os.str();
+}
+
+}  // namespace adamss::solver

@@ -1,0 +1,58 @@
+#pragma once
+// Cavity volume constraint: hold the volume of a closed cavity at a prescribed value
+// V*(t) = r(t) V0 with the cavity pressure P as an unknown (a Lagrange multiplier), the
+// isovolumic phases of a heart beat (FEBio's volume constraint, fenicsx-pulse's cavity problem).
+//
+// The wall load is the follower pressure of eq. 2.119 with the current multiplier P,
+// f = P g(x), where g(x) = dV/dx for a closed surface (solver/cavity_pressure.hpp: the unit-
+// pressure load of a closed triangle surface is exactly the volume gradient). The static
+// integrator solves f_total(x, P) = 0 and V(x) = V*(t) together by Newton on the bordered system
+//   [ -K  -G ] [dx]   [ f        ]
+//   [ G^T  0 ] [dP] = [ V* - V   ],   G = [g_1 ... g_m] (one column per cavity),
+// eliminating dx with two solves per cavity on the factorised -K (a Schur complement of size m).
+// The term's Jacobian is P times the follower-load Jacobian; P itself is state of the term
+// (pressure()), reported in globals.csv and summary.json. Explicit and backward-Euler
+// integrators refuse the term by name (only `static` enforces the constraint).
+#include <memory>
+#include <string>
+
+#include "solver/cavity_pressure.hpp"
+#include "solver/model.hpp"
+#include "solver/surface.hpp"
+
+namespace adamss::solver {
+
+class CavityConstraintTerm final : public ForceTerm, public VolumeMonitor {
+ public:
+  /// `ratio` is r(t) = V*(t) / V0 with V0 the volume of `surface` at x_ref. InputError if the
+  /// surface is open (a constraint needs a closed cavity: build it with a lid) or V0 <= 0.
+  CavityConstraintTerm(const Surface& surface, TimeCourse ratio, const Eigen::Matrix3Xd& x_ref);
+
+  [[nodiscard]] std::string name() const override { return "cavity_volume:" + surface_.name; }
+  [[nodiscard]] bool has_energy() const override { return false; }
+  [[nodiscard]] bool has_jacobian() const override { return true; }
+  [[nodiscard]] double energy(const StateView& /*s*/) const override;
+  void add_forces(const StateView& s, Eigen::Matrix3Xd& f) const override;
+  void add_jacobian(const StateView& s, JacobianSink& sink) const override;
+  [[nodiscard]] std::string describe() const override;
+
+  // VolumeMonitor
+  [[nodiscard]] double volume(const Eigen::Matrix3Xd& x) const override { return enclosed_volume(surface_, x); }
+  [[nodiscard]] double pressure(double /*t*/) const override { return p_; }
+
+  /// g = dV/dx (m^2 per coordinate), added to `g` (3 x n).
+  void add_volume_gradient(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& g) const;
+  [[nodiscard]] double target_volume(double t) const { return ratio_(t) * v0_; }
+  [[nodiscard]] double reference_volume() const { return v0_; }
+  [[nodiscard]] double multiplier() const { return p_; }
+  void set_multiplier(double p) { p_ = p; }
+
+ private:
+  Surface surface_;
+  TimeCourse ratio_;
+  double v0_ = 0.0;
+  double p_ = 0.0;
+  std::unique_ptr<CavityPressureTerm> unit_;  // the eq. 2.119 load at P = 1 Pa
+};
+
+}  // namespace adamss::solver
