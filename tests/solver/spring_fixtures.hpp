@@ -4,33 +4,10 @@
 #include <string>
 
 #include "preprocess/lattice_mesher.hpp"
+#include "support/fibre_fixtures.hpp"
 #include "support/lattice_fixtures.hpp"
 
 namespace adamss::test {
-
-/// The same orthonormal right-handed frame B = [f s n] in every element.
-inline void set_frame(preprocess::Mesh& m, const Eigen::Matrix3d& b) {
-  const auto ne = static_cast<Eigen::Index>(m.element_count());
-  m.fiber = b.col(0).replicate(1, ne);
-  m.sheet = b.col(1).replicate(1, ne);
-  m.normal = b.col(2).replicate(1, ne);
-}
-
-/// A rotated frame, different per element unless `uniform`.
-inline void set_rotated_fibres(preprocess::Mesh& mesh, bool uniform) {
-  const auto ne = static_cast<Eigen::Index>(mesh.element_count());
-  mesh.fiber.resize(3, ne);
-  mesh.sheet.resize(3, ne);
-  mesh.normal.resize(3, ne);
-  for (Eigen::Index e = 0; e < ne; ++e) {
-    const double s = uniform ? 0.0 : 0.37 * static_cast<double>(e);
-    const Eigen::Matrix3d r =
-        Eigen::AngleAxisd(0.4 + s, Eigen::Vector3d(1.0, 2.0 + s, 0.5 - s).normalized()).toRotationMatrix();
-    mesh.fiber.col(e) = r.col(0);
-    mesh.sheet.col(e) = r.col(1);
-    mesh.normal.col(e) = r.col(2);
-  }
-}
 
 /// A block of nx x ny x nz 1 mm voxels with the frame b in every element.
 inline preprocess::Mesh framed_block(int nx, int ny, int nz, preprocess::Topology t, const Eigen::Matrix3d& b) {

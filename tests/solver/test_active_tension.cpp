@@ -10,6 +10,7 @@
 #include "force_term_harness.hpp"
 #include "solver/active_tension.hpp"
 #include "solver/axis_frame.hpp"
+#include "support/fibre_fixtures.hpp"
 #include "support/lattice_fixtures.hpp"
 
 using namespace adamss;
@@ -22,28 +23,6 @@ constexpr std::array<Form, 3> kForms{Form::Stress, Form::Tension, Form::Force};
 
 const char* form_name(Form f) {
   return f == Form::Stress ? "stress" : (f == Form::Tension ? "tension" : "force");
-}
-
-void set_fibres(preprocess::Mesh& mesh, bool uniform) {
-  const auto ne = static_cast<Eigen::Index>(mesh.element_count());
-  mesh.fiber.resize(3, ne);
-  mesh.sheet.resize(3, ne);
-  mesh.normal.resize(3, ne);
-  for (Eigen::Index e = 0; e < ne; ++e) {
-    const double s = uniform ? 0.0 : 0.37 * static_cast<double>(e);
-    const Eigen::Matrix3d r =
-        Eigen::AngleAxisd(0.4 + s, Eigen::Vector3d(1.0, 2.0 + s, 0.5 - s).normalized()).toRotationMatrix();
-    mesh.fiber.col(e) = r.col(0);
-    mesh.sheet.col(e) = r.col(1);
-    mesh.normal.col(e) = r.col(2);
-  }
-}
-
-void set_axis_fibres(preprocess::Mesh& mesh) {
-  const auto ne = static_cast<Eigen::Index>(mesh.element_count());
-  mesh.fiber = Eigen::Vector3d::UnitX().replicate(1, ne);
-  mesh.sheet = Eigen::Vector3d::UnitY().replicate(1, ne);
-  mesh.normal = Eigen::Vector3d::UnitZ().replicate(1, ne);
 }
 
 solver::ActiveTensionParams params(Form form, double tension, double cs = 0.0, double cn = 0.0) {
@@ -83,7 +62,7 @@ Eigen::Matrix3Xd fem_uniform_stress_forces(const preprocess::Mesh& mesh, const s
 TEST(ActiveTension, PassesHarnessForAllFormsOnTetAndHexMeshes) {
   for (auto t : {preprocess::Topology::Tet6m, preprocess::Topology::Hex}) {
     auto mesh = test::block_mesh(2, 2, 1, t);
-    set_fibres(mesh, false);
+    test::set_rotated_fibres(mesh, false);
     const solver::AxisFrames frames = solver::build_axis_frames(mesh);
     const Eigen::Matrix3Xd x = test::perturbed(mesh.nodes, kH, 0.1);
     const Eigen::Matrix3Xd v = zeros_like(x);
@@ -108,7 +87,7 @@ TEST(ActiveTension, PassesHarnessForAllFormsOnTetAndHexMeshes) {
 // with the thesis's 1/2 (eqs. 2.113-2.116) the tension/force forms give half.
 TEST(ActiveTension, IsometricCubeGivesUniformFibreStressForces) {
   auto mesh = test::block_mesh(1, 1, 1, preprocess::Topology::Hex);
-  set_axis_fibres(mesh);
+  test::set_axis_fibres(mesh);
   const solver::AxisFrames frames = solver::build_axis_frames(mesh);
   const double tension = 60e3;  // Pa (Land et al. 2015 problem 3)
   const double mid = mesh.nodes.row(0).mean();
@@ -135,7 +114,7 @@ TEST(ActiveTension, IsometricCubeGivesUniformFibreStressForces) {
 // computed from the FEM shape gradients (not from the axis frames).
 TEST(ActiveTension, IsometricTetBlockMatchesFemUniformStress) {
   auto mesh = test::block_mesh(2, 2, 1, preprocess::Topology::Tet6m);
-  set_fibres(mesh, false);
+  test::set_rotated_fibres(mesh, false);
   const solver::AxisFrames frames = solver::build_axis_frames(mesh);
   const double tension = 10e3, cs = 0.4, cn = 0.2;
   std::vector<Eigen::Matrix3d> stress(mesh.element_count());
@@ -167,7 +146,7 @@ TEST(ActiveTension, IsometricTetBlockMatchesFemUniformStress) {
 // area). The stress-form energy is V T E_ff = V T (lambda^2 - 1) / 2.
 TEST(ActiveTension, FormsUnderHomogeneousStretch) {
   auto mesh = test::block_mesh(1, 1, 1, preprocess::Topology::Hex);
-  set_axis_fibres(mesh);
+  test::set_axis_fibres(mesh);
   const solver::AxisFrames frames = solver::build_axis_frames(mesh);
   const double tension = 20e3, lambda = 1.15, mu = 0.9;
   const Eigen::Matrix3Xd x = Eigen::Vector3d(lambda, mu, mu).asDiagonal() * mesh.nodes;
@@ -194,7 +173,7 @@ TEST(ActiveTension, FormsUnderHomogeneousStretch) {
 // onset + d_e, and afterwards equal T_a(t - d_e) / T_ref times the forces of a constant T_ref.
 TEST(ActiveTension, TimeCourseAndDelayShiftTheOnset) {
   auto mesh = test::block_mesh(2, 2, 1, preprocess::Topology::Hex);
-  set_fibres(mesh, false);
+  test::set_rotated_fibres(mesh, false);
   const solver::AxisFrames frames = solver::build_axis_frames(mesh);
   const std::vector<double> delay{0.0, 0.01, 0.02, 0.035};
   ASSERT_EQ(frames.size(), delay.size());
@@ -238,7 +217,7 @@ TEST(ActiveTension, TimeCourseAndDelayShiftTheOnset) {
 // A ramp: the time course reaches the kernel through T_e(t) = T_a(t - d_e).
 TEST(ActiveTension, RampCourseScalesForces) {
   auto mesh = test::block_mesh(1, 1, 1, preprocess::Topology::Hex);
-  set_axis_fibres(mesh);
+  test::set_axis_fibres(mesh);
   const solver::AxisFrames frames = solver::build_axis_frames(mesh);
   auto p = params(Form::Stress, 0.0);
   p.course = solver::TimeCourse::ramp(0.0, 8e3, 0.1, 0.2);
@@ -256,7 +235,7 @@ TEST(ActiveTension, RampCourseScalesForces) {
 
 TEST(ActiveTension, RejectsBadInput) {
   auto mesh = test::block_mesh(2, 1, 1, preprocess::Topology::Tet6m);
-  set_fibres(mesh, false);
+  test::set_rotated_fibres(mesh, false);
   const solver::AxisFrames frames = solver::build_axis_frames(mesh);
   const auto expect_error = [&](const solver::ActiveTensionParams& p, const std::string& needle,
                                 const std::vector<std::size_t>* subset = nullptr) {
@@ -299,7 +278,7 @@ TEST(ActiveTension, RejectsBadInput) {
 // The kernels record which mesh element each item (and so each delay entry) belongs to.
 TEST(ActiveTension, ItemsFollowFramesOrderWithinSubset) {
   auto mesh = test::block_mesh(2, 1, 1, preprocess::Topology::Tet6m);
-  set_fibres(mesh, false);
+  test::set_rotated_fibres(mesh, false);
   const solver::AxisFrames frames = solver::build_axis_frames(mesh);
   const std::vector<std::size_t> sub{7, 2, 5};
   const auto k = solver::make_active_axis_kernel<4, false>(mesh, frames, params(Form::Force, 1e3), &sub);

@@ -18,6 +18,7 @@
 #include "preprocess/lattice_mesher.hpp"
 #include "solver/axis_frame.hpp"
 #include "solver/axis_frame_geometry.hpp"
+#include "support/fibre_fixtures.hpp"
 
 using namespace adamss;
 using preprocess::ElementType;
@@ -37,13 +38,6 @@ Eigen::Matrix<double, 3, 8> unit_cube() {
   return x;
 }
 
-void set_frame(Mesh& m, const Eigen::Matrix3d& b) {
-  const auto ne = static_cast<Eigen::Index>(m.element_count());
-  m.fiber = b.col(0).replicate(1, ne);
-  m.sheet = b.col(1).replicate(1, ne);
-  m.normal = b.col(2).replicate(1, ne);
-}
-
 template <int K>
 Mesh single_element(const Eigen::Matrix<double, 3, K>& x, const Eigen::Matrix3d& b) {
   Mesh m;
@@ -53,7 +47,7 @@ Mesh single_element(const Eigen::Matrix<double, 3, K>& x, const Eigen::Matrix3d&
     m.connectivity.push_back(i);
   }
   m.labels = {1};
-  set_frame(m, b);
+  test::set_frame(m, b);
   return m;
 }
 
@@ -66,7 +60,7 @@ Mesh lattice(Topology t, const Eigen::Matrix3d& b, int n = 2) {
   preprocess::LatticeMeshOptions o;
   o.topology = t;
   Mesh m = preprocess::mesh_lattice(img, o);
-  set_frame(m, b);
+  test::set_frame(m, b);
   return m;
 }
 
@@ -474,7 +468,7 @@ TEST(AxisFrameErrors, DegenerateElementsNameElement) {
   tets.nodes.resize(3, 5);
   tets.nodes << 0, 1, 0, 0, 1, 0, 0, 1, 0, 1, 0, 0, 0, 1, 0;  // node 4 in the plane z = 0
   tets.connectivity = {0, 1, 2, 3, 0, 1, 2, 4};
-  set_frame(tets, Eigen::Matrix3d::Identity());
+  test::set_frame(tets, Eigen::Matrix3d::Identity());
   const std::string msg = message_of([&] { (void)solver::build_axis_frames(tets); });
   EXPECT_NE(msg.find("element 1: non-positive volume"), std::string::npos) << msg;
 

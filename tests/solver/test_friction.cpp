@@ -13,6 +13,7 @@
 #include "solver/global_friction.hpp"
 #include "solver/mass.hpp"
 #include "solver/material_friction.hpp"
+#include "support/fibre_fixtures.hpp"
 #include "support/lattice_fixtures.hpp"
 
 using namespace adamss;
@@ -21,30 +22,6 @@ using solver::MaterialFrictionParams;
 namespace {
 
 constexpr double kH = 1e-3;  // voxel size of block_mesh (m)
-
-/// Rotated orthonormal fibre frames: one for all elements when `uniform`, else one per element.
-void set_fibres(preprocess::Mesh& mesh, bool uniform) {
-  const auto ne = static_cast<Eigen::Index>(mesh.element_count());
-  mesh.fiber.resize(3, ne);
-  mesh.sheet.resize(3, ne);
-  mesh.normal.resize(3, ne);
-  for (Eigen::Index e = 0; e < ne; ++e) {
-    const double s = uniform ? 0.0 : 0.37 * static_cast<double>(e);
-    const Eigen::Matrix3d r =
-        Eigen::AngleAxisd(0.4 + s, Eigen::Vector3d(1.0, 2.0 + s, 0.5 - s).normalized()).toRotationMatrix();
-    mesh.fiber.col(e) = r.col(0);
-    mesh.sheet.col(e) = r.col(1);
-    mesh.normal.col(e) = r.col(2);
-  }
-}
-
-/// Fibres along x, sheets along y, normals along z.
-void set_axis_fibres(preprocess::Mesh& mesh) {
-  const auto ne = static_cast<Eigen::Index>(mesh.element_count());
-  mesh.fiber = Eigen::Vector3d::UnitX().replicate(1, ne);
-  mesh.sheet = Eigen::Vector3d::UnitY().replicate(1, ne);
-  mesh.normal = Eigen::Vector3d::UnitZ().replicate(1, ne);
-}
 
 Eigen::Matrix3Xd random_velocities(Eigen::Index n, double speed, unsigned seed) {
   std::mt19937 rng(seed);
@@ -71,7 +48,7 @@ constexpr std::array<MaterialFrictionParams::Scaling, 2> kScalings{MaterialFrict
 TEST(MaterialFriction, PassesHarnessOnTetAndHexMeshes) {
   for (auto t : {preprocess::Topology::Tet6m, preprocess::Topology::Tet5, preprocess::Topology::Hex}) {
     auto mesh = test::block_mesh(2, 2, 1, t);
-    set_fibres(mesh, false);
+    test::set_rotated_fibres(mesh, false);
     const solver::AxisFrames frames = solver::build_axis_frames(mesh);
     for (auto s : kScalings) {
       SCOPED_TRACE(std::string(preprocess::topology_name(t)) +
@@ -93,7 +70,7 @@ TEST(MaterialFriction, PassesHarnessOnTetAndHexMeshes) {
 TEST(MaterialFriction, RigidMotionGivesZeroForce) {
   for (auto t : {preprocess::Topology::Tet6m, preprocess::Topology::Hex}) {
     auto mesh = test::block_mesh(2, 2, 1, t);
-    set_fibres(mesh, false);
+    test::set_rotated_fibres(mesh, false);
     const solver::AxisFrames frames = solver::build_axis_frames(mesh);
     const Eigen::Matrix3Xd x = test::perturbed(mesh.nodes, kH, 0.1);
     const Eigen::Vector3d omega(3.0, -1.0, 2.0), u(0.01, 0.02, -0.03);  // rad/s, m/s
@@ -113,7 +90,7 @@ TEST(MaterialFriction, RigidMotionGivesZeroForce) {
 TEST(MaterialFriction, DissipatesForRandomStates) {
   for (auto t : {preprocess::Topology::Tet6m, preprocess::Topology::Hex}) {
     auto mesh = test::block_mesh(2, 2, 1, t);
-    set_fibres(mesh, false);
+    test::set_rotated_fibres(mesh, false);
     const solver::AxisFrames frames = solver::build_axis_frames(mesh);
     for (auto s : kScalings) {
       const auto term = solver::make_material_friction_term(mesh, frames, friction(s));
@@ -132,7 +109,7 @@ TEST(MaterialFriction, DissipatesForRandomStates) {
 // area), a quarter per corner node, pointing inward (resisting the extension).
 TEST(MaterialFriction, UniaxialStrainRateGivesViscousStress) {
   auto mesh = test::block_mesh(1, 1, 1, preprocess::Topology::Hex);
-  set_axis_fibres(mesh);
+  test::set_axis_fibres(mesh);
   const solver::AxisFrames frames = solver::build_axis_frames(mesh);
   const double eta = 3.0, eps_dot = 2.0;  // Pa s, 1/s
   Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, mesh.nodes.cols());
@@ -173,7 +150,7 @@ TEST(MaterialFriction, ViscosityPowerIsVolumeTimesDensityAtAnyResolution) {
     for (int n : {1, 2, 4}) {  // 2 mm cube as n^3 elements (voxels)
       auto mesh = test::block_mesh(n, n, n, t);
       mesh.nodes *= 2.0 / n;
-      set_fibres(mesh, true);
+      test::set_rotated_fibres(mesh, true);
       const solver::AxisFrames frames = solver::build_axis_frames(mesh);
       const Eigen::Matrix3Xd v = lgrad * mesh.nodes;
       const auto term =
@@ -201,7 +178,7 @@ TEST(MaterialFriction, LiteralKdDependsOnResolution) {
     const int n = 1 << k;  // 1 or 2 elements per direction over 1 mm
     auto mesh = test::block_mesh(n, n, n, preprocess::Topology::Hex);
     mesh.nodes /= n;
-    set_axis_fibres(mesh);
+    test::set_axis_fibres(mesh);
     const solver::AxisFrames frames = solver::build_axis_frames(mesh);
     Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, mesh.nodes.cols());
     v.row(0) = mesh.nodes.row(0);
@@ -216,7 +193,7 @@ TEST(MaterialFriction, LiteralKdDependsOnResolution) {
 TEST(MaterialFriction, FaceScalingMatchesAxisFrameFaceData) {
   for (auto t : {preprocess::Topology::Tet6m, preprocess::Topology::Tet5, preprocess::Topology::Hex}) {
     auto mesh = test::block_mesh(2, 1, 1, t);
-    set_fibres(mesh, false);
+    test::set_rotated_fibres(mesh, false);
     const solver::AxisFrames frames = solver::build_axis_frames(mesh);
     const Eigen::Vector3d eta(2.0, 0.7, 0.3);
     const auto check = [&](const auto& kern) {
@@ -247,7 +224,7 @@ TEST(MaterialFriction, FaceScalingMatchesAxisFrameFaceData) {
 // Virtual scaling: c_l = R_v A_l^0 k_d,l = V0 eta_l / l0_l^2.
 TEST(MaterialFriction, VirtualCoefficientIsVolumeOverLengthSquared) {
   auto mesh = test::block_mesh(2, 1, 1, preprocess::Topology::Tet6m);
-  set_fibres(mesh, false);
+  test::set_rotated_fibres(mesh, false);
   const solver::AxisFrames frames = solver::build_axis_frames(mesh);
   const Eigen::Vector3d eta(2.0, 0.7, 0.3);
   const auto kern =
@@ -263,7 +240,7 @@ TEST(MaterialFriction, VirtualCoefficientIsVolumeOverLengthSquared) {
 
 TEST(MaterialFriction, ErrorsAndSubsets) {
   auto mesh = test::block_mesh(2, 1, 1, preprocess::Topology::Tet6m);
-  set_fibres(mesh, false);
+  test::set_rotated_fibres(mesh, false);
   const solver::AxisFrames frames = solver::build_axis_frames(mesh);
   auto bad = friction(MaterialFrictionParams::Scaling::Virtual, {1.0, -0.1, 0.0});
   try {

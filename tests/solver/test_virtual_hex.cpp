@@ -10,6 +10,7 @@
 #include "preprocess/lattice_mesher.hpp"
 #include "solver/axis_frame.hpp"
 #include "solver/virtual_hex.hpp"
+#include "support/fibre_fixtures.hpp"
 
 using namespace adamss;
 
@@ -24,23 +25,6 @@ preprocess::Mesh block(preprocess::Topology t, int nz = 1) {
   preprocess::LatticeMeshOptions o;
   o.topology = t;
   return preprocess::mesh_lattice(img, o);
-}
-
-/// Gives every element a rotated orthonormal fibre frame; the same one for all
-/// elements when `uniform`, otherwise a different rotation per element.
-void set_fibres(preprocess::Mesh& mesh, bool uniform) {
-  const auto ne = static_cast<Eigen::Index>(mesh.element_count());
-  mesh.fiber.resize(3, ne);
-  mesh.sheet.resize(3, ne);
-  mesh.normal.resize(3, ne);
-  for (Eigen::Index e = 0; e < ne; ++e) {
-    const double s = uniform ? 0.0 : 0.37 * static_cast<double>(e);
-    const Eigen::Matrix3d r =
-        Eigen::AngleAxisd(0.4 + s, Eigen::Vector3d(1.0, 2.0 + s, 0.5 - s).normalized()).toRotationMatrix();
-    mesh.fiber.col(e) = r.col(0);
-    mesh.sheet.col(e) = r.col(1);
-    mesh.normal.col(e) = r.col(2);
-  }
 }
 
 std::shared_ptr<const materials::Law> guccione() {
@@ -59,7 +43,7 @@ double rel_diff(const Eigen::Matrix3Xd& a, const Eigen::Matrix3Xd& b) {
 TEST(VirtualHex, PassesHarnessOnTetAndHexMeshes) {
   for (auto t : {preprocess::Topology::Tet6m, preprocess::Topology::Hex}) {
     auto mesh = block(t);
-    set_fibres(mesh, false);
+    test::set_rotated_fibres(mesh, false);
     const solver::AxisFrames frames = solver::build_axis_frames(mesh);
     const std::shared_ptr<const materials::Law> laws[] = {guccione(), neo_hookean(),
                                                           materials::make_law("hunter_canine", {}),
@@ -84,7 +68,7 @@ TEST(VirtualHex, PassesHarnessOnTetAndHexMeshes) {
 // and the forces -V0 P g_i are the linear-FEM internal forces -V0 P grad N_i.
 TEST(VirtualHex, TetForcesEqualLinearFem) {
   auto mesh = block(preprocess::Topology::Tet6m);
-  set_fibres(mesh, false);
+  test::set_rotated_fibres(mesh, false);
   const solver::AxisFrames frames = solver::build_axis_frames(mesh);
   const Eigen::Matrix3Xd x = test::perturbed(mesh.nodes, 1e-3, 0.05, 11);
   const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, x.cols());
@@ -124,7 +108,7 @@ TEST(VirtualHex, TetForcesEqualLinearFem) {
 TEST(VirtualHex, PatchTestHomogeneousDeformation) {
   for (auto t : {preprocess::Topology::Tet6m, preprocess::Topology::Hex}) {
     auto mesh = block(t, 2);  // 3 x 3 x 3 nodes, node (1,1,1) interior
-    set_fibres(mesh, true);
+    test::set_rotated_fibres(mesh, true);
     const solver::AxisFrames frames = solver::build_axis_frames(mesh);
     const Eigen::Vector3d fib = mesh.fiber.col(0);
     const Eigen::Vector3d sh = mesh.sheet.col(0);
@@ -176,7 +160,7 @@ TEST(VirtualHex, PatchTestHomogeneousDeformation) {
 TEST(VirtualHex, ZeroForceAndEnergyAtRest) {
   for (auto t : {preprocess::Topology::Tet6m, preprocess::Topology::Hex}) {
     auto mesh = block(t);
-    set_fibres(mesh, false);
+    test::set_rotated_fibres(mesh, false);
     const solver::AxisFrames frames = solver::build_axis_frames(mesh);
     const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, mesh.nodes.cols());
     for (const auto& law : {guccione(), neo_hookean()}) {
@@ -190,7 +174,7 @@ TEST(VirtualHex, ZeroForceAndEnergyAtRest) {
 
 TEST(VirtualHex, SubsetsAndErrors) {
   auto mesh = block(preprocess::Topology::Tet6m);
-  set_fibres(mesh, false);
+  test::set_rotated_fibres(mesh, false);
   const solver::AxisFrames frames = solver::build_axis_frames(mesh);
   const std::vector<std::size_t> half = {0, 2, 4};
   const auto k = solver::make_virtual_hex_kernel<4>(mesh, frames, neo_hookean(), &half);

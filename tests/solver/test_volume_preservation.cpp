@@ -14,6 +14,7 @@
 #include "preprocess/mesh_quality.hpp"
 #include "solver/axis_frame.hpp"
 #include "solver/volume_preservation.hpp"
+#include "support/fibre_fixtures.hpp"
 
 using namespace adamss;
 using solver::VolumeDistribution;
@@ -22,25 +23,9 @@ namespace {
 
 constexpr double kH = 1e-3;  // voxel size of test::block_mesh (m)
 
-/// Gives every element a different rotated orthonormal fibre frame.
-void set_fibres(preprocess::Mesh& mesh) {
-  const auto ne = static_cast<Eigen::Index>(mesh.element_count());
-  mesh.fiber.resize(3, ne);
-  mesh.sheet.resize(3, ne);
-  mesh.normal.resize(3, ne);
-  for (Eigen::Index e = 0; e < ne; ++e) {
-    const double s = 0.37 * static_cast<double>(e);
-    const Eigen::Matrix3d r =
-        Eigen::AngleAxisd(0.4 + s, Eigen::Vector3d(1.0, 2.0 + s, 0.5 - s).normalized()).toRotationMatrix();
-    mesh.fiber.col(e) = r.col(0);
-    mesh.sheet.col(e) = r.col(1);
-    mesh.normal.col(e) = r.col(2);
-  }
-}
-
 preprocess::Mesh fibred_block(int n, preprocess::Topology t) {
   auto mesh = test::block_mesh(n, n, n, t);
-  set_fibres(mesh);
+  test::set_rotated_fibres(mesh, false);
   return mesh;
 }
 
