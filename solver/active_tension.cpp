@@ -211,7 +211,7 @@ ActiveStressKernel<K> make_active_stress_kernel(const preprocess::Mesh& mesh, co
                                                 const ActiveTensionParams& params,
                                                 const std::vector<std::size_t>* element_subset) {
   const Eigen::Vector3d r = fractions(params);
-  const std::vector<std::size_t> entries = select_frame_entries<K>(mesh, frames, element_subset, "active_tension");
+  const std::vector<std::size_t> entries = select_frame_entries("active_tension", mesh, frames, K, element_subset);
   ActiveStressKernel<K> kern;
   kern.fraction = r;
   const auto& grads = frames.template nodal_gradient<K>();
@@ -233,7 +233,7 @@ ActiveAxisKernel<K, kCurrentArea> make_active_axis_kernel(const preprocess::Mesh
                                                           const std::vector<std::size_t>* element_subset) {
   const Eigen::Vector3d r = fractions(params);
   const double h = params.thesis_half ? 0.5 : 1.0;
-  const std::vector<std::size_t> entries = select_frame_entries<K>(mesh, frames, element_subset, "active_tension");
+  const std::vector<std::size_t> entries = select_frame_entries("active_tension", mesh, frames, K, element_subset);
   ActiveAxisKernel<K, kCurrentArea> kern;
   const auto& coeffs = frames.template coefficients<K>();
   for (const std::size_t k : entries) {

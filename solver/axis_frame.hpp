@@ -37,6 +37,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "preprocess/mesh.hpp"
@@ -126,6 +127,15 @@ struct AxisFrames {
 /// The per-element work is independent and allocation-free.
 [[nodiscard]] AxisFrames build_axis_frames(const preprocess::Mesh& mesh,
                                            const std::vector<std::size_t>* only = nullptr);
+
+/// Indices k of the frames entries whose mesh element is in `element_subset` (mesh element
+/// indices; every entry when null), in frames order, each mesh element once: the items of a
+/// term that acts on the axis frames of a subset of elements. Throws adamss::InputError
+/// (message starts with `term`) if the mesh or frames element type is not the K-node type
+/// (K = 4 tet, 8 hex), a subset element is out of range, or has no frames entry.
+[[nodiscard]] std::vector<std::size_t> select_frame_entries(const std::string& term, const preprocess::Mesh& mesh,
+                                                            const AxisFrames& frames, int K,
+                                                            const std::vector<std::size_t>* element_subset);
 
 /// The 3 x K matrix of the current positions (m) of element e's nodes.
 template <int K>

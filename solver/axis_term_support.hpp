@@ -1,7 +1,6 @@
 #pragma once
 // Small helpers shared by the terms that act on the axis chords of the axis frame
-// (material friction, active fibre tension): item selection from the axis frames
-// and the assembly of chord-space Jacobian blocks into nodal blocks.
+// (material friction, active fibre tension): the assembly of chord-space Jacobian blocks into nodal blocks.
 //
 // Chord matrix. With C the K x 6 coefficient matrix (x_q = X C) the axis chords are
 //   zeta_l = x_{2l} - x_{2l+1} = X d_l,   d_l = C e_{2l} - C e_{2l+1}   (eq. 2.5, 2.18/2.25)
@@ -48,44 +47,6 @@ void add_chord_blocks(const Eigen::Matrix<double, K, 3>& d, const std::array<Eig
       jac.template block<3, 3>(3 * a, 3 * b) += blk;
     }
   }
-}
-
-/// Indices k of the axis-frame entries whose mesh element is in `element_subset`
-/// (mesh element indices; every entry when null), in frames order. Throws
-/// adamss::InputError, prefixed by `term`, if the mesh or frames element type is not
-/// the K-node type, a subset element is out of range, or has no axis frame.
-template <int K>
-[[nodiscard]] std::vector<std::size_t> select_frame_entries(const preprocess::Mesh& mesh, const AxisFrames& frames,
-                                                            const std::vector<std::size_t>* element_subset,
-                                                            const std::string& term) {
-  static_assert(K == 4 || K == 8, "K must be 4 (tet) or 8 (hex)");
-  const preprocess::ElementType want = K == 4 ? preprocess::ElementType::Tet4 : preprocess::ElementType::Hex8;
-  if (mesh.type != want || frames.type != want) {
-    throw InputError(term + ": mesh/axis-frame element type does not match a " + std::to_string(K) + "-node kernel");
-  }
-  const std::size_t ne = mesh.element_count();
-  std::vector<char> selected(ne, element_subset != nullptr ? 0 : 1);
-  if (element_subset != nullptr) {
-    for (const std::size_t e : *element_subset) {
-      if (e >= ne) {
-        throw InputError(term + ": element " + std::to_string(e) + " out of range (mesh has " + std::to_string(ne) +
-                         ")");
-      }
-      selected[e] = 1;
-    }
-  }
-  std::vector<std::size_t> out;
-  std::vector<char> found(ne, 0);
-  for (std::size_t k = 0; k < frames.size(); ++k) {
-    const std::size_t e = frames.element[k];
-    if (e >= ne || !selected[e] || found[e]) continue;
-    found[e] = 1;
-    out.push_back(k);
-  }
-  for (std::size_t e = 0; e < ne; ++e) {
-    if (selected[e] && !found[e]) throw InputError(term + ": element " + std::to_string(e) + " has no axis frame");
-  }
-  return out;
 }
 
 /// Node indices of mesh element e as a fixed-size stencil.

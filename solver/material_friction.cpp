@@ -133,7 +133,7 @@ MaterialFrictionKernel<K> make_material_friction_kernel(const preprocess::Mesh& 
                        (eta ? "Pa s" : "N s/m^3") + "), got " + std::to_string(val));
     }
   }
-  const std::vector<std::size_t> entries = select_frame_entries<K>(mesh, frames, element_subset, "material_friction");
+  const std::vector<std::size_t> entries = select_frame_entries("material_friction", mesh, frames, K, element_subset);
   MaterialFrictionKernel<K> kern;
   kern.face_scaling = params.scaling == MaterialFrictionParams::Scaling::Face;
   const auto& coeffs = frames.template coefficients<K>();

@@ -69,38 +69,4 @@ void validate_spring_polynomial(const std::string& term, int row, const std::str
   }
 }
 
-std::vector<std::size_t> select_frame_entries(const std::string& term, const preprocess::Mesh& mesh,
-                                              const AxisFrames& frames, int K,
-                                              const std::vector<std::size_t>* element_subset) {
-  const preprocess::ElementType want = K == 4 ? preprocess::ElementType::Tet4 : preprocess::ElementType::Hex8;
-  if (mesh.type != want || frames.type != want) {
-    throw InputError(term + ": mesh/axis-frame element type does not match a " + std::to_string(K) + "-node kernel");
-  }
-  const std::size_t ne = mesh.element_count();
-  std::vector<char> selected(ne, element_subset != nullptr ? 0 : 1);
-  if (element_subset != nullptr) {
-    for (const std::size_t e : *element_subset) {
-      if (e >= ne) {
-        throw InputError(term + ": element " + std::to_string(e) + " out of range (mesh has " + std::to_string(ne) +
-                         ")");
-      }
-      selected[e] = 1;
-    }
-  }
-  std::vector<std::size_t> out;
-  std::vector<char> found(ne, 0);
-  for (std::size_t k = 0; k < frames.size(); ++k) {
-    const std::size_t e = frames.element[k];
-    if (e >= ne || !selected[e]) continue;
-    found[e] = 1;
-    out.push_back(k);
-  }
-  for (std::size_t e = 0; e < ne; ++e) {
-    if (selected[e] && !found[e]) {
-      throw InputError(term + ": element " + std::to_string(e) + " has no axis frame");
-    }
-  }
-  return out;
-}
-
 }  // namespace adamss::solver

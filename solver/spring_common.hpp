@@ -74,14 +74,6 @@ using SpringPolynomial = std::array<double, 3>;
 void validate_spring_polynomial(const std::string& term, int row, const std::string& what, const SpringPolynomial& k,
                                 double range, const std::string& variable);
 
-/// The frames entries (indices k into `frames`) a spring term of `term` acts on: those
-/// whose mesh element is in `element_subset` (all when null), in frames order. Throws
-/// adamss::InputError (message starts with `term`) if the mesh or frames element type
-/// is not the K-node type, a subset element is out of range, or has no frames entry.
-[[nodiscard]] std::vector<std::size_t> select_frame_entries(const std::string& term, const preprocess::Mesh& mesh,
-                                                            const AxisFrames& frames, int K,
-                                                            const std::vector<std::size_t>* element_subset);
-
 /// d_l = C e_{2l} - C e_{2l+1} for the three axes: the K x 3 matrix D with zeta_l = X D e_l.
 template <int K>
 [[nodiscard]] Eigen::Matrix<double, K, 3> chord_coefficients(const Eigen::Matrix<double, K, 6>& c) {

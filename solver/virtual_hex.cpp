@@ -59,42 +59,17 @@ VirtualHexKernel<K> make_virtual_hex_kernel(const preprocess::Mesh& mesh, const 
                                             std::shared_ptr<const materials::Law> law,
                                             const std::vector<std::size_t>* element_subset) {
   if (!law) throw InputError("virtual_hexahedron: no constitutive law given");
-  const preprocess::ElementType want = K == 4 ? preprocess::ElementType::Tet4 : preprocess::ElementType::Hex8;
-  if (mesh.type != want || frames.type != want) {
-    throw InputError("virtual_hexahedron: mesh/axis-frame element type does not match a " + std::to_string(K) +
-                     "-node kernel");
-  }
-  const std::size_t ne = mesh.element_count();
-  std::vector<char> selected(ne, element_subset ? 0 : 1);
-  if (element_subset) {
-    for (std::size_t e : *element_subset) {
-      if (e >= ne) {
-        throw InputError("virtual_hexahedron: element " + std::to_string(e) + " out of range (mesh has " +
-                         std::to_string(ne) + ")");
-      }
-      selected[e] = 1;
-    }
-  }
   VirtualHexKernel<K> kern;
   kern.law = std::move(law);
-  std::vector<char> found(ne, 0);
   const auto& grads = frames.template nodal_gradient<K>();
-  for (std::size_t k = 0; k < frames.size(); ++k) {
-    const std::size_t e = frames.element[k];
-    if (e >= ne || !selected[e]) continue;
-    found[e] = 1;
+  for (const std::size_t k : select_frame_entries("virtual_hexahedron", mesh, frames, K, element_subset)) {
     std::array<Index, K> st{};
-    const Index* n = mesh.element(e);
+    const Index* n = mesh.element(frames.element[k]);
     for (int a = 0; a < K; ++a) st[static_cast<std::size_t>(a)] = n[a];
     kern.elements.push_back(st);
     kern.gradient.push_back(grads[k]);
     kern.frame.push_back(frames.frame[k]);
     kern.volume0.push_back(frames.volume0[k]);
-  }
-  for (std::size_t e = 0; e < ne; ++e) {
-    if (selected[e] && !found[e]) {
-      throw InputError("virtual_hexahedron: element " + std::to_string(e) + " has no axis frame");
-    }
   }
   return kern;
 }

@@ -254,19 +254,10 @@ VolumeKernel<K> make_volume_kernel(const preprocess::Mesh& mesh, const AxisFrame
     kern.volume0.push_back(v0);
   };
   if (aniso) {
-    std::vector<char> found(ne, 0);
     const auto& grads = frames->template nodal_gradient<K>();
-    for (std::size_t k = 0; k < frames->size(); ++k) {
-      const std::size_t e = frames->element[k];
-      if (e >= ne || !selected[e] || found[e]) continue;
-      found[e] = 1;
-      push(e, frames->volume0[k]);
+    for (const std::size_t k : select_frame_entries("volume_preservation", mesh, *frames, K, element_subset)) {
+      push(frames->element[k], frames->volume0[k]);
       kern.gradient.push_back(grads[k]);
-    }
-    for (std::size_t e = 0; e < ne; ++e) {
-      if (selected[e] && !found[e]) {
-        throw InputError("volume_preservation: element " + std::to_string(e) + " has no axis frame");
-      }
     }
   } else {
     for (std::size_t e = 0; e < ne; ++e) {
