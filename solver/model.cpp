@@ -59,11 +59,14 @@ double kinetic_energy(const Eigen::VectorXd& mass, const Eigen::Matrix3Xd& v) {
   return 0.5 * (v.colwise().squaredNorm().transpose().array() * mass.array()).sum();
 }
 
+double element_volume_at(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x, std::size_t e) {
+  return mesh.type == preprocess::ElementType::Tet4 ? tet_volume(x, mesh.element(e)) : hex_volume(x, mesh.element(e));
+}
+
 double total_volume(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x) {
   double vol = 0.0;
   const std::size_t ne = mesh.element_count();
-  const bool tet = mesh.type == preprocess::ElementType::Tet4;
-  for (std::size_t e = 0; e < ne; ++e) vol += tet ? tet_volume(x, mesh.element(e)) : hex_volume(x, mesh.element(e));
+  for (std::size_t e = 0; e < ne; ++e) vol += element_volume_at(mesh, x, e);
   return vol;
 }
 

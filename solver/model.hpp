@@ -53,6 +53,10 @@ struct Model {
 /// Kinetic energy 1/2 sum m_i |v_i|^2 (J).
 [[nodiscard]] double kinetic_energy(const Eigen::VectorXd& mass, const Eigen::Matrix3Xd& v);
 
+/// Exact volume of element e at positions x (m^3): tetrahedron (x1-x0).((x2-x0)x(x3-x0))/6,
+/// hexahedron the trilinear volume (2x2x2 Gauss on det J, exact).
+[[nodiscard]] double element_volume_at(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x, std::size_t e);
+
 /// Sum of the signed element volumes of the mesh at positions x (m^3).
 [[nodiscard]] double total_volume(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x);
 

@@ -77,30 +77,8 @@ std::string xml_escape(const std::string& s) {
 }  // namespace
 
 std::vector<double> element_volumes(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x) {
-  const std::size_t ne = mesh.element_count();
-  std::vector<double> v(ne);
-  if (mesh.type == ElementType::Tet4) {
-    for (std::size_t e = 0; e < ne; ++e) v[e] = element_map(mesh, x, e).determinant() / 6.0;
-    return v;
-  }
-  static const std::array<std::array<Eigen::Vector3d, 8>, 8> gauss = [] {
-    std::array<std::array<Eigen::Vector3d, 8>, 8> g{};
-    const double o = 0.5 / std::sqrt(3.0);
-    for (int q = 0; q < 8; ++q)
-      g[static_cast<std::size_t>(q)] =
-          hex_gradients(0.5 + ((q & 1) ? o : -o), 0.5 + ((q & 2) ? o : -o), 0.5 + ((q & 4) ? o : -o));
-    return g;
-  }();
-  for (std::size_t e = 0; e < ne; ++e) {
-    const preprocess::Index* n = mesh.element(e);
-    double s = 0.0;
-    for (std::size_t q = 0; q < 8; ++q) {
-      Eigen::Matrix3d j = Eigen::Matrix3d::Zero();
-      for (std::size_t a = 0; a < 8; ++a) j += x.col(n[a]) * gauss[q][a].transpose();
-      s += j.determinant();
-    }
-    v[e] = s / 8.0;
-  }
+  std::vector<double> v(mesh.element_count());
+  for (std::size_t e = 0; e < v.size(); ++e) v[e] = element_volume_at(mesh, x, e);
   return v;
 }
 
