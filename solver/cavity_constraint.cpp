@@ -41,9 +41,9 @@ double CavityConstraintTerm::energy(const StateView& /*s*/) const {
 
 void CavityConstraintTerm::add_forces(const StateView& s, Eigen::Matrix3Xd& f) const {
   if (p_ == 0.0) return;
-  Eigen::Matrix3Xd g = Eigen::Matrix3Xd::Zero(3, s.x.cols());
-  unit_->add_forces(s, g);
-  f += p_ * g;
+  unit_scratch_.setZero(3, s.x.cols());
+  unit_->add_forces(s, unit_scratch_);
+  f += p_ * unit_scratch_;
 }
 
 void CavityConstraintTerm::add_jacobian(const StateView& s, JacobianSink& sink) const {

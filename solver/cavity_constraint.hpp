@@ -53,6 +53,7 @@ class CavityConstraintTerm final : public ForceTerm, public VolumeMonitor {
   double v0_ = 0.0;
   double p_ = 0.0;
   std::unique_ptr<CavityPressureTerm> unit_;  // the eq. 2.119 load at P = 1 Pa
+  mutable Eigen::Matrix3Xd unit_scratch_;      // its forces, reused across evaluations
 };
 
 }  // namespace adamss::solver
