@@ -25,8 +25,9 @@ using namespace adamss::preprocess;
 using adamss::InputError;
 namespace fs = std::filesystem;
 
-fs::path scratch() {
-  const fs::path d = fs::temp_directory_path() / "adamss_test_cell_fields";
+/// A folder of its own per test: ctest runs the tests of this file in parallel processes.
+fs::path scratch(const std::string& test) {
+  const fs::path d = fs::temp_directory_path() / ("adamss_test_cell_fields_" + test);
   fs::create_directories(d);
   return d;
 }
@@ -152,7 +153,7 @@ TEST(CellFields, SpecsAreParsed) {
 }
 
 TEST(CellFields, AnyNumericNiftiTypeIsReadAndTheFieldReachesMeshH5AndVtu) {
-  const fs::path dir = scratch();
+  const fs::path dir = scratch("types");
   Block b = block(Topology::Tet6m);
   // int16 through the label writer (values up to 300 need int16) ...
   LabelImage li = b.image;
@@ -193,7 +194,7 @@ TEST(CellFields, AnyNumericNiftiTypeIsReadAndTheFieldReachesMeshH5AndVtu) {
 }
 
 TEST(CellFields, ScalarReaderRejectsVectorImages) {
-  const fs::path dir = scratch();
+  const fs::path dir = scratch("vector");
   VectorImage v;
   v.grid.dims = {2, 2, 2};
   v.grid.index_to_world = Eigen::Matrix4d::Identity() * 1e-3;
