@@ -1,5 +1,7 @@
 #include "solver/scene.hpp"
 
+#include <unistd.h>
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -114,7 +116,13 @@ preprocess::Mesh load_mesh(SceneNode node, const fs::path& base, const SceneOpti
         if (!b.empty()) mesh.node_tags["base"] = std::move(b);
       }
       mesh.attributes["source"] = "phantom " + kind + " (scene recipe)";
-      preprocess::write_mesh_h5(file, mesh);
+      // Several runs (parallel tests) may build the same recipe at once: each writes its own
+      // file and renames it into place, so readers only ever see a complete mesh.
+      const fs::path part = file.string() + ".part" + std::to_string(::getpid());
+      preprocess::write_mesh_h5(part, mesh);
+      fs::rename(part, file, ec);
+      if (ec)
+        throw InputError("mesh cache: cannot rename " + part.string() + " to " + file.string() + ": " + ec.message());
     }
   }
   // Optional uniform fibre frame (slabs and beams have none; verification rotates it).
