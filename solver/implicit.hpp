@@ -84,6 +84,10 @@ class ImplicitIntegrator : public Integrator {
   int last_newton_ = 0, last_linear_ = 0;
   // Newton / Euler scratch
   Eigen::Matrix3Xd f_, r_, x0_, v0_, vp_;
+  // Static predictor: the state before the last converged load step and its length.
+  Eigen::Matrix3Xd prev_x_;
+  double prev_h_ = 0.0;
+  bool have_prev_ = false;
 };
 
 }  // namespace adamss::solver

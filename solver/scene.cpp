@@ -15,6 +15,7 @@
 
 #include "common/error.hpp"
 #include "preprocess/boundary_labels.hpp"
+#include "preprocess/box_mesh.hpp"
 #include "preprocess/cavities.hpp"
 #include "preprocess/fibre_field.hpp"
 #include "preprocess/lattice_mesher.hpp"
@@ -57,8 +58,24 @@ preprocess::Mesh load_mesh(SceneNode node, const fs::path& base, const SceneOpti
   preprocess::Mesh mesh;
   const bool has_file = node.has("file");
   const bool has_phantom = node.has("phantom");
-  if (has_file == has_phantom) throw InputError(node.path() + ": give either file: or phantom: (a mesh recipe)");
-  if (has_file) {
+  const bool has_box = node.has("box");
+  if (int(has_file) + int(has_phantom) + int(has_box) != 1)
+    throw InputError(node.path() +
+                     ": give exactly one of file:, phantom: (a voxel recipe), box: (a structured cuboid)");
+  if (has_box) {
+    const Eigen::Vector3d size = node.vector3("box", Dimension::Length);
+    const auto div = node.integers("divisions");
+    if (div.size() != 3) throw InputError(node.at("divisions") + ": expected three element counts, e.g. [40, 4, 4]");
+    const std::string topo = node.choice("topology", {"hex", "tet5", "tet5m", "tet6", "tet6m"}, "hex");
+    try {
+      mesh = preprocess::make_box_mesh({size.x(), size.y(), size.z()},
+                                       {static_cast<int>(div[0]), static_cast<int>(div[1]), static_cast<int>(div[2])},
+                                       topo, node.at("box"));
+    } catch (const InputError& e) {
+      throw InputError(e.what());
+    }
+    source = "box";
+  } else if (has_file) {
     fs::path p = node.text("file");
     if (p.is_relative()) p = base / p;
     if (!fs::exists(p)) throw InputError(node.at("file") + ": mesh file '" + p.string() + "' does not exist");

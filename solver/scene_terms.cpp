@@ -9,6 +9,7 @@
 #include "preprocess/fibre_field.hpp"
 #include "solver/active_tension.hpp"
 #include "solver/axial_springs.hpp"
+#include "solver/fem_element.hpp"
 #include "solver/material_friction.hpp"
 #include "solver/torsion_springs.hpp"
 #include "solver/virtual_hex.hpp"
@@ -52,16 +53,34 @@ double law_modulus(const materials::Law& law) {
   return std::max({c(0, 0), c(1, 1), c(2, 2)});
 }
 
-void build_virtual_hex(SceneNode& node, MaterialContext& ctx) {
+std::shared_ptr<const materials::Law> scene_law(SceneNode& node) {
   const std::string law_name = node.text("law");
-  std::shared_ptr<const materials::Law> law;
   try {
-    law = materials::make_law(law_name, law_parameters(node, "parameters"));
+    return materials::make_law(law_name, law_parameters(node, "parameters"));
   } catch (const InputError& e) {
     throw InputError(node.path() + ": " + e.what());
   }
+}
+
+/// quadrature: axis (the thesis's one F per element from the axis frames) or gauss (the law
+/// at the Gauss points of the element's own interpolation; solver/fem_element.hpp).
+void build_virtual_hex(SceneNode& node, MaterialContext& ctx) {
+  const std::shared_ptr<const materials::Law> law = scene_law(node);
+  const bool gauss = node.choice("quadrature", {"axis", "gauss"}, "axis") == "gauss";
   node.finish();
-  ctx.model.terms.push_back(make_virtual_hex_term(ctx.mesh, ctx.frames(), law));
+  if (gauss) {
+    ctx.model.terms.push_back(make_gauss_point_term(ctx.mesh, law, &ctx.elements, "virtual_hexahedron"));
+  } else {
+    ctx.model.terms.push_back(make_virtual_hex_term(ctx.mesh, ctx.frames(), law));
+  }
+  ctx.wave_modulus = std::max(ctx.wave_modulus, law_modulus(*law));
+}
+
+/// The FEM reference element: the law at the Gauss points (linear tet, trilinear hex).
+void build_fem_element(SceneNode& node, MaterialContext& ctx) {
+  const std::shared_ptr<const materials::Law> law = scene_law(node);
+  node.finish();
+  ctx.model.terms.push_back(make_gauss_point_term(ctx.mesh, law, &ctx.elements, "fem_element"));
   ctx.wave_modulus = std::max(ctx.wave_modulus, law_modulus(*law));
 }
 
@@ -189,9 +208,13 @@ using Builder = void (*)(SceneNode&, MaterialContext&);
 
 const std::map<std::string, Builder>& builders() {
   static const std::map<std::string, Builder> table{
-      {"virtual_hexahedron", build_virtual_hex}, {"material_friction", build_material_friction},
-      {"active_tension", build_active_tension},  {"volume", build_volume},
-      {"axial_springs", build_axial_springs},    {"torsion_springs", build_torsion_springs},
+      {"virtual_hexahedron", build_virtual_hex},
+      {"fem_element", build_fem_element},
+      {"material_friction", build_material_friction},
+      {"active_tension", build_active_tension},
+      {"volume", build_volume},
+      {"axial_springs", build_axial_springs},
+      {"torsion_springs", build_torsion_springs},
       {"volume_springs", build_volume_springs},
   };
   return table;

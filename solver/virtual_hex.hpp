@@ -62,8 +62,9 @@ struct VirtualHexKernel {
   std::vector<Eigen::Matrix3d> frame;                 ///< B = [f s n], fibre frame -> global
   std::vector<double> volume0;                        ///< V0 (m^3)
   std::shared_ptr<const materials::Law> law;
+  std::string label = "virtual_hexahedron";  ///< term name (fem_element.hpp reuses the kernel)
 
-  [[nodiscard]] std::string name() const { return "virtual_hexahedron"; }
+  [[nodiscard]] std::string name() const { return label; }
   [[nodiscard]] std::size_t size() const { return elements.size(); }
   [[nodiscard]] std::array<Index, K> stencil(std::size_t i) const { return elements[i]; }
 

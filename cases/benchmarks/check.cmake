@@ -1,0 +1,47 @@
+# Runs one benchmark scene and compares its summary.json with the scene's expected values:
+#   cmake -DADAMSS=... -DSCENE=cases/benchmarks/NAME.yaml -DOUT=... -DCACHE=... -P check.cmake
+# NAME.expected.cmake (beside the scene) sets EXPECT_VALUES, a list of
+#   "label|json;path;to;value|expected|margin"
+# entries (|value - expected| <= margin passes). Every value is printed, pass or fail, so the
+# test log is the measurement record.
+get_filename_component(dir ${SCENE} DIRECTORY)
+get_filename_component(name ${SCENE} NAME_WE)
+include(${dir}/${name}.expected.cmake)
+file(REMOVE_RECURSE ${OUT})
+execute_process(COMMAND ${ADAMSS} run ${SCENE} -o ${OUT} --cache ${CACHE} -q RESULT_VARIABLE rc)
+if(NOT EXISTS ${OUT}/summary.json)
+  message(FATAL_ERROR "adamss run ${SCENE} exited with ${rc} and wrote no summary.json")
+endif()
+file(READ ${OUT}/summary.json s)
+string(JSON status GET "${s}" status)
+string(JSON wall GET "${s}" wall_time_s)
+string(JSON steps GET "${s}" steps)
+message(STATUS "${name}: status ${status}, ${steps} steps, ${wall} s wall, exit code ${rc}")
+if(NOT status STREQUAL "completed")
+  message(FATAL_ERROR "${name}: status '${status}', expected 'completed'")
+endif()
+set(failures "")
+foreach(entry IN LISTS EXPECT_VALUES)
+  string(REPLACE "|" ";" parts "${entry}")
+  list(GET parts 0 label)
+  list(GET parts 1 path)
+  list(GET parts 2 want)
+  list(GET parts 3 margin)
+  string(REPLACE "," ";" keys "${path}")
+  string(JSON value ERROR_VARIABLE err GET "${s}" ${keys})
+  if(err)
+    set(failures "${failures}\n  ${label}: ${err}")
+    continue()
+  endif()
+  # CMake has no floating-point arithmetic; awk does the comparison.
+  execute_process(COMMAND awk "BEGIN{d=(${value})-(${want}); if (d<0) d=-d; exit (d <= ${margin}) ? 0 : 1}"
+                  RESULT_VARIABLE bad)
+  if(bad)
+    set(failures "${failures}\n  ${label} = ${value}, expected ${want} +- ${margin}")
+  else()
+    message(STATUS "  ${label} = ${value} (expected ${want} +- ${margin}): ok")
+  endif()
+endforeach()
+if(failures)
+  message(FATAL_ERROR "${name} differs from ${name}.expected.cmake:${failures}")
+endif()

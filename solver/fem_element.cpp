@@ -1,0 +1,112 @@
+#include "solver/fem_element.hpp"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <sstream>
+
+#include "common/error.hpp"
+#include "solver/element_rules.hpp"
+#include "solver/stencil_term.hpp"
+
+namespace adamss::solver {
+
+namespace {
+
+/// The element's fibre frame B = [f s n] (orthonormal, right-handed), identity without fibres.
+Eigen::Matrix3d element_frame(const preprocess::Mesh& mesh, std::size_t e, const std::string& label) {
+  if (!mesh.has_fibres()) return Eigen::Matrix3d::Identity();
+  const auto c = static_cast<Eigen::Index>(e);
+  Eigen::Vector3d f = mesh.fiber.col(c);
+  Eigen::Vector3d s = mesh.sheet.col(c);
+  if (!f.allFinite() || !s.allFinite() || f.norm() < 1e-12) {
+    std::ostringstream os;
+    os << label << ": element " << e << " has a non-finite or zero fibre/sheet direction";
+    throw InputError(os.str());
+  }
+  f.normalize();
+  s -= s.dot(f) * f;
+  if (s.norm() < 1e-6) {
+    std::ostringstream os;
+    os << label << ": element " << e << " has its sheet direction parallel to its fibre";
+    throw InputError(os.str());
+  }
+  s.normalize();
+  Eigen::Matrix3d b;
+  b << f, s, f.cross(s);
+  return b;
+}
+
+}  // namespace
+
+template <int K>
+VirtualHexKernel<K> make_gauss_point_kernel(const preprocess::Mesh& mesh, std::shared_ptr<const materials::Law> law,
+                                            const std::vector<std::size_t>* element_subset, const std::string& label) {
+  if (!law) throw InputError(label + ": no constitutive law given");
+  if (preprocess::nodes_per_element(mesh.type) != K)
+    throw InputError(label + ": mesh element type does not match the kernel");
+  constexpr int kPoints = K == 8 ? 8 : 1;
+  VirtualHexKernel<K> kern;
+  kern.law = std::move(law);
+  kern.label = label;
+  const std::size_t ne = mesh.element_count();
+  std::vector<std::size_t> all;
+  if (element_subset == nullptr) {
+    all.resize(ne);
+    for (std::size_t e = 0; e < ne; ++e) all[e] = e;
+    element_subset = &all;
+  }
+  kern.elements.reserve(element_subset->size() * kPoints);
+  for (const std::size_t e : *element_subset) {
+    if (e >= ne) throw InputError(label + ": element index " + std::to_string(e) + " out of range");
+    const Index* n = mesh.element(e);
+    std::array<Index, K> st{};
+    Eigen::Matrix<double, 3, K> x0;
+    for (int a = 0; a < K; ++a) {
+      st[static_cast<std::size_t>(a)] = n[a];
+      x0.col(a) = mesh.nodes.col(n[a]);
+    }
+    const Eigen::Matrix3d b = element_frame(mesh, e, label);
+    for (int q = 0; q < kPoints; ++q) {
+      Eigen::Matrix<double, K, 3> gamma;
+      double w = 0.0;
+      if constexpr (K == 8) {
+        gamma = hex_gauss_gradients()[static_cast<std::size_t>(q)];
+        w = kHexGaussWeight;
+      } else {
+        gamma = tet_shape_gradients();
+        w = kTetWeight;
+      }
+      const Eigen::Matrix3d j0 = x0 * gamma;
+      const double det = j0.determinant();
+      if (!(det > 0.0)) {
+        std::ostringstream os;
+        os << label << ": element " << e << " is inverted or flat at Gauss point " << q << " (det J = " << det << ")";
+        throw InputError(os.str());
+      }
+      kern.elements.push_back(st);
+      kern.gradient.push_back(gamma * j0.inverse());
+      kern.frame.push_back(b);
+      kern.volume0.push_back(w * det);
+    }
+  }
+  return kern;
+}
+
+template VirtualHexKernel<4> make_gauss_point_kernel<4>(const preprocess::Mesh&, std::shared_ptr<const materials::Law>,
+                                                        const std::vector<std::size_t>*, const std::string&);
+template VirtualHexKernel<8> make_gauss_point_kernel<8>(const preprocess::Mesh&, std::shared_ptr<const materials::Law>,
+                                                        const std::vector<std::size_t>*, const std::string&);
+
+std::unique_ptr<ForceTerm> make_gauss_point_term(const preprocess::Mesh& mesh,
+                                                 std::shared_ptr<const materials::Law> law,
+                                                 const std::vector<std::size_t>* element_subset,
+                                                 const std::string& label) {
+  if (mesh.type == preprocess::ElementType::Tet4) {
+    return std::make_unique<StencilTerm<VirtualHexKernel<4>, 4>>(
+        make_gauss_point_kernel<4>(mesh, std::move(law), element_subset, label));
+  }
+  return std::make_unique<StencilTerm<VirtualHexKernel<8>, 8>>(
+      make_gauss_point_kernel<8>(mesh, std::move(law), element_subset, label));
+}
+
+}  // namespace adamss::solver

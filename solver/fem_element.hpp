@@ -1,0 +1,54 @@
+#pragma once
+// Gauss-point (finite-element) evaluation of a constitutive law on the mesh's own
+// interpolation: the total-Lagrangian linear tetrahedron (one point) and trilinear
+// hexahedron (full 2x2x2 quadrature). Two uses:
+//   * the FEM reference element (scene term `fem_element`) that the spring models are
+//     measured against;
+//   * `virtual_hexahedron: {quadrature: gauss}` on hexahedral meshes. The thesis's virtual
+//     hexahedron takes ONE deformation gradient per element from the chords between
+//     opposite axis intersection points (seed 000 eqs. 2.56-2.74). On a hexahedron whose
+//     axes pass through the face centres that F is the trilinear F at the element centre,
+//     i.e. one-point quadrature, whose 12 hourglass modes carry no energy (seed 000
+//     sec. 2.9.1, Fig. 2.34) and make a static tangent singular. Evaluating the same law
+//     at the 8 Gauss points removes them. On tetrahedra both are the same linear element
+//     (the axis-frame F is then exactly the element's affine F).
+//
+// Per quadrature point q of element e (an item of the stencil term, all on the element's
+// K nodes):
+//   G_q  = dN/dX at q = Gamma_q J0_q^{-1}    (K x 3, 1/m); Gamma_q = dN/dr, J0_q = X0 Gamma_q
+//   V_q  = w_q det J0_q                      (m^3); w = 1/8 (hex, unit cube), 1/6 (tet)
+//   F    = x G_q,  E = 1/2 (F^T F - I),  E_f = B^T E B,  S = B S_f(E_f) B^T,  P = F S
+//   energy = V_q W(E_f),  f_a = -V_q P g_a
+// which is exactly the VirtualHexKernel's algebra with (G, V0) replaced by (G_q, V_q), so
+// the same kernel (with its exact Jacobian, derived in solver/virtual_hex.hpp) is reused.
+// B = [f s n] is the element's fibre frame from the mesh (re-orthonormalised), or the
+// identity when the mesh has no fibres. Sum over q of V_q is the exact reference volume.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "materials/law.hpp"
+#include "preprocess/mesh.hpp"
+#include "solver/force_term.hpp"
+#include "solver/virtual_hex.hpp"
+
+namespace adamss::solver {
+
+/// Builds the Gauss-point kernel for K = 4 (tet mesh) or 8 (hex mesh); `label` becomes the
+/// term name. Items are element-major: item i belongs to element subset[i / points].
+/// Throws adamss::InputError for a null law, a type mismatch, a subset index out of range,
+/// a non-finite or degenerate fibre frame (naming the element), or a Gauss point with
+/// det J0 <= 0 (an inverted or flat element, naming it).
+template <int K>
+[[nodiscard]] VirtualHexKernel<K> make_gauss_point_kernel(const preprocess::Mesh& mesh,
+                                                          std::shared_ptr<const materials::Law> law,
+                                                          const std::vector<std::size_t>* element_subset,
+                                                          const std::string& label);
+
+/// The term with K chosen by the mesh's element type (same errors).
+[[nodiscard]] std::unique_ptr<ForceTerm> make_gauss_point_term(const preprocess::Mesh& mesh,
+                                                               std::shared_ptr<const materials::Law> law,
+                                                               const std::vector<std::size_t>* element_subset,
+                                                               const std::string& label);
+
+}  // namespace adamss::solver

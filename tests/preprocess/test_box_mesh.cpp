@@ -1,0 +1,44 @@
+// Structured box meshes (preprocess/box_mesh.hpp): counts, extent, exact volume, positive
+// elements for every topology, and the errors.
+#include <gtest/gtest.h>
+
+#include "common/error.hpp"
+#include "preprocess/box_mesh.hpp"
+#include "preprocess/mesh_quality.hpp"
+
+using namespace adamss;
+
+TEST(BoxMesh, CountsExtentAndVolume) {
+  struct Case {
+    const char* topo;
+    std::size_t per_cell;
+  };
+  for (const Case c : {Case{"hex", 1}, Case{"tet5", 5}, Case{"tet6m", 6}}) {
+    SCOPED_TRACE(c.topo);
+    const auto m = preprocess::make_box_mesh({10e-3, 1e-3, 0.5e-3}, {8, 3, 2}, c.topo);
+    EXPECT_EQ(m.node_count(), 9u * 4u * 3u);
+    EXPECT_EQ(m.element_count(), 8u * 3u * 2u * c.per_cell);
+    EXPECT_NEAR(m.nodes.row(0).maxCoeff(), 10e-3, 1e-15);
+    EXPECT_NEAR(m.nodes.row(1).maxCoeff(), 1e-3, 1e-15);
+    EXPECT_NEAR(m.nodes.row(2).maxCoeff(), 0.5e-3, 1e-15);
+    EXPECT_NEAR(m.nodes.minCoeff(), 0.0, 1e-18);
+    double v = 0.0;
+    for (std::size_t e = 0; e < m.element_count(); ++e) {
+      const double ve = preprocess::element_volume(m, e);
+      EXPECT_GT(ve, 0.0) << "element " << e;
+      v += ve;
+    }
+    EXPECT_NEAR(v, 5e-9, 1e-12 * 5e-9);
+  }
+}
+
+TEST(BoxMesh, ErrorsNameTheProblem) {
+  EXPECT_THROW((void)preprocess::make_box_mesh({1e-3, -1e-3, 1e-3}, {1, 1, 1}, "hex"), InputError);
+  EXPECT_THROW((void)preprocess::make_box_mesh({1e-3, 1e-3, 1e-3}, {1, 0, 1}, "hex"), InputError);
+  try {
+    (void)preprocess::make_box_mesh({1e-3, 1e-3, 1e-3}, {1, 1, 1}, "prism", "mesh.box");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("mesh.box: unknown topology 'prism'"), std::string::npos) << e.what();
+  }
+}
