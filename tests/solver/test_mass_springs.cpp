@@ -1,0 +1,127 @@
+// Classic mass-spring system (solver/mass_springs.hpp): harness, spring sets, errors, scene key.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <string>
+
+#include "common/error.hpp"
+#include "force_term_harness.hpp"
+#include "solver/mass_springs.hpp"
+#include "solver/scene.hpp"
+#include "support/lattice_fixtures.hpp"
+
+using namespace adamss;
+
+namespace {
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(MassSprings, PassesHarnessForEverySpringSet) {
+  const auto hex = test::block_mesh(2, 2, 2, preprocess::Topology::Hex);
+  const auto tet = test::block_mesh(2, 2, 2, preprocess::Topology::Tet6m);
+  for (auto d : {solver::SpringDiagonals::None, solver::SpringDiagonals::Face, solver::SpringDiagonals::All}) {
+    SCOPED_TRACE(solver::spring_diagonals_name(d));
+    const auto term = solver::make_mass_spring_term(hex, {120.0, d});
+    EXPECT_EQ(term->name(), "mass_springs");
+    const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, hex.nodes.cols());
+    test::check_force_term(*term, test::perturbed(hex.nodes, 1e-3, 0.1), v, 1e-3);
+    EXPECT_EQ(term->energy({hex.nodes, v, 0.0}), 0.0);
+  }
+  const auto term = solver::make_mass_spring_term(tet, {120.0, solver::SpringDiagonals::None});
+  test::check_force_term(*term, test::perturbed(tet.nodes, 1e-3, 0.1), Eigen::Matrix3Xd::Zero(3, tet.nodes.cols()),
+                         1e-3);
+}
+
+TEST(MassSprings, SpringCountsUniformStiffnessAndSubset) {
+  const auto hex = test::block_mesh(2, 2, 2, preprocess::Topology::Hex);  // 27 nodes, 8 cells
+  // 54 edges (3 directions x 2 x 3 x 3), 36 faces x 2 diagonals, 8 cells x 4 diagonals.
+  const solver::EdgeSpringKernel none = solver::make_mass_spring_kernel(hex, {50.0, solver::SpringDiagonals::None});
+  const solver::EdgeSpringKernel face = solver::make_mass_spring_kernel(hex, {50.0, solver::SpringDiagonals::Face});
+  const solver::EdgeSpringKernel all = solver::make_mass_spring_kernel(hex, {50.0, solver::SpringDiagonals::All});
+  EXPECT_EQ(none.size(), 54u);
+  EXPECT_EQ(face.size(), 54u + 72u);
+  EXPECT_EQ(all.size(), 54u + 72u + 32u);
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    EXPECT_EQ(all.stiffness[i], 50.0);  // one k whatever the number of cells sharing the spring
+    const double l = all.rest_length[i] / 1e-3;
+    EXPECT_TRUE(std::abs(l - 1.0) < 1e-12 || std::abs(l - std::sqrt(2.0)) < 1e-12 ||
+                std::abs(l - std::sqrt(3.0)) < 1e-12)
+        << l;
+  }
+  const std::vector<std::size_t> one{0};
+  EXPECT_EQ(solver::make_mass_spring_kernel(hex, {50.0, solver::SpringDiagonals::All}, &one).size(), 28u);
+  // Modulus for the critical step: edges only, C_1111 = k / l.
+  EXPECT_NEAR(solver::spring_set_modulus(
+                  solver::make_mass_spring_kernel(hex, {50.0, solver::SpringDiagonals::None}, &one), hex.nodes, 1e-9),
+              4 * 50.0 * 1e-6 / 1e-9, 1e-6);
+}
+
+TEST(MassSprings, ErrorsNameTheKey) {
+  const auto hex = test::block_mesh(1, 1, 1, preprocess::Topology::Hex);
+  const auto tet = test::block_mesh(1, 1, 1, preprocess::Topology::Tet6m);
+  EXPECT_NE(error_of([&] {
+              (void)solver::make_mass_spring_term(hex, {-1.0, solver::SpringDiagonals::None});
+            }).find("mass_springs.stiffness"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] {
+              (void)solver::make_mass_spring_term(hex, {0.0, solver::SpringDiagonals::None});
+            }).find("mass_springs.stiffness"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] {
+              (void)solver::make_mass_spring_term(tet, {1.0, solver::SpringDiagonals::Face});
+            }).find("mass_springs.diagonals"),
+            std::string::npos);
+}
+
+TEST(MassSprings, SceneKey) {
+  const std::string scene = R"(
+name: t
+mesh: {phantom: slab, slab_size: [2, 2, 2], voxel_size: 1 mm, topology: TOPO}
+materials:
+  - name: m
+    labels: [1]
+    density: 1000 kg/m^3
+    terms:
+      - mass_springs: BODY
+boundary:
+  - select: {region: {plane: {point: [0, 0, 0], normal: [0, 0, 1]}}}
+    fix: xyz
+integrator: {type: symplectic_euler, dt: 1 us}
+run: {t_end: 10 us}
+)";
+  solver::SceneOptions o;
+  o.cache_dir = std::filesystem::temp_directory_path() / "adamss-test-mass-springs-cache";
+  auto make = [&](const std::string& topo, const std::string& body) {
+    std::string s = scene;
+    s.replace(s.find("TOPO"), 4, topo);
+    s.replace(s.find("BODY"), 4, body);
+    return s;
+  };
+  const auto sc = solver::load_scene_text(make("hex", "{stiffness: 0.2 N/mm, diagonals: all}"), "s.yaml", o);
+  ASSERT_EQ(sc.model.terms.size(), 1u);
+  EXPECT_EQ(sc.model.terms[0]->name(), "mass_springs");
+  EXPECT_GT(sc.critical_dt, 0.0);
+  auto err = [&](const std::string& topo, const std::string& body) {
+    try {
+      (void)solver::load_scene_text(make(topo, body), "s.yaml", o);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(err("hex", "{stiffness: -1 N/m}").find("mass_springs.stiffness"), std::string::npos);
+  EXPECT_NE(err("tet6m", "{stiffness: 1 N/m, diagonals: face}").find("mass_springs.diagonals"), std::string::npos);
+  EXPECT_NE(err("hex", "{stiffness: 1 N/m, diagonals: some}").find("mass_springs.diagonals"), std::string::npos);
+  EXPECT_NE(err("hex", "{stiffness: 1 N/m, k: 2}").find("k"), std::string::npos);
+}
