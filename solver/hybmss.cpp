@@ -1,5 +1,6 @@
 #include "solver/hybmss.hpp"
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <map>
 
@@ -53,12 +54,16 @@ double reference_volume(const preprocess::Mesh& mesh, std::size_t e) {
 
 }  // namespace
 
-HybmssSpringConstants hybmss_spring_constants(double youngs_modulus, double A, double edge_length) {
+HybmssSpringConstants hybmss_spring_constants(double shear_modulus, double A, double edge_length) {
   HybmssSpringConstants k;
-  k.k_c = 6.0 * youngs_modulus * edge_length / (5.0 * (4.0 + 3.0 * A));
+  k.k_c = 3.0 * shear_modulus * edge_length / (4.0 + 3.0 * A);
   k.k_f = A * k.k_c;
-  k.k_e = 2.0 * youngs_modulus * edge_length * (8.0 + 3.0 * A) / (5.0 * (4.0 + 3.0 * A));
+  k.k_e = shear_modulus * edge_length * (8.0 + 3.0 * A) / (4.0 + 3.0 * A);
   return k;
+}
+
+double hybmss_shear_modulus(double youngs_modulus, double poisson_ratio) {
+  return youngs_modulus / (2.0 * (1.0 + poisson_ratio));
 }
 
 double hybmss_kappa(double youngs_modulus, double poisson_ratio) {
@@ -103,7 +108,8 @@ EdgeSpringKernel make_hybmss_spring_kernel(const preprocess::Mesh& mesh, const H
   auto add = [&springs](Index a, Index b, double k) { springs[{std::min(a, b), std::max(a, b)}] += k; };
   for (const std::size_t e : selected_cells(mesh, element_subset)) {
     const double le = std::cbrt(reference_volume(mesh, e));
-    const HybmssSpringConstants k = hybmss_spring_constants(params.youngs_modulus, params.A, le);
+    const HybmssSpringConstants k =
+        hybmss_spring_constants(hybmss_shear_modulus(params.youngs_modulus, params.poisson_ratio), params.A, le);
     const Index* n = mesh.element(e);
     for (const auto& p : kHexEdgePairs) add(n[p[0]], n[p[1]], 0.25 * k.k_e);
     if (params.A > 0.0)

@@ -4,12 +4,21 @@
 // stiffnesses from E, nu and A = k_f/k_c, plus a volume-correction force that frees the
 // Poisson ratio from the Cauchy value 1/4. Scene key `hybmss`.
 //
-// Springs (eq. 5.12, per cubic cell of edge l_e, E in Pa, stiffness in N/m):
-//   k_c = 6 E l_e / (5 (4 + 3A))              inner diagonal, rest length sqrt(3) l_e
-//   k_f = A k_c                                face diagonal,  rest length sqrt(2) l_e
-//   k_e = 2 E l_e (8 + 3A) / (5 (4 + 3A))      edge,           rest length l_e
+// Springs (eq. 5.12, G-form, per cubic cell of edge l_e, stiffness in N/m):
+//   G   = E / (2 (1 + nu))                      requested shear modulus (Pa)
+//   k_c = 3 G l_e / (4 + 3A)                    inner diagonal, rest length sqrt(3) l_e
+//   k_f = A k_c                                  face diagonal,  rest length sqrt(2) l_e
+//   k_e = G l_e (8 + 3A) / (4 + 3A)              edge,           rest length l_e
 // (elastic isotropy k_e = 8/3 k_c + k_f, eq. 5.10; spring shear modulus
-// G = (4/3 k_c + k_f)/l_e = E/(2(1 + nu)), eq. 5.11, with nu = 1/4 for the springs alone).
+// G = (4/3 k_c + k_f)/l_e, eq. 5.11).
+// Seed ambiguity: eq. 5.12 also prints the E-form k_c = 6 E l_e / (5 (4 + 3A)) etc., which
+// substitutes G = 2E/5, the rari-constant relation E = 5G/2 of the springs ALONE (nu = 1/4,
+// eq. 4.9). With the volume correction the springs must carry the requested G = E/(2(1+nu))
+// (the recipe of sec. 5.1: "(ii) adjust the spring constants to get the desired shear
+// modulus G, (iii) set kappa"); the E-form would give E' = G'(3 kappa + 5 G')/(kappa + 2 G')
+// with G' = 2E/5, e.g. 1.115 E and nu' = 0.393 for nu = 0.4 and 0.666 E, nu' = -0.17 for nu = 0
+// (measured, tests/solver/test_hybmss.cpp). We use the G-form with G from E and nu; both forms
+// agree at nu = 1/4.
 // A = 0 is HybMSS-FD (no face diagonals); A >= 0 is required (k_f < 0 otherwise).
 // Assembly (sec. 5.4, "Kirchhoff's law"): every cell hands k_e/4 to each of its 12 edges,
 // k_f/2 to each of its 12 face diagonals and k_c to each of its 4 inner diagonals; a
@@ -72,13 +81,16 @@ struct HybmssParams {
   double A = 1.0;               ///< k_f / k_c >= 0 (0: HybMSS-FD)
 };
 
-/// Per-cell spring constants of eq. 5.12 (N/m) for cube edge l_e (m).
+/// Per-cell spring constants of eq. 5.12 (G-form, N/m) for shear modulus G (Pa) and cube edge l_e (m).
 struct HybmssSpringConstants {
   double k_e = 0.0;  ///< edge spring, one cell's full value (shared by 4 cells inside)
   double k_f = 0.0;  ///< face diagonal (shared by 2 cells inside)
   double k_c = 0.0;  ///< inner diagonal (one cell)
 };
-[[nodiscard]] HybmssSpringConstants hybmss_spring_constants(double youngs_modulus, double A, double edge_length);
+[[nodiscard]] HybmssSpringConstants hybmss_spring_constants(double shear_modulus, double A, double edge_length);
+
+/// G = E / (2 (1 + nu)) (Pa), the shear modulus the springs are given.
+[[nodiscard]] double hybmss_shear_modulus(double youngs_modulus, double poisson_ratio);
 
 /// kappa = E (4 nu - 1) / (2 (1 + nu)(1 - 2 nu)) (Pa), the additional bulk modulus.
 [[nodiscard]] double hybmss_kappa(double youngs_modulus, double poisson_ratio);

@@ -56,20 +56,24 @@ preprocess::Mesh hex_block(int n) {
 }  // namespace
 
 TEST(Hybmss, SpringConstantsOfEq512) {
-  // E = 10 kPa, l_e = 1 mm: E l_e = 10 N/m.
-  const auto k1 = solver::hybmss_spring_constants(10e3, 1.0, 1e-3);
-  EXPECT_NEAR(k1.k_c, 60.0 / 35.0, 1e-12);  // 6 * 10 / (5 * 7)
+  // nu = 1/4: G = E/2.5; E = 10 kPa, l_e = 1 mm: G l_e = 4 N/m, and the G- and E-forms agree.
+  const double G = solver::hybmss_shear_modulus(10e3, 0.25);
+  EXPECT_NEAR(G, 4e3, 1e-9);
+  const auto k1 = solver::hybmss_spring_constants(G, 1.0, 1e-3);
+  EXPECT_NEAR(k1.k_c, 60.0 / 35.0, 1e-12);  // E-form: 6 E l / (5 (4 + 3A)) = 6 * 10 / (5 * 7)
   EXPECT_NEAR(k1.k_f, 60.0 / 35.0, 1e-12);
-  EXPECT_NEAR(k1.k_e, 220.0 / 35.0, 1e-12);                          // 2 * 10 * 11 / (5 * 7)
-  const auto k0 = solver::hybmss_spring_constants(10e3, 0.0, 1e-3);  // HybMSS-FD
+  EXPECT_NEAR(k1.k_e, 220.0 / 35.0, 1e-12);  // 2 E l (8 + 3A) / (5 (4 + 3A)) = 2 * 10 * 11 / (5 * 7)
+  const auto k0 = solver::hybmss_spring_constants(G, 0.0, 1e-3);  // HybMSS-FD
   EXPECT_NEAR(k0.k_c, 3.0, 1e-12);
   EXPECT_EQ(k0.k_f, 0.0);
   EXPECT_NEAR(k0.k_e, 8.0, 1e-12);
+  // nu = 0.4: G = E/2.8, G l_e = 10/2.8 N/m; k_c = 3 G l / 7 for A = 1.
+  EXPECT_NEAR(solver::hybmss_spring_constants(solver::hybmss_shear_modulus(10e3, 0.4), 1.0, 1e-3).k_c,
+              3.0 * 10.0 / 2.8 / 7.0, 1e-12);
   for (double A : {0.0, 0.5, 1.0, 3.0}) {
-    const auto k = solver::hybmss_spring_constants(10e3, A, 1e-3);
-    EXPECT_NEAR(k.k_e, 8.0 / 3.0 * k.k_c + k.k_f, 1e-12);  // isotropy, eq. 5.10
-    // Shear modulus G = (4/3 k_c + k_f)/l_e = E/2.5 (nu = 1/4), eq. 5.11.
-    EXPECT_NEAR((4.0 / 3.0 * k.k_c + k.k_f) / 1e-3, 10e3 / 2.5, 1e-8);
+    const auto k = solver::hybmss_spring_constants(G, A, 1e-3);
+    EXPECT_NEAR(k.k_e, 8.0 / 3.0 * k.k_c + k.k_f, 1e-12);      // isotropy, eq. 5.10
+    EXPECT_NEAR((4.0 / 3.0 * k.k_c + k.k_f) / 1e-3, G, 1e-8);  // eq. 5.11
   }
 }
 
@@ -108,7 +112,8 @@ TEST(Hybmss, CellVolumeIsExactForAffineMapsAndItsGradientIsHomogeneous) {
 TEST(Hybmss, SharingRuleOnA2x2x2Block) {
   const auto mesh = hex_block(2);
   const solver::EdgeSpringKernel k = solver::make_hybmss_spring_kernel(mesh, {10e3, 0.3, 1.0});
-  const auto c = solver::hybmss_spring_constants(10e3, 1.0, 1e-3);
+  const double G = solver::hybmss_shear_modulus(10e3, 0.3);
+  const auto c = solver::hybmss_spring_constants(G, 1.0, 1e-3);
   EXPECT_EQ(k.size(), 54u + 72u + 32u);
   EXPECT_EQ(k.name(), "hybmss_springs");
   using V = Eigen::Vector3d;
@@ -121,7 +126,7 @@ TEST(Hybmss, SharingRuleOnA2x2x2Block) {
   EXPECT_NEAR(stiffness_between(k, mesh, V(1, 1, 1), V(2, 2, 2)), c.k_c, 1e-12);
   EXPECT_EQ(stiffness_between(k, mesh, V(0, 0, 0), V(2, 2, 2)), -1.0);  // no springs across cells
   // The assembled springs give C_1111 = (k_e + 4/3 k_c + 2 k_f)/l_e = 3G over the block.
-  EXPECT_NEAR(solver::spring_set_modulus(k, mesh.nodes, 8e-9), 3.0 * 10e3 / 2.5, 1e-6);
+  EXPECT_NEAR(solver::spring_set_modulus(k, mesh.nodes, 8e-9), 3.0 * G, 1e-6);
   // HybMSS-FD: no face diagonals.
   EXPECT_EQ(solver::make_hybmss_spring_kernel(mesh, {10e3, 0.3, 0.0}).size(), 54u + 32u);
   // A single cell: 12 x k_e/4, 12 x k_f/2, 4 x k_c.
@@ -216,23 +221,23 @@ run: {t_end: 10 us}
   EXPECT_NE(err("tet6m", "{youngs_modulus: 1 kPa, poisson_ratio: 0.3}").find("hexahedral"), std::string::npos);
 }
 
+// Measured (central differences, +-1 %): E within 3e-4 and nu within 3e-4 of the request for
+// nu = 0, 0.25, 0.4, 0.499 (A = 1 and A = 0); the tolerances (0.5 %, 0.002) leave a margin. The
+// block deforms homogeneously: the sec. 5.4 sharing makes the surface cells consistent.
 TEST(Hybmss, UniaxialStretchGivesTheRequestedModuli) {
   const auto mesh = hex_block(4);
   const double E = 10e3;
   std::cout << "[ hybmss uniaxial, 4x4x4 hex, +-1 % along x ]\n"
             << "   nu_req   A   E_meas/E   nu_meas   (tension only: E/E, nu)\n";
-  for (double A : {1.0, 0.0}) {
-    for (double nu : {0.0, 0.25, 0.4, 0.499}) {
-      const auto terms = solver::make_hybmss_terms(mesh, {E, nu, A});
-      std::vector<const solver::ForceTerm*> list;
-      for (const auto& t : terms) list.push_back(t.get());
-      const test::UniaxialModuli m = test::measure_uniaxial(mesh, list);
-      std::cout << std::fixed << std::setprecision(4) << "   " << nu << "  " << A << "   " << m.youngs / E << "   "
-                << m.poisson << "   (" << m.youngs_tension / E << ", " << m.poisson_tension << ")\n";
-      if (nu == 0.25 || nu == 0.4) {
-        EXPECT_NEAR(m.youngs / E, 1.0, 0.03) << "nu " << nu << " A " << A;
-        EXPECT_NEAR(m.poisson, nu, 0.03 * nu) << "nu " << nu << " A " << A;
-      }
-    }
+  const std::pair<double, double> cases[] = {{0.0, 1.0}, {0.25, 1.0}, {0.4, 1.0}, {0.499, 1.0}, {0.4, 0.0}};
+  for (const auto& [nu, A] : cases) {
+    const auto terms = solver::make_hybmss_terms(mesh, {E, nu, A});
+    std::vector<const solver::ForceTerm*> list;
+    for (const auto& t : terms) list.push_back(t.get());
+    const test::UniaxialModuli m = test::measure_uniaxial(mesh, list);
+    std::cout << std::fixed << std::setprecision(4) << "   " << nu << "  " << A << "   " << m.youngs / E << "   "
+              << m.poisson << "   (" << m.youngs_tension / E << ", " << m.poisson_tension << ")\n";
+    EXPECT_NEAR(m.youngs / E, 1.0, 0.005) << "nu " << nu << " A " << A;
+    EXPECT_NEAR(m.poisson, nu, 0.002) << "nu " << nu << " A " << A;
   }
 }

@@ -188,6 +188,12 @@ run: {t_end: 10 us}
   EXPECT_NE(err("tet6m", "{youngs_modulus: 15 kPa, poisson_ratio: 0.3}").find("poisson_ratio"), std::string::npos);
 }
 
+// Measured (central differences, +-1 %, E = 15 kPa), E_meas/E and nu:
+//   tet6m: eq. 12 springs 1.190, 0.242; eq. 14 springs + volume force 1.153, 0.260
+//   tet5:  eq. 12 springs 1.122, 0.187; eq. 14 springs + volume force 1.088, 0.213
+// The formulas are fitted to a regular tet (rari estimate 0.96 E, nu 1/4); voxel tets are
+// right-angled and share edges unevenly, so the block is 9-19 % too stiff and nu is near 1/4
+// only on tet6m. The tolerances below are what the model achieves, not a target.
 TEST(LloydSprings, UniaxialStretchNearQuarterPoisson) {
   const double E = 15e3;
   std::cout << "[ lloyd_springs uniaxial, 4x4x4 voxel block, +-1 % along x ]\n"
@@ -204,6 +210,11 @@ TEST(LloydSprings, UniaxialStretchNearQuarterPoisson) {
                 << m.youngs / E << "   " << m.poisson << "   (" << m.youngs_tension / E << ", " << m.poisson_tension
                 << ")\n";
       EXPECT_TRUE(m.converged);
+      EXPECT_NEAR(m.youngs / E, 1.0, 0.22);
+      if (t == preprocess::Topology::Tet6m)
+        EXPECT_NEAR(m.poisson, 0.25, 0.015);
+      else
+        EXPECT_NEAR(m.poisson, 0.25, 0.07);
     }
   }
 }

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
+#include <iomanip>
+#include <iostream>
 #include <string>
 
 #include "common/error.hpp"
@@ -11,6 +13,7 @@
 #include "solver/mass_springs.hpp"
 #include "solver/scene.hpp"
 #include "support/lattice_fixtures.hpp"
+#include "uniaxial_moduli.hpp"
 
 using namespace adamss;
 
@@ -124,4 +127,30 @@ run: {t_end: 10 us}
   EXPECT_NE(err("tet6m", "{stiffness: 1 N/m, diagonals: face}").find("mass_springs.diagonals"), std::string::npos);
   EXPECT_NE(err("hex", "{stiffness: 1 N/m, diagonals: some}").find("mass_springs.diagonals"), std::string::npos);
   EXPECT_NE(err("hex", "{stiffness: 1 N/m, k: 2}").find("k"), std::string::npos);
+}
+
+// Uniform k on a cubic lattice is cubic-anisotropic. For the infinite lattice (every spring
+// shared, eqs. 5.6-5.7 of seed 001 with k_e = k_f = k_c = k) C11 = (1 + 2 A_f + 4/3 A_c) k/l,
+// C12 = (A_f + 4/3 A_c) k/l (A_f, A_c = 1 if face / cell diagonals are present), and along an
+// axis E = C11 - 2 C12^2/(C11 + C12), nu = C12/(C11 + C12): face 2.5 k/l, 1/4; all 2.7 k/l, 0.35.
+// A finite block is stiffer (its surface springs have the full k, not the shared fraction).
+TEST(MassSprings, UniaxialModuliOfAUniformLattice) {
+  auto mesh = test::block_mesh(4, 4, 4, preprocess::Topology::Hex);
+  test::move_to_origin(mesh);
+  const double k = 10.0, l = 1e-3;
+  std::cout << "[ mass_springs uniaxial, 4x4x4 hex, k = 10 N/m, +-1 % along x ]\n"
+            << "   diagonals   E_meas/(k/l)   (lattice)   nu_meas   (lattice)\n";
+  for (auto d : {solver::SpringDiagonals::Face, solver::SpringDiagonals::All}) {
+    const bool all = d == solver::SpringDiagonals::All;
+    const double c11 = 3.0 + (all ? 4.0 / 3.0 : 0.0), c12 = 1.0 + (all ? 4.0 / 3.0 : 0.0);
+    const double e_lat = c11 - 2.0 * c12 * c12 / (c11 + c12), nu_lat = c12 / (c11 + c12);
+    const auto term = solver::make_mass_spring_term(mesh, {k, d});
+    const test::UniaxialModuli m = test::measure_uniaxial(mesh, {term.get()});
+    std::cout << std::fixed << std::setprecision(4) << "   " << solver::spring_diagonals_name(d) << "   "
+              << m.youngs / (k / l) << "   (" << e_lat << ")   " << m.poisson << "   (" << nu_lat << ")\n";
+    EXPECT_TRUE(m.converged);
+    EXPECT_GT(m.youngs / (k / l), e_lat);  // the surface stiffens the block
+    EXPECT_LT(m.youngs / (k / l), 1.5 * e_lat);
+    EXPECT_NEAR(m.poisson, nu_lat, 0.05);
+  }
 }
