@@ -17,7 +17,8 @@
 // (the recipe of sec. 5.1: "(ii) adjust the spring constants to get the desired shear
 // modulus G, (iii) set kappa"); the E-form would give E' = G'(3 kappa + 5 G')/(kappa + 2 G')
 // with G' = 2E/5, e.g. 1.115 E and nu' = 0.393 for nu = 0.4 and 0.666 E, nu' = -0.17 for nu = 0
-// (measured, tests/solver/test_hybmss.cpp). We use the G-form with G from E and nu; both forms
+// (eq. 5.4; the same numbers were measured with the uniaxial test of
+// tests/solver/test_hybmss.cpp before switching). We use the G-form with G from E and nu; both forms
 // agree at nu = 1/4.
 // A = 0 is HybMSS-FD (no face diagonals); A >= 0 is required (k_f < 0 otherwise).
 // Assembly (sec. 5.4, "Kirchhoff's law"): every cell hands k_e/4 to each of its 12 edges,
