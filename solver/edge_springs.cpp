@@ -6,17 +6,13 @@
 #include "common/error.hpp"
 
 namespace adamss::solver {
-namespace {
-
 // Local VTK tetrahedron and hexahedron edges, and the hexahedron's diagonals.
-constexpr int kTetEdges[6][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
-constexpr int kHexEdges[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6},
-                                  {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
-constexpr int kHexFaceDiagonals[12][2] = {{0, 2}, {1, 3}, {4, 6}, {5, 7}, {0, 5}, {1, 4},
-                                          {1, 6}, {2, 5}, {2, 7}, {3, 6}, {3, 4}, {0, 7}};
-constexpr int kHexCellDiagonals[4][2] = {{0, 6}, {1, 7}, {2, 4}, {3, 5}};
-
-}  // namespace
+const std::array<std::array<int, 2>, 6> kTetEdgePairs{{{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}}};
+const std::array<std::array<int, 2>, 12> kHexEdgePairs{
+    {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6}, {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}}};
+const std::array<std::array<int, 2>, 12> kHexFaceDiagonalPairs{
+    {{0, 2}, {1, 3}, {4, 6}, {5, 7}, {0, 5}, {1, 4}, {1, 6}, {2, 5}, {2, 7}, {3, 6}, {3, 4}, {0, 7}}};
+const std::array<std::array<int, 2>, 4> kHexCellDiagonalPairs{{{0, 6}, {1, 7}, {2, 4}, {3, 5}}};
 
 double EdgeSpringKernel::energy(std::size_t i, const Mat3N<2>& x, const Mat3N<2>& /*v*/, double /*t*/) const {
   const double stretch = (x.col(1) - x.col(0)).norm() - rest_length[i];
@@ -45,21 +41,28 @@ void EdgeSpringKernel::jacobian(std::size_t i, const Mat3N<2>& x, const Mat3N<2>
   dfdx.block<3, 3>(0, 0) += k;
 }
 
-std::vector<std::array<Index, 2>> mesh_edges(const preprocess::Mesh& mesh, bool face_diagonals, bool cell_diagonals) {
+std::vector<std::array<Index, 2>> mesh_edges(const preprocess::Mesh& mesh, bool face_diagonals, bool cell_diagonals,
+                                             const std::vector<std::size_t>* element_subset) {
   std::vector<std::array<Index, 2>> out;
   const bool tet = mesh.type == preprocess::ElementType::Tet4;
   auto push = [&out](Index a, Index b) { out.push_back({std::min(a, b), std::max(a, b)}); };
-  for (std::size_t e = 0; e < mesh.element_count(); ++e) {
+  const std::size_t count = element_subset != nullptr ? element_subset->size() : mesh.element_count();
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::size_t e = element_subset != nullptr ? (*element_subset)[k] : k;
+    if (e >= mesh.element_count()) {
+      throw InputError("mesh_edges: element " + std::to_string(e) + " out of range (mesh has " +
+                       std::to_string(mesh.element_count()) + ")");
+    }
     const Index* n = mesh.element(e);
     if (tet) {
-      for (const auto& p : kTetEdges) push(n[p[0]], n[p[1]]);
+      for (const auto& p : kTetEdgePairs) push(n[p[0]], n[p[1]]);
       continue;
     }
-    for (const auto& p : kHexEdges) push(n[p[0]], n[p[1]]);
+    for (const auto& p : kHexEdgePairs) push(n[p[0]], n[p[1]]);
     if (face_diagonals)
-      for (const auto& p : kHexFaceDiagonals) push(n[p[0]], n[p[1]]);
+      for (const auto& p : kHexFaceDiagonalPairs) push(n[p[0]], n[p[1]]);
     if (cell_diagonals)
-      for (const auto& p : kHexCellDiagonals) push(n[p[0]], n[p[1]]);
+      for (const auto& p : kHexCellDiagonalPairs) push(n[p[0]], n[p[1]]);
   }
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
@@ -83,6 +86,16 @@ EdgeSpringKernel make_edge_springs(const std::vector<std::array<Index, 2>>& edge
     }
   }
   return kern;
+}
+
+double spring_set_modulus(const EdgeSpringKernel& springs, const Eigen::Matrix3Xd& x0, double volume) {
+  if (!(volume > 0.0)) return 0.0;
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < springs.size(); ++i) {
+    const Eigen::Vector3d r = x0.col(springs.edges[i][1]) - x0.col(springs.edges[i][0]);
+    c += springs.stiffness[i] / r.squaredNorm() * r.array().square().square().matrix();
+  }
+  return c.maxCoeff() / volume;
 }
 
 }  // namespace adamss::solver

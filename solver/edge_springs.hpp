@@ -23,10 +23,11 @@ struct EdgeSpringKernel {
   static constexpr bool kHasJacobian = true;
 
   std::vector<std::array<Index, 2>> edges;
-  std::vector<double> rest_length;  ///< m
-  std::vector<double> stiffness;    ///< N/m
+  std::vector<double> rest_length;     ///< m
+  std::vector<double> stiffness;       ///< N/m
+  std::string label = "edge_springs";  ///< name() of the term (the scene key of the model using it)
 
-  [[nodiscard]] std::string name() const { return "edge_springs"; }
+  [[nodiscard]] std::string name() const { return label; }
   [[nodiscard]] std::size_t size() const { return edges.size(); }
   [[nodiscard]] std::array<Index, 2> stencil(std::size_t i) const { return edges[i]; }
   [[nodiscard]] double energy(std::size_t i, const Mat3N<2>& x, const Mat3N<2>& v, double t) const;
@@ -35,8 +36,23 @@ struct EdgeSpringKernel {
 };
 
 /// Unique node pairs of the mesh's edges (sorted, deterministic); for hexahedra
-/// optionally the two diagonals of each face and the four cell diagonals.
-std::vector<std::array<Index, 2>> mesh_edges(const preprocess::Mesh& mesh, bool face_diagonals, bool cell_diagonals);
+/// optionally the two diagonals of each face and the four cell diagonals. Only the
+/// elements in `element_subset` (mesh element indices) when it is given.
+std::vector<std::array<Index, 2>> mesh_edges(const preprocess::Mesh& mesh, bool face_diagonals, bool cell_diagonals,
+                                             const std::vector<std::size_t>* element_subset = nullptr);
+
+/// Local VTK node pairs: the 6 tetrahedron edges, the 12 hexahedron edges, the 12
+/// hexahedron face diagonals (two per face) and the 4 hexahedron cell diagonals.
+extern const std::array<std::array<int, 2>, 6> kTetEdgePairs;
+extern const std::array<std::array<int, 2>, 12> kHexEdgePairs;
+extern const std::array<std::array<int, 2>, 12> kHexFaceDiagonalPairs;
+extern const std::array<std::array<int, 2>, 4> kHexCellDiagonalPairs;
+
+/// Effective elastic modulus of a spring set for the critical-step estimate (Pa): the
+/// largest C_iiii = (1/V) sum_s k_s (r_s)_i^4 / L_s^2 (i = x, y, z) of the rari-constant
+/// stiffness tensor (seed 001 eq. 4.4 / 5.2) of the springs at rest, r_s = x0_b - x0_a,
+/// over the total element volume V (m^3). 0 for an empty set or V <= 0.
+[[nodiscard]] double spring_set_modulus(const EdgeSpringKernel& springs, const Eigen::Matrix3Xd& x0, double volume);
 
 /// Springs of uniform stiffness k (N/m, > 0) with rest lengths from the reference
 /// positions `x0`. Throws InputError for k <= 0 or a zero-length edge.

@@ -2,14 +2,19 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <map>
 
 #include "common/error.hpp"
 #include "materials/factory.hpp"
 #include "preprocess/fibre_field.hpp"
+#include "preprocess/mesh_quality.hpp"
 #include "solver/active_tension.hpp"
 #include "solver/axial_springs.hpp"
 #include "solver/fem_element.hpp"
+#include "solver/hybmss.hpp"
+#include "solver/lloyd_springs.hpp"
+#include "solver/mass_springs.hpp"
 #include "solver/material_friction.hpp"
 #include "solver/torsion_springs.hpp"
 #include "solver/virtual_hex.hpp"
@@ -204,6 +209,68 @@ void build_torsion_springs(SceneNode& node, MaterialContext& ctx) {
   ctx.model.terms.push_back(make_torsion_spring_term(ctx.mesh, ctx.frames(), p, nullptr));
 }
 
+/// Total reference volume of the material's elements (m^3).
+double material_volume(const MaterialContext& ctx) {
+  double v = 0.0;
+  for (const std::size_t e : ctx.elements) v += preprocess::element_volume(ctx.mesh, e);
+  return v;
+}
+
+/// Raises the wave modulus to the largest C_iiii of the springs of `term` (an EdgeSpringKernel term).
+void add_spring_wave_modulus(const ForceTerm& term, MaterialContext& ctx) {
+  const auto* springs = dynamic_cast<const StencilTerm<EdgeSpringKernel, 2>*>(&term);
+  if (springs != nullptr)
+    ctx.wave_modulus =
+        std::max(ctx.wave_modulus, spring_set_modulus(springs->kernel(), ctx.mesh.nodes, material_volume(ctx)));
+}
+
+void build_mass_springs(SceneNode& node, MaterialContext& ctx) {
+  MassSpringParams p;
+  p.stiffness = node.positive("stiffness", Dimension::Stiffness);
+  const std::string d = node.choice("diagonals", {"none", "face", "all"}, "none");
+  p.diagonals = d == "none" ? SpringDiagonals::None : (d == "face" ? SpringDiagonals::Face : SpringDiagonals::All);
+  if (ctx.mesh.type == preprocess::ElementType::Tet4 && p.diagonals != SpringDiagonals::None)
+    throw InputError(node.at("diagonals") + ": '" + d + "' needs a hexahedral mesh; tetrahedra have only edges");
+  node.finish();
+  ctx.model.terms.push_back(make_mass_spring_term(ctx.mesh, p, &ctx.elements));
+  add_spring_wave_modulus(*ctx.model.terms.back(), ctx);
+}
+
+void build_hybmss(SceneNode& node, MaterialContext& ctx) {
+  HybmssParams p;
+  p.youngs_modulus = node.positive("youngs_modulus", Dimension::Pressure);
+  p.poisson_ratio = node.quantity("poisson_ratio", Dimension::Dimensionless);
+  if (!(p.poisson_ratio > -1.0 && p.poisson_ratio < 0.5))
+    throw InputError(node.at("poisson_ratio") + ": must lie in (-1, 0.5), got " + std::to_string(p.poisson_ratio));
+  p.A = node.quantity("A", Dimension::Dimensionless, 1.0);
+  if (!(p.A >= 0.0) || !std::isfinite(p.A))
+    throw InputError(node.at("A") + ": the ratio k_f/k_c must be >= 0 (0 = HybMSS-FD), got " + std::to_string(p.A));
+  node.finish();
+  if (ctx.mesh.type != preprocess::ElementType::Hex8)
+    throw InputError(node.path() + ": hybmss needs a hexahedral mesh (mesh topology: hex); this mesh has tetrahedra");
+  for (auto& t : make_hybmss_terms(ctx.mesh, p, &ctx.elements)) {
+    add_spring_wave_modulus(*t, ctx);
+    ctx.model.terms.push_back(std::move(t));
+  }
+  ctx.bulk_modulus += hybmss_kappa(p.youngs_modulus, p.poisson_ratio);  // P-wave modulus 3G + kappa
+}
+
+void build_lloyd_springs(SceneNode& node, MaterialContext& ctx) {
+  LloydParams p;
+  p.youngs_modulus = node.positive("youngs_modulus", Dimension::Pressure);
+  p.volume_force = node.flag("volume_force", false);
+  node.finish();
+  if (ctx.mesh.type != preprocess::ElementType::Tet4)
+    throw InputError(
+        node.path() +
+        ": lloyd_springs needs a tetrahedral mesh (a tet topology such as tet6m); this mesh has hexahedra");
+  for (auto& t : make_lloyd_terms(ctx.mesh, p, &ctx.elements)) {
+    add_spring_wave_modulus(*t, ctx);
+    ctx.model.terms.push_back(std::move(t));
+  }
+  if (p.volume_force) ctx.bulk_modulus += 2.0 * lloyd_volume_penalty(p.youngs_modulus);
+}
+
 using Builder = void (*)(SceneNode&, MaterialContext&);
 
 const std::map<std::string, Builder>& builders() {
@@ -216,6 +283,9 @@ const std::map<std::string, Builder>& builders() {
       {"axial_springs", build_axial_springs},
       {"torsion_springs", build_torsion_springs},
       {"volume_springs", build_volume_springs},
+      {"mass_springs", build_mass_springs},
+      {"hybmss", build_hybmss},
+      {"lloyd_springs", build_lloyd_springs},
   };
   return table;
 }
