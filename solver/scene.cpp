@@ -16,6 +16,7 @@
 #include "common/error.hpp"
 #include "preprocess/boundary_labels.hpp"
 #include "preprocess/cavities.hpp"
+#include "preprocess/ellipsoid_mesh.hpp"
 #include "preprocess/fibre_field.hpp"
 #include "preprocess/lattice_mesher.hpp"
 #include "preprocess/mesh_io.hpp"
@@ -52,13 +53,55 @@ std::string hash_hex(const std::string& s) {
   return os.str();
 }
 
-/// mesh: {file: ...} or a phantom recipe; returns the mesh and the file it came from.
+/// mesh: {ellipsoid: land, divisions: [n_v, n_u, n_t], topology: hex|tet, endo: [r_s, r_l],
+/// epi: [r_s, r_l], base_z: z}: the structured truncated ellipsoid (preprocess/ellipsoid_mesh.hpp),
+/// built in memory (no cache: it takes milliseconds).
+preprocess::Mesh ellipsoid_mesh(SceneNode& node) {
+  node.choice("ellipsoid", {"land"});
+  preprocess::EllipsoidMeshOptions eo;
+  if (node.has("divisions")) {
+    const auto d = node.integers("divisions");
+    if (d.size() != 3 || d[0] < 3 || d[1] < 2 || d[2] < 1 || *std::max_element(d.begin(), d.end()) > 100000)
+      throw InputError(node.at("divisions") +
+                       ": expected [n_v, n_u, n_t] element counts (circumferential >= 3, longitudinal >= 2, "
+                       "transmural >= 1), e.g. [24, 12, 3]");
+    eo.n_v = static_cast<int>(d[0]);
+    eo.n_u = static_cast<int>(d[1]);
+    eo.n_t = static_cast<int>(d[2]);
+  }
+  eo.tetrahedra = node.choice("topology", {"hex", "tet"}, "hex") == "tet";
+  auto radii = [&](const char* key, double& r_s, double& r_l) {
+    if (!node.has(key)) return;
+    const std::vector<double> r = node.quantities(key, Dimension::Length);
+    if (r.size() != 2 || !(r[0] > 0.0) || !(r[1] > 0.0))
+      throw InputError(node.at(key) + ": expected two positive lengths [r_s, r_l], e.g. [7 mm, 17 mm]");
+    r_s = r[0];
+    r_l = r[1];
+  };
+  radii("endo", eo.endo_r_s, eo.endo_r_l);
+  radii("epi", eo.epi_r_s, eo.epi_r_l);
+  eo.base_z = node.quantity("base_z", Dimension::Length, eo.base_z);
+  try {
+    return preprocess::make_land_ellipsoid(eo);
+  } catch (const InputError& e) {
+    throw InputError(node.path() + ": " + e.what());
+  }
+}
+
+/// mesh: {file: ...}, a phantom recipe or an ellipsoid recipe; returns the mesh and the file it
+/// came from (for an ellipsoid, a description of the recipe).
 preprocess::Mesh load_mesh(SceneNode node, const fs::path& base, const SceneOptions& opt, std::string& source) {
   preprocess::Mesh mesh;
   const bool has_file = node.has("file");
   const bool has_phantom = node.has("phantom");
-  if (has_file == has_phantom) throw InputError(node.path() + ": give either file: or phantom: (a mesh recipe)");
-  if (has_file) {
+  const bool has_ellipsoid = node.has("ellipsoid");
+  if (static_cast<int>(has_file) + static_cast<int>(has_phantom) + static_cast<int>(has_ellipsoid) != 1)
+    throw InputError(node.path() + ": give exactly one of file:, phantom:, ellipsoid: (a mesh recipe)");
+  if (has_ellipsoid) {
+    mesh = ellipsoid_mesh(node);
+    source = "ellipsoid land " + mesh.attributes["topology"] + " (built in memory, " +
+             std::to_string(mesh.element_count()) + " elements)";
+  } else if (has_file) {
     fs::path p = node.text("file");
     if (p.is_relative()) p = base / p;
     if (!fs::exists(p)) throw InputError(node.at("file") + ": mesh file '" + p.string() + "' does not exist");

@@ -150,7 +150,7 @@ TEST(Scene, MeshRecipeIsCached) {
   EXPECT_EQ(a.mesh_source, b.mesh_source);
   EXPECT_EQ(std::filesystem::last_write_time(b.mesh_source), t);
   EXPECT_NE(error_of(replaced(kBase, "mesh: {phantom: slab,", "mesh: {file: nothing.h5, phantom: slab,"))
-                .find("either file: or phantom:"),
+                .find("exactly one of file:, phantom:, ellipsoid:"),
             std::string::npos);
   EXPECT_NE(error_of(replaced(kBase,
                               "mesh: {phantom: slab, slab_size: [2, 2, 3], voxel_size: 1 mm, topology: tet6m, "
