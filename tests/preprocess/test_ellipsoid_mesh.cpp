@@ -87,8 +87,9 @@ TEST(EllipsoidMesh, AnalyticTruncatedEllipsoidVolume) {
   // Cut at the equator: half the ellipsoid, 2/3 pi a^2 c; not cut (z = c): all of it.
   EXPECT_NEAR(truncated_ellipsoid_volume(2.0, 3.0, 0.0), 2.0 / 3.0 * kPi * 4.0 * 3.0, 1e-12);
   EXPECT_NEAR(truncated_ellipsoid_volume(2.0, 3.0, 3.0), 4.0 / 3.0 * kPi * 4.0 * 3.0, 1e-12);
-  // The Land shell: 5726.8 - 2492.3 mm^3.
-  EXPECT_NEAR(analytic_shell_m3() * 1e9, 3234.5, 0.1);
+  // The Land shell: 5726.86 - 2492.13 mm^3.
+  EXPECT_NEAR(truncated_ellipsoid_volume(7e-3, 17e-3, 5e-3) * 1e9, 2492.13, 0.01);
+  EXPECT_NEAR(analytic_shell_m3() * 1e9, 3234.73, 0.01);
 }
 
 TEST(EllipsoidMesh, CountsApexAndBase) {
@@ -208,40 +209,56 @@ TEST(EllipsoidMesh, CavityIsClosedAndConvergesToTheAnalyticCavity) {
 }
 
 TEST(EllipsoidMesh, FibresAreUnitOrthogonalWithTheLandHelixAngle) {
-  for (const bool tet : {false, true}) {
-    const int nt = 3;
-    const Mesh m = make_land_ellipsoid(divisions(24, 12, nt, tet));
-    ASSERT_TRUE(m.has_fibres());
-    ASSERT_EQ(static_cast<std::size_t>(m.fiber.cols()), m.element_count());
-    const std::size_t per_layer = m.element_count() / nt;
-    for (std::size_t e = 0; e < m.element_count(); ++e) {
-      const auto c = static_cast<Eigen::Index>(e);
-      const Eigen::Vector3d f = m.fiber.col(c), s = m.sheet.col(c), n = m.normal.col(c);
-      EXPECT_NEAR(f.norm(), 1.0, 1e-12);
-      EXPECT_NEAR(s.norm(), 1.0, 1e-12);
-      EXPECT_NEAR(f.dot(s), 0.0, 1e-12);
-      EXPECT_LT((n - f.cross(s)).norm(), 1e-12);
-      // Helix angle against the local frame at the element centroid: e_v = dx/dv / |dx/dv| =
-      // (-y, x, 0) / r, e_u the tangent orthogonal to e_v and the sheet, pointing to the base.
-      const Eigen::Vector3d x = centroid(m, e);
-      const Eigen::Vector3d ev = Eigen::Vector3d(-x.y(), x.x(), 0.0).normalized();
-      Eigen::Vector3d eu = s.cross(ev).normalized();
-      if (eu.z() < 0.0) eu = -eu;
-      const double alpha = std::atan2(f.dot(eu), f.dot(ev)) * 180.0 / kPi;
-      const auto layer = static_cast<int>(e / per_layer);  // cells are ordered layer by layer
-      const double expected = 90.0 - 180.0 * (layer + 0.5) / nt;
-      EXPECT_NEAR(alpha, expected, 1.0) << "element " << e;
-      // Endocardial / epicardial layer: within half an element (90 / n_t deg) of +90 / -90 deg.
-      if (layer == 0) EXPECT_NEAR(alpha, 90.0, 90.0 / nt + 1.0);
-      if (layer == nt - 1) EXPECT_NEAR(alpha, -90.0, 90.0 / nt + 1.0);
-      // Sheet: the outward normal of the ellipsoid (the origin is inside it).
-      EXPECT_GT(s.dot(x), 0.0);
+  const int nv = 24, nu = 12, nt = 3;
+  const Mesh m = make_land_ellipsoid(divisions(nv, nu, nt));
+  ASSERT_TRUE(m.has_fibres());
+  ASSERT_EQ(static_cast<std::size_t>(m.fiber.cols()), m.element_count());
+  const std::size_t per_layer = m.element_count() / nt;
+  for (std::size_t e = 0; e < m.element_count(); ++e) {
+    const auto c = static_cast<Eigen::Index>(e);
+    const Eigen::Vector3d f = m.fiber.col(c), s = m.sheet.col(c), n = m.normal.col(c);
+    EXPECT_NEAR(f.norm(), 1.0, 1e-12);
+    EXPECT_NEAR(s.norm(), 1.0, 1e-12);
+    EXPECT_NEAR(f.dot(s), 0.0, 1e-12);
+    EXPECT_LT((n - f.cross(s)).norm(), 1e-12);
+    // Helix angle against the local frame at the element centroid (which has the cell-centre v):
+    // e_v = dx/dv / |dx/dv| = (-y, x, 0) / r, e_u the tangent orthogonal to e_v and the sheet,
+    // pointing to the base.
+    const Eigen::Vector3d x = centroid(m, e);
+    const Eigen::Vector3d ev = Eigen::Vector3d(-x.y(), x.x(), 0.0).normalized();
+    Eigen::Vector3d eu = s.cross(ev).normalized();
+    if (eu.z() < 0.0) eu = -eu;
+    EXPECT_NEAR(f.dot(eu) * f.dot(eu) + f.dot(ev) * f.dot(ev), 1.0, 1e-9);  // f is tangent
+    const double alpha = std::atan2(f.dot(eu), f.dot(ev)) * 180.0 / kPi;
+    const auto layer = static_cast<int>(e / per_layer);  // cells are ordered layer by layer
+    EXPECT_NEAR(alpha, 90.0 - 180.0 * (layer + 0.5) / nt, 1e-6) << "element " << e;
+    // Endocardial / epicardial layer: within half an element (90 / n_t deg) of +90 / -90 deg.
+    if (layer == 0) {
+      EXPECT_NEAR(alpha, 90.0, 90.0 / nt + 1e-6);
+    }
+    if (layer == nt - 1) {
+      EXPECT_NEAR(alpha, -90.0, 90.0 / nt + 1e-6);
+    }
+    // Sheet: the outward normal of the ellipsoid (the origin is inside it).
+    EXPECT_GT(s.dot(x), 0.0);
+  }
+  // Tetrahedra carry the frame of their cell: 3 tetrahedra per apex cell, 6 per other cell.
+  const Mesh tet = make_land_ellipsoid(divisions(nv, nu, nt, true));
+  ASSERT_EQ(static_cast<std::size_t>(tet.fiber.cols()), tet.element_count());
+  std::size_t next = 0;
+  for (std::size_t cell = 0; cell < m.element_count(); ++cell) {
+    const std::size_t count = (cell / static_cast<std::size_t>(nv)) % static_cast<std::size_t>(nu) == 0 ? 3 : 6;
+    for (std::size_t q = 0; q < count; ++q, ++next) {
+      const auto a = static_cast<Eigen::Index>(next), b = static_cast<Eigen::Index>(cell);
+      ASSERT_LT((tet.fiber.col(a) - m.fiber.col(b)).norm(), 1e-15) << "tet " << next;
+      ASSERT_LT((tet.sheet.col(a) - m.sheet.col(b)).norm(), 1e-15) << "tet " << next;
     }
   }
+  EXPECT_EQ(next, tet.element_count());
 }
 
 TEST(EllipsoidMesh, TagsAndOtherShapes) {
-  EllipsoidMeshOptions o = divisions(12, 6, 2);
+  EllipsoidMeshOptions o = divisions(24, 12, 2);
   o.endo_r_s = 20e-3;
   o.endo_r_l = 30e-3;
   o.epi_r_s = 25e-3;
@@ -253,8 +270,8 @@ TEST(EllipsoidMesh, TagsAndOtherShapes) {
   for (const char* tag : {"endo", "epi", "base", "endo_apex", "epi_apex"}) EXPECT_FALSE(m.node_tags.at(tag).empty());
   for (const Index n : m.node_tags.at("base")) EXPECT_EQ(m.nodes(2, n), 0.0);
   const double exact = truncated_ellipsoid_volume(25e-3, 35e-3, 0.0) - truncated_ellipsoid_volume(20e-3, 30e-3, 0.0);
-  EXPECT_NEAR(total_volume(m) / exact, 1.0, 0.05);
-  EXPECT_NEAR(m.cavities.at("lv").volume_m3 / truncated_ellipsoid_volume(20e-3, 30e-3, 0.0), 1.0, 0.1);
+  EXPECT_NEAR(total_volume(m) / exact, 1.0, 0.03);
+  EXPECT_NEAR(m.cavities.at("lv").volume_m3 / truncated_ellipsoid_volume(20e-3, 30e-3, 0.0), 1.0, 0.03);
 }
 
 TEST(EllipsoidMesh, BadOptionsNameTheOption) {
