@@ -190,7 +190,8 @@ preprocess::Mesh load_mesh(SceneNode node, const fs::path& base, const SceneOpti
   return mesh;
 }
 
-/// Shortest element edge (m), for the critical step.
+/// Shortest element edge (m), for the critical step; collapsed edges (repeated node indices of a
+/// degenerate hexahedron) are not edges.
 double shortest_edge(const preprocess::Mesh& mesh) {
   static constexpr int kTetEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
   static constexpr int kHexEdges[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6},
@@ -203,6 +204,7 @@ double shortest_edge(const preprocess::Mesh& mesh) {
     for (int k = 0; k < ne; ++k) {
       const int a = tet ? kTetEdges[k][0] : kHexEdges[k][0];
       const int b = tet ? kTetEdges[k][1] : kHexEdges[k][1];
+      if (n[a] == n[b]) continue;  // a collapsed edge of a degenerate hexahedron
       l = std::min(l, (mesh.nodes.col(n[a]) - mesh.nodes.col(n[b])).norm());
     }
   }
