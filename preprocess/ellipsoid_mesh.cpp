@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -44,6 +45,9 @@ void check_options(const EllipsoidMeshOptions& o) {
   if (o.n_v < 3) throw InputError(w + "n_v (circumferential divisions) must be >= 3, got " + std::to_string(o.n_v));
   if (o.n_u < 2) throw InputError(w + "n_u (longitudinal divisions) must be >= 2, got " + std::to_string(o.n_u));
   if (o.n_t < 1) throw InputError(w + "n_t (transmural divisions) must be >= 1, got " + std::to_string(o.n_t));
+  const auto nodes = static_cast<long long>(o.n_t + 1) * (1 + static_cast<long long>(o.n_u) * o.n_v);
+  if (nodes * 6 > std::numeric_limits<Index>::max())
+    throw InputError(w + "n_v x n_u x n_t is too large (" + std::to_string(nodes) + " nodes)");
   if (!(o.endo_r_s > 0.0) || !(o.endo_r_l > 0.0)) throw InputError(w + "endo radii (r_s, r_l) must be > 0");
   if (!(o.epi_r_s > o.endo_r_s) || !(o.epi_r_l > o.endo_r_l))
     throw InputError(w + "epi radii (r_s, r_l) must exceed the endo radii");

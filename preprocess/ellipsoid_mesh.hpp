@@ -36,8 +36,9 @@
 // surface made orthogonal to f (Gram-Schmidt; it already is, up to rounding); normal = f x sheet.
 // mesh.attributes: "source" = "land ellipsoid (structured)", "topology" = "hex" | "tet".
 //
-// Errors (adamss::InputError, one line naming the option): n_v < 3, n_u < 2, n_t < 1, radii not
-// positive or epicardium not outside the endocardium, |base_z| >= r_l of either surface.
+// Errors (adamss::InputError, one line naming the option): n_v < 3, n_u < 2, n_t < 1, a grid too
+// large for the 32-bit node index, radii not positive or epicardium not outside the endocardium,
+// |base_z| >= r_l of the endocardium (then the base plane misses the cavity).
 #include "preprocess/mesh.hpp"
 
 namespace adamss::preprocess {

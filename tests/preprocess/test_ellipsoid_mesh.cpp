@@ -278,6 +278,7 @@ TEST(EllipsoidMesh, BadOptionsNameTheOption) {
   EXPECT_NE(error_of(divisions(2, 12, 3)).find("n_v"), std::string::npos);
   EXPECT_NE(error_of(divisions(24, 1, 3)).find("n_u"), std::string::npos);
   EXPECT_NE(error_of(divisions(24, 12, 0)).find("n_t"), std::string::npos);
+  EXPECT_NE(error_of(divisions(100000, 100000, 10)).find("too large"), std::string::npos);
   EllipsoidMeshOptions o;
   o.epi_r_s = 6e-3;
   EXPECT_NE(error_of(o).find("epi radii"), std::string::npos);
