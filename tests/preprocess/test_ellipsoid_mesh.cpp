@@ -16,6 +16,7 @@
 #include "preprocess/cavities.hpp"
 #include "preprocess/element_faces.hpp"
 #include "preprocess/ellipsoid_mesh.hpp"
+#include "preprocess/face_table.hpp"
 #include "preprocess/mesh_quality.hpp"
 
 namespace {
@@ -183,6 +184,14 @@ TEST(EllipsoidMesh, CavityIsClosedAndConvergesToTheAnalyticCavity) {
       EXPECT_TRUE(check_cavity(lv).closed_manifold());
       EXPECT_NEAR(lv.volume_m3, cavity_volume(lv, m.nodes), 1e-18);
       if (tet) {
+        // The wall triangles are faces of the tetrahedra (the same Kuhn diagonals).
+        std::set<std::array<Index, 4>> keys;
+        for (const FaceRecord& r : sorted_face_records(m)) keys.insert(r.key);
+        for (const auto& t : lv.faces) {
+          std::array<Index, 4> k{-1, t[0], t[1], t[2]};
+          std::sort(k.begin(), k.end());
+          EXPECT_EQ(keys.count(k), 1u);
+        }
         EXPECT_TRUE(lv.quads.empty());
         EXPECT_EQ(lv.faces.size(), static_cast<std::size_t>(24 * f * (2 * 12 * f - 1)));
       } else {
