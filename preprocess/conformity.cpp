@@ -30,6 +30,10 @@ std::vector<Index> boundary_face_nodes(const Mesh& mesh, const FaceRecord& r) {
     for (int i : kTetFaces[r.local]) out.push_back(n[i]);
   } else {
     for (int i : kHexFaces[r.local]) out.push_back(n[i]);
+    // A degenerate hexahedron's face with a repeated node is the triangle of its distinct nodes.
+    for (std::size_t a = 0; a < out.size() && out.size() > 3; ++a) {
+      if (out[a] == out[(a + 1) % out.size()]) out.erase(out.begin() + static_cast<std::ptrdiff_t>(a));
+    }
   }
   return out;
 }

@@ -23,6 +23,11 @@ std::vector<FaceRecord> sorted_face_records(const Mesh& mesh) {
         r.key = {n[lf[0]], n[lf[1]], n[lf[2]], n[lf[3]]};
       }
       std::sort(r.key.begin(), r.key.end());
+      // A face with fewer than three distinct nodes has no area (the collapsed face of a
+      // degenerate hexahedron, e.g. the apex wedges of preprocess/ellipsoid_mesh.hpp): not a face.
+      int distinct = 0;
+      for (std::size_t a = 0; a < 4; ++a) distinct += r.key[a] >= 0 && (a == 0 || r.key[a] != r.key[a - 1]) ? 1 : 0;
+      if (distinct < 3) continue;
       r.element = static_cast<std::uint32_t>(e);
       r.local = static_cast<std::uint8_t>(f);
       faces.push_back(r);

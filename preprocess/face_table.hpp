@@ -16,7 +16,9 @@ struct FaceRecord {
   std::uint8_t local;  ///< local face index (kTetFaces / kHexFaces)
 };
 
-/// All element faces, sorted by key and then by element (deterministic).
+/// All element faces, sorted by key and then by element (deterministic). Faces with fewer than
+/// three distinct nodes (collapsed faces of degenerate hexahedra) are left out; a hex face with
+/// three distinct nodes (a triangle of a wedge stored as a hexahedron) keeps its repeated node.
 std::vector<FaceRecord> sorted_face_records(const Mesh& mesh);
 
 }  // namespace adamss::preprocess

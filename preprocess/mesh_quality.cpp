@@ -41,6 +41,9 @@ double tet_min_dihedral(const Mesh& m, const Index* n) {
 double hex_min_dihedral(const Mesh& m, const Index* n) {
   double best = std::numeric_limits<double>::infinity();
   for (int c = 0; c < 8; ++c) {
+    // Skip corners with a collapsed edge (a degenerate hexahedron with repeated node indices).
+    const auto& nb = kHexNeighbour[static_cast<std::size_t>(c)];
+    if (n[nb[0]] == n[c] || n[nb[1]] == n[c] || n[nb[2]] == n[c]) continue;
     const Eigen::Vector3d x = node(m, n[c]);
     std::array<Eigen::Vector3d, 3> e;
     for (int axis = 0; axis < 3; ++axis) {

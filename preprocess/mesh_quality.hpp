@@ -15,7 +15,8 @@ namespace adamss::preprocess {
 
 /// Smallest dihedral angle of element e in degrees. Tet: the six angles between
 /// face pairs at the edges. Hex: at each corner, the three angles between the
-/// corner's face planes (90 for a cuboid).
+/// corner's face planes (90 for a cuboid); corners with a collapsed edge (repeated node
+/// indices of a degenerate hexahedron) are skipped.
 [[nodiscard]] double element_min_dihedral_deg(const Mesh& mesh, std::size_t e);
 
 struct QualitySummary {

@@ -75,6 +75,11 @@ double element_signed_volume_check(const preprocess::Mesh& mesh, const Eigen::Ma
   if (mesh.type == preprocess::ElementType::Tet4) return tet_volume(x, n);
   double vmin = std::numeric_limits<double>::infinity();
   for (std::size_t a = 0; a < 8; ++a) {
+    // A corner with a collapsed edge (a degenerate hexahedron: a wedge or pyramid stored with
+    // repeated node indices, e.g. the apex ring of preprocess/ellipsoid_mesh.hpp) spans no
+    // parallelepiped in any state; it is skipped.
+    const auto& nb = kHexNeighbour[a];
+    if (n[nb[0]] == n[a] || n[nb[1]] == n[a] || n[nb[2]] == n[a]) continue;
     const int c = kHexCornerCode[a];
     const double sign = ((c & 1) ? -1.0 : 1.0) * ((c & 2) ? -1.0 : 1.0) * ((c & 4) ? -1.0 : 1.0);
     const Eigen::Vector3d xa = x.col(n[a]);
@@ -82,7 +87,7 @@ double element_signed_volume_check(const preprocess::Mesh& mesh, const Eigen::Ma
     for (int k = 0; k < 3; ++k) d.col(k) = x.col(n[kHexNeighbour[a][static_cast<std::size_t>(k)]]) - xa;
     vmin = std::min(vmin, sign * d.determinant());
   }
-  return vmin;
+  return std::isfinite(vmin) ? vmin : 0.0;
 }
 
 }  // namespace adamss::solver

@@ -63,7 +63,8 @@ struct Model {
 /// Signed-volume test of element e at positions x (m^3), eq. 2.154: for a tetrahedron its signed
 /// volume (x1-x0).((x2-x0)x(x3-x0))/6; for a hexahedron the smallest of the eight corner
 /// parallelepipeds det(x_nx - x_a, x_ny - x_a, x_nz - x_a), oriented so that it equals the volume of a
-/// parallelepiped element (any corner turning inside out makes it <= 0).
+/// parallelepiped element (any corner turning inside out makes it <= 0). Corners with a collapsed
+/// edge (repeated node indices of a degenerate hexahedron) are skipped; 0 if every corner is.
 [[nodiscard]] double element_signed_volume_check(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x,
                                                  std::size_t e);
 

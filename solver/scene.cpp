@@ -17,6 +17,7 @@
 #include "preprocess/boundary_labels.hpp"
 #include "preprocess/box_mesh.hpp"
 #include "preprocess/cavities.hpp"
+#include "preprocess/ellipsoid_mesh.hpp"
 #include "preprocess/fibre_field.hpp"
 #include "preprocess/lattice_mesher.hpp"
 #include "preprocess/mesh_io.hpp"
@@ -53,28 +54,68 @@ std::string hash_hex(const std::string& s) {
   return os.str();
 }
 
-/// mesh: {file: ...} or a phantom recipe; returns the mesh and the file it came from.
+/// mesh: {ellipsoid: land, divisions: [n_v, n_u, n_t], topology: hex|tet, endo: [r_s, r_l],
+/// epi: [r_s, r_l], base_z: z}: the structured truncated ellipsoid (preprocess/ellipsoid_mesh.hpp),
+/// built in memory (no cache: it takes milliseconds).
+preprocess::Mesh ellipsoid_mesh(SceneNode& node) {
+  node.choice("ellipsoid", {"land"});
+  preprocess::EllipsoidMeshOptions eo;
+  if (node.has("divisions")) {
+    const auto d = node.integers("divisions");
+    if (d.size() != 3 || d[0] < 3 || d[1] < 2 || d[2] < 1 || *std::max_element(d.begin(), d.end()) > 100000)
+      throw InputError(node.at("divisions") +
+                       ": expected [n_v, n_u, n_t] element counts (circumferential >= 3, longitudinal >= 2, "
+                       "transmural >= 1), e.g. [24, 12, 3]");
+    eo.n_v = static_cast<int>(d[0]);
+    eo.n_u = static_cast<int>(d[1]);
+    eo.n_t = static_cast<int>(d[2]);
+  }
+  eo.tetrahedra = node.choice("topology", {"hex", "tet"}, "hex") == "tet";
+  auto radii = [&](const char* key, double& r_s, double& r_l) {
+    if (!node.has(key)) return;
+    const std::vector<double> r = node.quantities(key, Dimension::Length);
+    if (r.size() != 2 || !(r[0] > 0.0) || !(r[1] > 0.0))
+      throw InputError(node.at(key) + ": expected two positive lengths [r_s, r_l], e.g. [7 mm, 17 mm]");
+    r_s = r[0];
+    r_l = r[1];
+  };
+  radii("endo", eo.endo_r_s, eo.endo_r_l);
+  radii("epi", eo.epi_r_s, eo.epi_r_l);
+  eo.base_z = node.quantity("base_z", Dimension::Length, eo.base_z);
+  try {
+    return preprocess::make_land_ellipsoid(eo);
+  } catch (const InputError& e) {
+    throw InputError(node.path() + ": " + e.what());
+  }
+}
+
+/// mesh: {file: ...}, a phantom recipe or an ellipsoid recipe; returns the mesh and the file it
+/// came from (for an ellipsoid, a description of the recipe).
 preprocess::Mesh load_mesh(SceneNode node, const fs::path& base, const SceneOptions& opt, std::string& source) {
   preprocess::Mesh mesh;
   const bool has_file = node.has("file");
   const bool has_phantom = node.has("phantom");
   const bool has_box = node.has("box");
-  if (int(has_file) + int(has_phantom) + int(has_box) != 1)
+  const bool has_ellipsoid = node.has("ellipsoid");
+  if (static_cast<int>(has_file) + static_cast<int>(has_phantom) + static_cast<int>(has_box) +
+          static_cast<int>(has_ellipsoid) !=
+      1)
     throw InputError(node.path() +
-                     ": give exactly one of file:, phantom: (a voxel recipe), box: (a structured cuboid)");
+                     ": give exactly one of file:, phantom: (a voxel recipe), box: (a structured cuboid), "
+                     "ellipsoid: (a truncated ellipsoid)");
   if (has_box) {
     const Eigen::Vector3d size = node.vector3("box", Dimension::Length);
     const auto div = node.integers("divisions");
     if (div.size() != 3) throw InputError(node.at("divisions") + ": expected three element counts, e.g. [40, 4, 4]");
     const std::string topo = node.choice("topology", {"hex", "tet5", "tet5m", "tet6", "tet6m"}, "hex");
-    try {
-      mesh = preprocess::make_box_mesh({size.x(), size.y(), size.z()},
-                                       {static_cast<int>(div[0]), static_cast<int>(div[1]), static_cast<int>(div[2])},
-                                       topo, node.at("box"));
-    } catch (const InputError& e) {
-      throw InputError(e.what());
-    }
-    source = "box";
+    mesh = preprocess::make_box_mesh({size.x(), size.y(), size.z()},
+                                     {static_cast<int>(div[0]), static_cast<int>(div[1]), static_cast<int>(div[2])},
+                                     topo, node.at("box"));
+    source = "box " + topo + " (built in memory, " + std::to_string(mesh.element_count()) + " elements)";
+  } else if (has_ellipsoid) {
+    mesh = ellipsoid_mesh(node);
+    source = "ellipsoid land " + mesh.attributes["topology"] + " (built in memory, " +
+             std::to_string(mesh.element_count()) + " elements)";
   } else if (has_file) {
     fs::path p = node.text("file");
     if (p.is_relative()) p = base / p;
@@ -164,7 +205,8 @@ preprocess::Mesh load_mesh(SceneNode node, const fs::path& base, const SceneOpti
   return mesh;
 }
 
-/// Shortest element edge (m), for the critical step.
+/// Shortest element edge (m), for the critical step; collapsed edges (repeated node indices of a
+/// degenerate hexahedron) are not edges.
 double shortest_edge(const preprocess::Mesh& mesh) {
   static constexpr int kTetEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
   static constexpr int kHexEdges[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6},
@@ -177,6 +219,7 @@ double shortest_edge(const preprocess::Mesh& mesh) {
     for (int k = 0; k < ne; ++k) {
       const int a = tet ? kTetEdges[k][0] : kHexEdges[k][0];
       const int b = tet ? kTetEdges[k][1] : kHexEdges[k][1];
+      if (n[a] == n[b]) continue;  // a collapsed edge of a degenerate hexahedron
       l = std::min(l, (mesh.nodes.col(n[a]) - mesh.nodes.col(n[b])).norm());
     }
   }

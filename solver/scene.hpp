@@ -20,7 +20,7 @@ struct LoadedScene {
   std::string name;
   std::string description;
   std::filesystem::path file;
-  std::string mesh_source;  ///< the mesh file read (a recipe's cached file)
+  std::string mesh_source;  ///< the mesh file read (a recipe's cached file; for an ellipsoid: a description)
   Model model;
   State initial;
   RunSettings run;

@@ -1,0 +1,198 @@
+#include "preprocess/ellipsoid_mesh.hpp"
+
+#include <Eigen/Geometry>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "common/error.hpp"
+#include "preprocess/cavities.hpp"
+
+namespace adamss::preprocess {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+/// VTK hexahedron node of each corner code (bit 0 = +r, bit 1 = +s, bit 2 = +t).
+constexpr std::array<int, 8> kVtkOfCode{0, 1, 3, 2, 4, 5, 7, 6};
+
+/// The 6 Kuhn tetrahedra of the unit cube (VTK hex node numbers), each positively oriented:
+/// corner codes 000, e_a, e_a + e_b, 111 for every permutation (a, b, c) of the axes.
+const std::array<std::array<int, 4>, 6>& kuhn_tets() {
+  static const std::array<std::array<int, 4>, 6> tets = [] {
+    std::array<std::array<int, 4>, 6> out{};
+    const int perms[6][2] = {{0, 1}, {0, 2}, {1, 0}, {1, 2}, {2, 0}, {2, 1}};
+    for (int p = 0; p < 6; ++p) {
+      const int a = 1 << perms[p][0], b = 1 << perms[p][1];
+      std::array<int, 4> codes{0, a, a | b, 7};
+      // Orientation in the unit cube: det[e_a, e_a + e_b, (1,1,1)] = sign of the permutation.
+      auto vec = [](int c) { return Eigen::Vector3d((c & 1) ? 1 : 0, (c & 2) ? 1 : 0, (c & 4) ? 1 : 0); };
+      const double det = vec(codes[1]).dot(vec(codes[2]).cross(vec(codes[3])));
+      if (det < 0.0) std::swap(codes[2], codes[3]);
+      for (int k = 0; k < 4; ++k) out[static_cast<std::size_t>(p)][static_cast<std::size_t>(k)] = kVtkOfCode[codes[k]];
+    }
+    return out;
+  }();
+  return tets;
+}
+
+void check_options(const EllipsoidMeshOptions& o) {
+  const std::string w = "ellipsoid mesh: ";
+  if (o.n_v < 3) throw InputError(w + "n_v (circumferential divisions) must be >= 3, got " + std::to_string(o.n_v));
+  if (o.n_u < 2) throw InputError(w + "n_u (longitudinal divisions) must be >= 2, got " + std::to_string(o.n_u));
+  if (o.n_t < 1) throw InputError(w + "n_t (transmural divisions) must be >= 1, got " + std::to_string(o.n_t));
+  const auto nodes = static_cast<long long>(o.n_t + 1) * (1 + static_cast<long long>(o.n_u) * o.n_v);
+  if (nodes * 6 > std::numeric_limits<Index>::max())
+    throw InputError(w + "n_v x n_u x n_t is too large (" + std::to_string(nodes) + " nodes)");
+  if (!(o.endo_r_s > 0.0) || !(o.endo_r_l > 0.0)) throw InputError(w + "endo radii (r_s, r_l) must be > 0");
+  if (!(o.epi_r_s > o.endo_r_s) || !(o.epi_r_l > o.endo_r_l))
+    throw InputError(w + "epi radii (r_s, r_l) must exceed the endo radii");
+  if (!std::isfinite(o.epi_r_s) || !std::isfinite(o.epi_r_l)) throw InputError(w + "epi radii must be finite");
+  if (!(std::abs(o.base_z) < o.endo_r_l))
+    throw InputError(w + "base_z must lie strictly between -r_l and r_l of the endocardium (" +
+                     std::to_string(o.base_z * 1e3) + " mm against r_l = " + std::to_string(o.endo_r_l * 1e3) + " mm)");
+}
+
+/// Geometry of the (t, u, v) parametrisation.
+struct Shell {
+  const EllipsoidMeshOptions& o;
+  [[nodiscard]] double r_s(double t) const { return o.endo_r_s + t * (o.epi_r_s - o.endo_r_s); }
+  [[nodiscard]] double r_l(double t) const { return o.endo_r_l + t * (o.epi_r_l - o.endo_r_l); }
+  [[nodiscard]] double u_base(double t) const { return -std::acos(o.base_z / r_l(t)); }
+  /// u at fractional ring position `a` (= i / n_u) on the surface t.
+  [[nodiscard]] double u_at(double t, double a) const { return -kPi + a * (u_base(t) + kPi); }
+  [[nodiscard]] Eigen::Vector3d point(double t, double u, double v) const {
+    return {r_s(t) * std::sin(u) * std::cos(v), r_s(t) * std::sin(u) * std::sin(v), r_l(t) * std::cos(u)};
+  }
+};
+
+}  // namespace
+
+double truncated_ellipsoid_volume(double r_s, double r_l, double base_z) {
+  return kPi * r_s * r_s * ((base_z + r_l) - (base_z * base_z * base_z + r_l * r_l * r_l) / (3.0 * r_l * r_l));
+}
+
+Mesh make_land_ellipsoid(const EllipsoidMeshOptions& o) {
+  check_options(o);
+  const Shell sh{o};
+  const int nv = o.n_v, nu = o.n_u, nt = o.n_t;
+  const Index per_layer = 1 + static_cast<Index>(nu) * nv;
+  auto node = [&](int k, int i, int j) -> Index {
+    if (i == 0) return static_cast<Index>(k) * per_layer;
+    return static_cast<Index>(k) * per_layer + 1 + static_cast<Index>(i - 1) * nv + static_cast<Index>(j % nv);
+  };
+
+  Mesh mesh;
+  mesh.type = o.tetrahedra ? ElementType::Tet4 : ElementType::Hex8;
+  mesh.nodes.resize(3, static_cast<Eigen::Index>(nt + 1) * per_layer);
+  for (int k = 0; k <= nt; ++k) {
+    const double t = static_cast<double>(k) / nt;
+    mesh.nodes.col(node(k, 0, 0)) = Eigen::Vector3d(0.0, 0.0, -sh.r_l(t));
+    for (int i = 1; i <= nu; ++i) {
+      const double u = sh.u_at(t, static_cast<double>(i) / nu);
+      for (int j = 0; j < nv; ++j) {
+        Eigen::Vector3d p = sh.point(t, u, 2.0 * kPi * j / nv);
+        if (i == nu) p.z() = o.base_z;  // exactly on the base plane (cos(arccos) rounding)
+        mesh.nodes.col(node(k, i, j)) = p;
+      }
+    }
+  }
+
+  // Cells (k, i, j) in that order; VTK corners (r, s, t) = (v, u, t).
+  const auto& tets = kuhn_tets();
+  std::vector<std::array<double, 3>> cell_centre;  // (t_c, u-fraction a_c, v_c) per element
+  for (int k = 0; k < nt; ++k) {
+    for (int i = 0; i < nu; ++i) {
+      for (int j = 0; j < nv; ++j) {
+        const std::array<Index, 8> h{
+            node(k, i, j),     node(k, i, j + 1),     node(k, i + 1, j + 1),     node(k, i + 1, j),
+            node(k + 1, i, j), node(k + 1, i, j + 1), node(k + 1, i + 1, j + 1), node(k + 1, i + 1, j)};
+        const std::array<double, 3> c{(k + 0.5) / nt, (i + 0.5) / nu, 2.0 * kPi * (j + 0.5) / nv};
+        if (!o.tetrahedra) {
+          mesh.connectivity.insert(mesh.connectivity.end(), h.begin(), h.end());
+          cell_centre.push_back(c);
+          continue;
+        }
+        for (const auto& tet : tets) {
+          std::array<Index, 4> n{};
+          for (std::size_t a = 0; a < 4; ++a) n[a] = h[static_cast<std::size_t>(tet[a])];
+          const bool degenerate =
+              n[0] == n[1] || n[0] == n[2] || n[0] == n[3] || n[1] == n[2] || n[1] == n[3] || n[2] == n[3];
+          if (degenerate) continue;
+          mesh.connectivity.insert(mesh.connectivity.end(), n.begin(), n.end());
+          cell_centre.push_back(c);
+        }
+      }
+    }
+  }
+  const std::size_t ne = mesh.element_count();
+  mesh.labels.assign(ne, 1);
+
+  // Fibre frame at each element's cell-centre parameters.
+  if (o.fibres) {
+    mesh.fiber.resize(3, static_cast<Eigen::Index>(ne));
+    mesh.sheet.resize(3, static_cast<Eigen::Index>(ne));
+    mesh.normal.resize(3, static_cast<Eigen::Index>(ne));
+    for (std::size_t e = 0; e < ne; ++e) {
+      const double t = cell_centre[e][0];
+      const double u = sh.u_at(t, cell_centre[e][1]);
+      const double v = cell_centre[e][2];
+      const double rs = sh.r_s(t), rl = sh.r_l(t);
+      const Eigen::Vector3d du(rs * std::cos(u) * std::cos(v), rs * std::cos(u) * std::sin(v), -rl * std::sin(u));
+      const Eigen::Vector3d dv(-rs * std::sin(u) * std::sin(v), rs * std::sin(u) * std::cos(v), 0.0);
+      const Eigen::Vector3d x = sh.point(t, u, v);
+      const double alpha = 0.5 * kPi - t * kPi;
+      const Eigen::Vector3d f = (std::sin(alpha) * du.normalized() + std::cos(alpha) * dv.normalized()).normalized();
+      Eigen::Vector3d s(x.x() / (rs * rs), x.y() / (rs * rs), x.z() / (rl * rl));  // outward surface normal
+      s = (s - s.dot(f) * f).normalized();
+      const auto col = static_cast<Eigen::Index>(e);
+      mesh.fiber.col(col) = f;
+      mesh.sheet.col(col) = s;
+      mesh.normal.col(col) = f.cross(s);
+    }
+  }
+
+  // Node tags.
+  std::vector<Index> endo, epi, base;
+  for (Index n = 0; n < per_layer; ++n) {
+    endo.push_back(node(0, 0, 0) + n);
+    epi.push_back(node(nt, 0, 0) + n);
+  }
+  for (int k = 0; k <= nt; ++k)
+    for (int j = 0; j < nv; ++j) base.push_back(node(k, nu, j));
+  mesh.node_tags["endo"] = std::move(endo);
+  mesh.node_tags["epi"] = std::move(epi);
+  mesh.node_tags["base"] = std::move(base);
+  mesh.node_tags["endo_apex"] = {node(0, 0, 0)};
+  mesh.node_tags["epi_apex"] = {node(nt, 0, 0)};
+
+  // Cavity "lv": the outward (t = 0) face of the first layer, VTK hex face (0, 3, 2, 1).
+  Cavity lv;
+  for (int i = 0; i < nu; ++i) {
+    for (int j = 0; j < nv; ++j) {
+      const Index c0 = node(0, i, j), c1 = node(0, i, j + 1), c2 = node(0, i + 1, j + 1), c3 = node(0, i + 1, j);
+      if (!o.tetrahedra && i > 0) {
+        lv.quads.push_back({c0, c3, c2, c1});
+        continue;
+      }
+      // Triangles: the Kuhn diagonal c0-c2 of the face (the apex quads' second half is empty).
+      lv.faces.push_back({c0, c3, c2});
+      if (i > 0) lv.faces.push_back({c0, c2, c1});
+    }
+  }
+  lv.lid = close_cavity_openings(mesh.nodes, lv, "ellipsoid mesh: cavity lv");
+  lv.closed = check_cavity(lv).watertight();
+  lv.volume_m3 = cavity_volume(lv, mesh.nodes);
+  if (!lv.closed) throw InputError("ellipsoid mesh: cavity lv is not watertight");  // cannot happen
+  mesh.cavities["lv"] = std::move(lv);
+
+  mesh.attributes["source"] = "land ellipsoid (structured)";
+  mesh.attributes["topology"] = o.tetrahedra ? "tet" : "hex";
+  return mesh;
+}
+
+}  // namespace adamss::preprocess
