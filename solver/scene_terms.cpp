@@ -9,6 +9,7 @@
 #include "preprocess/fibre_field.hpp"
 #include "solver/active_tension.hpp"
 #include "solver/axial_springs.hpp"
+#include "solver/hourglass.hpp"
 #include "solver/material_friction.hpp"
 #include "solver/torsion_springs.hpp"
 #include "solver/virtual_hex.hpp"
@@ -185,6 +186,24 @@ void build_torsion_springs(SceneNode& node, MaterialContext& ctx) {
   ctx.model.terms.push_back(make_torsion_spring_term(ctx.mesh, ctx.frames(), p, nullptr));
 }
 
+/// Hourglass stabilisation of hexahedra (an addition, not in the thesis; solver/hourglass.hpp).
+/// modulus defaults to the modulus the terms listed before it declared (the virtual hexahedron's law).
+void build_hourglass(SceneNode& node, MaterialContext& ctx) {
+  HourglassParams p;
+  p.fraction = node.positive("fraction", Dimension::Dimensionless, 0.05);
+  if (node.has("modulus")) {
+    p.modulus = node.positive("modulus", Dimension::Pressure);
+  } else {
+    p.modulus = ctx.wave_modulus;
+    if (!(p.modulus > 0.0))
+      throw InputError(node.path() +
+                       ": no material modulus yet: list hourglass after virtual_hexahedron (or axial_springs), or "
+                       "give modulus: (Pa)");
+  }
+  node.finish();
+  ctx.model.terms.push_back(make_hourglass_term(ctx.mesh, p, &ctx.elements));
+}
+
 using Builder = void (*)(SceneNode&, MaterialContext&);
 
 const std::map<std::string, Builder>& builders() {
@@ -192,7 +211,7 @@ const std::map<std::string, Builder>& builders() {
       {"virtual_hexahedron", build_virtual_hex}, {"material_friction", build_material_friction},
       {"active_tension", build_active_tension},  {"volume", build_volume},
       {"axial_springs", build_axial_springs},    {"torsion_springs", build_torsion_springs},
-      {"volume_springs", build_volume_springs},
+      {"volume_springs", build_volume_springs},  {"hourglass", build_hourglass},
   };
   return table;
 }
