@@ -62,7 +62,8 @@ TEST(Hourglass, VectorsAreOrthogonalToTheLinearFieldOfTheReferenceElement) {
   EXPECT_LT((Eigen::Matrix<double, 1, 8>::Ones() * g).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_LT((x * g).cwiseAbs().maxCoeff(), 1e-15);  // m: 1e-12 relative to kH
   // Not degenerate: the four vectors stay independent (rank 4).
-  EXPECT_EQ(Eigen::FullPivLU<Eigen::Matrix<double, 8, 4>>(g).rank(), 4);
+  const Eigen::FullPivLU<Eigen::Matrix<double, 8, 4>> lu(g);
+  EXPECT_EQ(lu.rank(), 4);
 }
 
 TEST(Hourglass, NoEnergyOrForceUnderAnyAffineMotion) {
@@ -104,7 +105,7 @@ TEST(Hourglass, RemovesTheZeroEnergyModesOfTheVirtualHexahedron) {
   auto mesh = test::block_mesh(2, 2, 2, preprocess::Topology::Hex);
   test::set_rotated_fibres(mesh, false);
   const auto frames = solver::build_axis_frames(mesh);
-  const auto law = materials::make_law("neo_hookean", {{"E", 10e3}, {"nu", 0.3}});
+  const std::shared_ptr<const materials::Law> law = materials::make_law("neo_hookean", {{"E", 10e3}, {"nu", 0.3}});
   const auto vhex = solver::make_virtual_hex_term(mesh, frames, law);
   const auto hg = solver::make_hourglass_term(mesh, params(0.05, 13.5e3));
   std::vector<Eigen::Index> free;  // dofs of nodes above z = 0
