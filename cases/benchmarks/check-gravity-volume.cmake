@@ -1,14 +1,16 @@
 # Regression test of seed 000 sec. 2.8.2 (Fig. 2.28): the hanging hexahedral cuboid under
 # volume preservation.
-#   cmake -DADAMSS=... -DSCENES=cases/benchmarks -DOUT=... -DCACHE=... [-DEXPONENTS="2;3;4;5"]
+#   cmake -DADAMSS=... -DSCENES=cases/benchmarks -DOUT=... -DCACHE=... [-DEXPONENTS=2,3,4,5]
 #         -P cases/benchmarks/check-gravity-volume.cmake
 # Runs gravity-volume-p1eN.yaml for each N in EXPONENTS (p = 10^N kPa) and fails unless every
 # run completed and wrote globals.csv; for p >= 1e3 kPa max |dV/V0| < 1 % (the thesis's claim);
-# max |dV/V0| falls strictly as p grows; every logged dV/V0 is a number. dV/V0 is the
+# max |dV/V0| falls strictly as p grows (in the order given); for p = 1e2 kPa it lies in a
+# regression band around the measured value; every logged dV/V0 is a number. dV/V0 is the
 # globals.csv column volume_change (exact total volume of the hexahedra).
 if(NOT DEFINED EXPONENTS)
-  set(EXPONENTS 2 3 4 5)
+  set(EXPONENTS 2,3,4,5)
 endif()
+string(REPLACE "," ";" EXPONENTS "${EXPONENTS}")
 set(failures "")
 set(previous "")
 foreach(e ${EXPONENTS})
@@ -53,10 +55,19 @@ foreach(e ${EXPONENTS})
   if(NOT previous STREQUAL "")
     execute_process(COMMAND awk "BEGIN{exit (${maxdv} < ${previous}) ? 0 : 1}" RESULT_VARIABLE bad)
     if(bad)
-      set(failures "${failures}\n  p = 1e${e} kPa: max |dV/V0| = ${maxdv} is not below ${previous} of the smaller p")
+      set(failures "${failures}\n  p = 1e${e} kPa: max |dV/V0| = ${maxdv} is not below ${previous} (p = 1e${previous_e} kPa)")
+    endif()
+  endif()
+  # Regression band for the softest case (measured 3.19e-4 with this scene, cases/benchmarks/README.md):
+  # a lost or doubled volume term, or a changed scene, moves it out.
+  if(e EQUAL 2)
+    execute_process(COMMAND awk "BEGIN{exit (${maxdv} > 1.5e-4 && ${maxdv} < 6e-4) ? 0 : 1}" RESULT_VARIABLE bad)
+    if(bad)
+      set(failures "${failures}\n  p = 1e2 kPa: max |dV/V0| = ${maxdv}, expected in (1.5e-4, 6e-4) (measured 3.19e-4)")
     endif()
   endif()
   set(previous ${maxdv})
+  set(previous_e ${e})
 endforeach()
 if(failures)
   message(FATAL_ERROR "gravity volume preservation (seed 000 sec. 2.8.2):${failures}")
