@@ -38,7 +38,7 @@ for e in "${exps[@]}"; do
     END { printf "%.4g %.4g\n", 100 * m, 100 * last }' "$d/globals.csv")
   key() { sed -n "s/^ *\"$1\": *\([^,]*\),*$/\1/p" "$d/summary.json" | head -1; }
   printf '%-8s %14s %14s %6s %8s %8s %8s\n' "1e$e" "$mx" "$fin" "$(key steps)" "$(key newton_iterations)" \
-    "$(key linear_iterations)" "$(key wall_time_s)"
+    "$(key linear_iterations)" "$(printf '%.1f' "$(key wall_time_s)")"
 done
 
 # gnuplot: columns by name (t, volume_change) so added columns do not break the plot.
