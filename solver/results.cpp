@@ -173,7 +173,8 @@ ResultsWriter::ResultsWriter(fs::path out_dir, const Model& model) : dir_(std::m
   for (const double v : element_volume0_) volume0_ += v;
   globals_.open(dir_ / "globals.csv");
   if (!globals_) throw InputError("cannot write " + (dir_ / "globals.csv").string());
-  globals_ << "step,t,dt,kinetic_energy,total_volume,volume_change,barycentre_x,barycentre_y,barycentre_z";
+  globals_ << "step,t,dt,kinetic_energy,total_volume,volume_change,element_volume_change_max,barycentre_x,barycentre_y,"
+              "barycentre_z";
   for (const auto& c : model.cavities) globals_ << ',' << c->name() << "_volume," << c->name() << "_pressure";
   globals_ << ",force_evaluations,rejected_steps,abm3_error,newton_iterations,linear_iterations,wall_time\n";
   globals_ << std::setprecision(10);
@@ -213,11 +214,18 @@ void ResultsWriter::write_pvd() const {
 }
 
 void ResultsWriter::write_globals(const State& s, const GlobalsRow& row) {
-  const double vol = total_volume(*model_.mesh, s.x);
+  // Total volume (as total_volume()) and the largest element change max_e |V_e / V0_e - 1| in one pass.
+  double vol = 0.0, element_change = 0.0;
+  for (std::size_t e = 0; e < element_volume0_.size(); ++e) {
+    const double ve = element_volume_at(*model_.mesh, s.x, e);
+    vol += ve;
+    element_change = std::max(element_change, std::abs(ve / element_volume0_[e] - 1.0));
+  }
   const Eigen::Vector3d bary =
       (s.x.array().rowwise() * model_.mass.transpose().array()).rowwise().sum().matrix() / model_.mass.sum();
   globals_ << row.step << ',' << s.t << ',' << row.dt << ',' << row.kinetic_energy << ',' << vol << ','
-           << (vol - volume0_) / volume0_ << ',' << bary.x() << ',' << bary.y() << ',' << bary.z();
+           << (vol - volume0_) / volume0_ << ',' << element_change << ',' << bary.x() << ',' << bary.y() << ','
+           << bary.z();
   if (extrema_.size() != model_.cavities.size()) extrema_.assign(model_.cavities.size(), {});
   const bool first = !logged_;
   logged_ = true;

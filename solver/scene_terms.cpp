@@ -15,6 +15,7 @@
 #include "solver/hybmss.hpp"
 #include "solver/lloyd_springs.hpp"
 #include "solver/mass_springs.hpp"
+#include "solver/hourglass.hpp"
 #include "solver/material_friction.hpp"
 #include "solver/torsion_springs.hpp"
 #include "solver/virtual_hex.hpp"
@@ -269,6 +270,22 @@ void build_lloyd_springs(SceneNode& node, MaterialContext& ctx) {
     ctx.model.terms.push_back(std::move(t));
   }
   if (p.volume_force) ctx.bulk_modulus += 2.0 * lloyd_volume_penalty(p.youngs_modulus);
+/// Hourglass stabilisation of hexahedra (an addition, not in the thesis; solver/hourglass.hpp).
+/// modulus defaults to the modulus the terms listed before it declared (the virtual hexahedron's law).
+void build_hourglass(SceneNode& node, MaterialContext& ctx) {
+  HourglassParams p;
+  p.fraction = node.positive("fraction", Dimension::Dimensionless, 0.05);
+  if (node.has("modulus")) {
+    p.modulus = node.positive("modulus", Dimension::Pressure);
+  } else {
+    p.modulus = ctx.wave_modulus;
+    if (!(p.modulus > 0.0))
+      throw InputError(node.path() +
+                       ": no material modulus yet: list hourglass after virtual_hexahedron (or axial_springs), or "
+                       "give modulus: (Pa)");
+  }
+  node.finish();
+  ctx.model.terms.push_back(make_hourglass_term(ctx.mesh, p, &ctx.elements));
 }
 
 using Builder = void (*)(SceneNode&, MaterialContext&);
@@ -286,6 +303,7 @@ const std::map<std::string, Builder>& builders() {
       {"mass_springs", build_mass_springs},
       {"hybmss", build_hybmss},
       {"lloyd_springs", build_lloyd_springs},
+      {"hourglass", build_hourglass},
   };
   return table;
 }
