@@ -270,6 +270,8 @@ void build_lloyd_springs(SceneNode& node, MaterialContext& ctx) {
     ctx.model.terms.push_back(std::move(t));
   }
   if (p.volume_force) ctx.bulk_modulus += 2.0 * lloyd_volume_penalty(p.youngs_modulus);
+}
+
 /// Hourglass stabilisation of hexahedra (an addition, not in the thesis; solver/hourglass.hpp).
 /// modulus defaults to the modulus the terms listed before it declared (the virtual hexahedron's law).
 void build_hourglass(SceneNode& node, MaterialContext& ctx) {
