@@ -11,8 +11,9 @@
 //   [ G^T  0 ] [dP] = [ V* - V   ],   G = [g_1 ... g_m] (one column per cavity),
 // eliminating dx with two solves per cavity on the factorised -K (a Schur complement of size m).
 // The term's Jacobian is P times the follower-load Jacobian; P itself is state of the term
-// (pressure()), reported in globals.csv and summary.json. Explicit and backward-Euler
-// integrators refuse the term by name (only `static` enforces the constraint).
+// (pressure()), reported in globals.csv and summary.json. backward_euler_newton solves the
+// same bordered system for the velocity update (solver/implicit.cpp); the explicit integrators
+// and the linearised backward_euler refuse the term by name.
 #include <memory>
 #include <string>
 

@@ -54,8 +54,9 @@ ImplicitIntegrator::ImplicitIntegrator(System& system, Kind kind, const Implicit
   require_jacobians(sys_.model().terms, name());
   for (const auto& t : sys_.model().terms) {
     if (auto* c = dynamic_cast<CavityConstraintTerm*>(t.get())) {
-      if (kind_ != Kind::Static)
-        throw InputError(name() + " cannot hold a cavity volume (" + c->name() + "); use the integrator type static");
+      if (kind_ == Kind::BackwardEuler)
+        throw InputError(name() + " (the linearised one-solve step) cannot hold a cavity volume (" + c->name() +
+                         "); use the integrator type backward_euler_newton or static");
       constraints_.push_back(c);
     }
   }
@@ -130,10 +131,13 @@ StepReport ImplicitIntegrator::step(State& s, double dt) {
   rep.dt = h;
   double next = h;
   if (set_.adapt) {
+    // Newton schemes: a step that converged in at most 4 iterations grows the next one by 1.5,
+    // one that needed 10 or more halves it (quadratic convergence from a good predictor takes
+    // 2-4 iterations; 10 means the step left the region where Newton converges fast).
     const bool easy =
-        kind_ == Kind::BackwardEuler ? rep.linear_iterations <= set_.ksp_max_it / 4 : rep.newton_iterations <= 3;
+        kind_ == Kind::BackwardEuler ? rep.linear_iterations <= set_.ksp_max_it / 4 : rep.newton_iterations <= 4;
     if (easy && rep.rejected == 0) next = std::min(1.5 * h, set_.dt_max);
-    if (kind_ != Kind::BackwardEuler && rep.newton_iterations >= 8) next = std::max(0.5 * h, set_.dt_min);
+    if (kind_ != Kind::BackwardEuler && rep.newton_iterations >= 10) next = std::max(0.5 * h, set_.dt_min);
   }
   rep.next_dt = next;
   return rep;
@@ -296,7 +300,20 @@ bool ImplicitIntegrator::attempt(State& s, double h, StepReport& rep) {
       last_newton_ = 1;
     } else {
       // Newton on g(v) = M (v - v0) - h f(x0 + h v, v, t1) = 0; r = -g on free dofs.
+      // With cavity volume constraints the pressures P_k are unknowns too (bordered system,
+      // as in the static solver): R(v, P) = r, A = M - h D - h^2 K = -dR/dv, dR/dP_k = h g_k,
+      // and V_k(x0 + h v) = V*_k(t1). A dv = r + h G dP gives dv = y1 + sum_l dP_l y_l with
+      // y1 = A^{-1} r, y_l = A^{-1} (h g_l); the constraint's linearisation
+      // h g_k . dv = V*_k - V_k is the m x m Schur system (h g_k . y_l) dP = (V* - V) - h g_k . y1.
+      const std::size_t mc = constraints_.size();
+      std::vector<double> p_saved(mc);
+      for (std::size_t k = 0; k < mc; ++k) p_saved[k] = constraints_[k]->multiplier();
+      auto fail = [&] {
+        for (std::size_t k = 0; k < mc; ++k) constraints_[k]->set_multiplier(p_saved[k]);
+        return false;
+      };
       Eigen::Matrix3Xd v = vp_, x;
+      std::vector<Eigen::Matrix3Xd> g(mc), y(mc);
       double r0 = 0.0;
       for (int it = 0;; ++it) {
         x = x0_ + h * v;
@@ -305,11 +322,18 @@ bool ImplicitIntegrator::attempt(State& s, double h, StepReport& rep) {
         r_ = h * f_ - ((v - v0_).array().rowwise() * m.transpose().array()).matrix();
         zero_dofs(r_, fixed_dofs_);
         const double nr = r_.norm();
-        if (!std::isfinite(nr)) return false;
+        Eigen::VectorXd rv(static_cast<Eigen::Index>(mc));
+        bool volumes_ok = true;
+        for (std::size_t k = 0; k < mc; ++k) {
+          const auto* c = constraints_[k];
+          rv[static_cast<Eigen::Index>(k)] = c->target_volume(t1) - c->volume(x);
+          volumes_ok = volumes_ok && std::abs(rv[static_cast<Eigen::Index>(k)]) <= 1e-10 * c->reference_volume();
+        }
+        if (!std::isfinite(nr) || !rv.allFinite()) return fail();
         history_.push_back(nr);
         if (it == 0) r0 = nr;
-        if (nr <= set_.newton_atol || nr <= set_.newton_rtol * r0) break;
-        if (it >= set_.max_newton) return false;
+        if ((mc == 0 || it > 0) && volumes_ok && (nr <= set_.newton_atol || nr <= set_.newton_rtol * r0)) break;
+        if (it >= set_.max_newton) return fail();
         a_.zero();
         const StateView view{x, v, t1};
         for (const auto& term : model.terms) term->add_jacobian(view, a_.sink(-h * h, -h));
@@ -317,13 +341,39 @@ bool ImplicitIntegrator::attempt(State& s, double h, StepReport& rep) {
         a_.assemble();
         a_.eliminate(fixed_dofs_);
         to_vec(r_, b_);
-        if (!solve(b_, u_, lin)) return false;
+        if (!solve(b_, u_, lin)) return fail();
         Eigen::Matrix3Xd dv(3, v.cols());
         from_vec(u_, dv);
+        if (mc > 0) {
+          Eigen::MatrixXd schur(static_cast<Eigen::Index>(mc), static_cast<Eigen::Index>(mc));
+          Eigen::VectorXd rhs(static_cast<Eigen::Index>(mc));
+          for (std::size_t k = 0; k < mc; ++k) {
+            g[k].setZero(3, v.cols());
+            constraints_[k]->add_volume_gradient(x, g[k]);
+            zero_dofs(g[k], fixed_dofs_);
+            g[k] *= h;
+            to_vec(g[k], b_);
+            if (!solve(b_, u_, lin)) return fail();
+            y[k].resize(3, v.cols());
+            from_vec(u_, y[k]);
+          }
+          for (std::size_t k = 0; k < mc; ++k) {
+            rhs[static_cast<Eigen::Index>(k)] = rv[static_cast<Eigen::Index>(k)] - g[k].cwiseProduct(dv).sum();
+            for (std::size_t l = 0; l < mc; ++l)
+              schur(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(l)) = g[k].cwiseProduct(y[l]).sum();
+          }
+          const Eigen::VectorXd dp = schur.fullPivLu().solve(rhs);
+          if (!dp.allFinite()) return fail();
+          for (std::size_t k = 0; k < mc; ++k) {
+            dv += dp[static_cast<Eigen::Index>(k)] * y[k];
+            constraints_[k]->set_multiplier(constraints_[k]->multiplier() + dp[static_cast<Eigen::Index>(k)]);
+          }
+        }
         zero_dofs(dv, fixed_dofs_);
         v += dv;
         ++last_newton_;
-        if (h * dv.cwiseAbs().maxCoeff() <= set_.newton_xtol) {
+        if (!v.allFinite()) return fail();
+        if (mc == 0 && h * dv.cwiseAbs().maxCoeff() <= set_.newton_xtol) {
           history_.push_back(0.0);
           break;
         }
