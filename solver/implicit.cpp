@@ -242,8 +242,7 @@ bool ImplicitIntegrator::attempt(State& s, double h, StepReport& rep) {
           // Sufficient decrease of the residual: accepted without the extra solve.
         } else if (ok) {
           to_vec(r_, b_);
-          int lin2 = 0;
-          if (!solve(b_, u_, lin2)) return false;
+          if (!solve(b_, u_, lin)) return false;  // same factorisation: a back-substitution
           Eigen::Matrix3Xd dxb(3, cur.x.cols());
           from_vec(u_, dxb);
           zero_dofs(dxb, fixed_dofs_);

@@ -2,10 +2,12 @@
 // SIGINT that writes a checkpoint, and bad scenes that fail with one clear message.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "cli_runner.hpp"
 
@@ -147,4 +149,31 @@ TEST(Run, CheckOnlyValidatesWithoutOutput) {
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("term virtual_hexahedron"), std::string::npos);
   EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
+TEST(Run, ImplicitRunsAreBitwiseRepeatable) {
+  // The same scene gives the same numbers run after run (PETSc direct solve, deterministic
+  // assembly and reductions): globals.csv is identical except for the wall-clock column, with
+  // one and with two OpenMP threads.
+  const auto dir = adamss::test::scratch_dir("run_repeat");
+  const std::string scene = std::string(ADAMSS_SOURCE_DIR) + "/cases/quick/lv_isovolumic_static.yaml";
+  auto strip_wall = [](const std::filesystem::path& csv) {
+    std::ifstream in(csv);
+    std::string line, out;
+    while (std::getline(in, line)) out += line.substr(0, line.rfind(',')) + "\n";  // wall_time is last
+    return out;
+  };
+  std::vector<std::string> tables;
+  for (const char* threads : {"1", "1", "2"}) {
+    const auto out = dir / ("out" + std::to_string(tables.size()));
+    ::setenv("OMP_NUM_THREADS", threads, 1);
+    const auto r = adamss::test::run_adamss("run " + scene + " -o " + out.string() + " --cache " + (dir / "cache").string() +
+                                    " -q");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    tables.push_back(strip_wall(out / "globals.csv"));
+    ASSERT_GT(tables.back().size(), 200u);
+  }
+  ::unsetenv("OMP_NUM_THREADS");
+  EXPECT_EQ(tables[0], tables[1]);
+  EXPECT_EQ(tables[0], tables[2]);
 }
