@@ -1,5 +1,6 @@
 // adamss run SCENE.yaml -o OUT/: load and validate a scene, integrate, write results.
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -93,6 +94,13 @@ void write_summary(const fs::path& file, const solver::LoadedScene& sc, const so
     details[p.name] = {{"node", p.node},
                        {"reference_m", vec(m.x_ref.col(p.node))},
                        {"displacement_m", vec(s.x.col(p.node) - m.x_ref.col(p.node))}};
+    // Rotation about the z axis (deg, counter-clockwise seen from +z) of the point's (x, y)
+    // position: the twist of Land et al. 2015 problem 3. Omitted on the axis itself.
+    const Eigen::Vector3d a = m.x_ref.col(p.node), b = s.x.col(p.node);
+    if (a.head<2>().norm() > 1e-9 && b.head<2>().norm() > 1e-9) {
+      const double cross = a.x() * b.y() - a.y() * b.x(), dot = a.x() * b.x() + a.y() * b.y();
+      details[p.name]["twist_about_z_deg"] = std::atan2(cross, dot) * 180.0 / M_PI;
+    }
   }
   j["probes"] = probes;
   j["probe_details"] = details;
