@@ -47,4 +47,15 @@ Mesh make_box_mesh(const std::array<double, 3>& size_m, const std::array<int, 3>
   return mesh;
 }
 
+Mesh make_cylinder_mesh(double radius_m, double height_m, const std::array<int, 3>& divisions,
+                        const std::string& topology, const std::string& what) {
+  Mesh mesh = make_box_mesh({2.0 * radius_m, 2.0 * radius_m, height_m}, divisions, topology, what);
+  for (Eigen::Index i = 0; i < mesh.nodes.cols(); ++i) {
+    const double u = mesh.nodes(0, i) / radius_m - 1.0, v = mesh.nodes(1, i) / radius_m - 1.0;
+    mesh.nodes(0, i) = radius_m * u * std::sqrt(1.0 - 0.5 * v * v);
+    mesh.nodes(1, i) = radius_m * v * std::sqrt(1.0 - 0.5 * u * u);
+  }
+  return mesh;
+}
+
 }  // namespace adamss::preprocess

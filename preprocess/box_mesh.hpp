@@ -18,4 +18,13 @@ namespace adamss::preprocess {
 [[nodiscard]] Mesh make_box_mesh(const std::array<double, 3>& size_m, const std::array<int, 3>& divisions,
                                  const std::string& topology, const std::string& what = "box");
 
+/// A circular cylinder of `radius` and `height` (metres), axis along z from z = 0: the box
+/// [-r, r]^2 x [0, h] with divisions = {n_x, n_y, n_z} elements, whose cross-section is mapped
+/// onto the disc by the elliptical grid map (u, v) -> (u sqrt(1 - v^2/2), v sqrt(1 - u^2/2)),
+/// (u, v) = (x, y) / r. The map is smooth with positive Jacobian inside the square, sends its
+/// boundary onto the circle, and keeps every element positively oriented. Same topologies and
+/// errors as make_box_mesh.
+[[nodiscard]] Mesh make_cylinder_mesh(double radius_m, double height_m, const std::array<int, 3>& divisions,
+                                      const std::string& topology, const std::string& what = "cylinder");
+
 }  // namespace adamss::preprocess

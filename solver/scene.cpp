@@ -97,13 +97,25 @@ preprocess::Mesh load_mesh(SceneNode node, const fs::path& base, const SceneOpti
   const bool has_phantom = node.has("phantom");
   const bool has_box = node.has("box");
   const bool has_ellipsoid = node.has("ellipsoid");
+  const bool has_cylinder = node.has("cylinder");
   if (static_cast<int>(has_file) + static_cast<int>(has_phantom) + static_cast<int>(has_box) +
-          static_cast<int>(has_ellipsoid) !=
+          static_cast<int>(has_ellipsoid) + static_cast<int>(has_cylinder) !=
       1)
     throw InputError(node.path() +
                      ": give exactly one of file:, phantom: (a voxel recipe), box: (a structured cuboid), "
-                     "ellipsoid: (a truncated ellipsoid)");
-  if (has_box) {
+                     "cylinder: (a structured cylinder), ellipsoid: (a truncated ellipsoid)");
+  if (has_cylinder) {
+    const auto rh = node.quantities("cylinder", Dimension::Length);
+    if (rh.size() != 2 || !(rh[0] > 0.0) || !(rh[1] > 0.0))
+      throw InputError(node.at("cylinder") + ": expected [radius, height], both positive, e.g. [1 cm, 2 cm]");
+    const auto div = node.integers("divisions");
+    if (div.size() != 3) throw InputError(node.at("divisions") + ": expected three element counts, e.g. [6, 6, 12]");
+    const std::string topo = node.choice("topology", {"hex", "tet5", "tet5m", "tet6", "tet6m"}, "tet6m");
+    mesh = preprocess::make_cylinder_mesh(
+        rh[0], rh[1], {static_cast<int>(div[0]), static_cast<int>(div[1]), static_cast<int>(div[2])}, topo,
+        node.at("cylinder"));
+    source = "cylinder " + topo + " (built in memory, " + std::to_string(mesh.element_count()) + " elements)";
+  } else if (has_box) {
     const Eigen::Vector3d size = node.vector3("box", Dimension::Length);
     const auto div = node.integers("divisions");
     if (div.size() != 3) throw InputError(node.at("divisions") + ": expected three element counts, e.g. [40, 4, 4]");

@@ -42,3 +42,29 @@ TEST(BoxMesh, ErrorsNameTheProblem) {
     EXPECT_NE(std::string(e.what()).find("mesh.box: unknown topology 'prism'"), std::string::npos) << e.what();
   }
 }
+
+TEST(BoxMesh, CylinderHasTheRightShapeAndVolume) {
+  // r = 1 cm, h = 2 cm: every node inside the cylinder, the outer ring on it, all elements
+  // positive, and the volume within the polygonal approximation error of pi r^2 h.
+  const double r = 0.01, h = 0.02, pi = 3.14159265358979323846;
+  for (const char* topo : {"hex", "tet6m"}) {
+    SCOPED_TRACE(topo);
+    const auto m = preprocess::make_cylinder_mesh(r, h, {8, 8, 4}, topo);
+    double v = 0.0;
+    for (std::size_t e = 0; e < m.element_count(); ++e) {
+      const double ve = preprocess::element_volume(m, e);
+      EXPECT_GT(ve, 0.0) << "element " << e;
+      v += ve;
+    }
+    int on_circle = 0;
+    for (Eigen::Index i = 0; i < m.nodes.cols(); ++i) {
+      const double rho = m.nodes.col(i).head<2>().norm();
+      EXPECT_LE(rho, r * (1 + 1e-12));
+      if (std::abs(rho - r) < 1e-12) ++on_circle;
+    }
+    EXPECT_EQ(on_circle, 32 * 5);  // 32 boundary nodes per layer, 5 layers
+    // 32 chords of the circle: the inscribed polygon loses ~ (2 pi^2 / 3) / 32^2 = 0.6 %.
+    EXPECT_NEAR(v / (pi * r * r * h), 1.0, 0.01);
+    EXPECT_LT(v, pi * r * r * h);
+  }
+}
