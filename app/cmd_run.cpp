@@ -104,6 +104,30 @@ void write_summary(const fs::path& file, const solver::LoadedScene& sc, const so
   }
   j["probes"] = probes;
   j["probe_details"] = details;
+  // Reactions: what each boundary entry's supports exert on the body in the final state,
+  // R = -(sum of all term forces) on its particles (exact at equilibrium; in dynamics it also
+  // carries the inertia of those particles), and its moment about the entry's reference centroid.
+  {
+    Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, s.x.cols());
+    for (const auto& t : m.terms) t->add_forces({s.x, s.v, s.t}, f);
+    json groups = json::array();
+    for (const auto& g : m.boundary_groups) {
+      Eigen::Vector3d c = Eigen::Vector3d::Zero(), r = Eigen::Vector3d::Zero(), mo = Eigen::Vector3d::Zero();
+      for (const auto n : g.nodes) c += m.x_ref.col(n);
+      if (!g.nodes.empty()) c /= static_cast<double>(g.nodes.size());
+      for (const auto n : g.nodes) {
+        const Eigen::Vector3d rn = -f.col(n);
+        r += rn;
+        mo += (s.x.col(n) - c).cross(rn);
+      }
+      groups.push_back({{"entry", g.name},
+                        {"nodes", g.nodes.size()},
+                        {"reaction_force_N", vec(r)},
+                        {"reaction_moment_Nm", vec(mo)},
+                        {"moment_point_m", vec(c)}});
+    }
+    j["reactions"] = groups;
+  }
   if (out.bad_element) j["bad_element"] = *out.bad_element;
   j["terms"] = sc.term_summary;
   j["axis_frame_elements"] = sc.axis_frame_elements;

@@ -38,6 +38,12 @@ class VolumeMonitor {
   [[nodiscard]] virtual double pressure(double t) const = 0;                 ///< Pa (0 if none applied)
 };
 
+/// The particles of one `boundary:` entry of a scene (for reaction forces in the summary).
+struct BoundaryGroup {
+  std::string name;  ///< the entry's key path, e.g. "boundary[1]"
+  std::vector<Index> nodes;
+};
+
 struct Model {
   std::shared_ptr<const preprocess::Mesh> mesh;
   Eigen::Matrix3Xd x_ref;  ///< reference positions X (m)
@@ -46,6 +52,7 @@ struct Model {
   Constraints constraints;
   std::vector<Probe> probes;
   std::vector<std::unique_ptr<VolumeMonitor>> cavities;
+  std::vector<BoundaryGroup> boundary_groups;  ///< one per scene boundary entry, in scene order
 
   [[nodiscard]] std::size_t node_count() const { return static_cast<std::size_t>(x_ref.cols()); }
 };

@@ -289,6 +289,7 @@ void load_boundary(std::vector<SceneNode> entries, Model& model, const fs::path&
         for (const Index n : nodes) model.constraints.control(n, axis, course, vel, b.path());
       }
     }
+    model.boundary_groups.push_back({b.path(), nodes});
     b.finish();
   }
 }
