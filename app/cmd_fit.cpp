@@ -19,6 +19,7 @@ struct FitArgs {
   std::string powers = "1,3";
   int samples = 40;
   std::string norm = "max";
+  std::string error = "full-scale";
 };
 
 std::vector<int> parse_powers(const FitArgs& a) {
@@ -46,8 +47,8 @@ std::vector<int> parse_powers(const FitArgs& a) {
 
 void print_row(const char* what, const solver::SpringPolynomial& k, const verify::PolynomialFit& f,
                const solver::SpringPolynomial* table) {
-  std::printf("  %-13s k1 %10.1f  k2 %10.1f  k3 %11.1f Pa   max rel. error %6.2f %%  rms %6.2f %%", what, k[0], k[1],
-              k[2], 100.0 * f.max_rel_error, 100.0 * f.rms_rel_error);
+  std::printf("  %-13s k1 %9.1f k2 %9.1f k3 %10.1f Pa  error: full-scale %5.2f %%, pointwise max %6.2f %%", what, k[0],
+              k[1], k[2], 100.0 * f.max_fullscale_error, 100.0 * f.max_rel_error);
   if (table != nullptr) std::printf("   | Table 2.2: %8.0f %8.0f %8.0f", (*table)[0], (*table)[1], (*table)[2]);
   std::printf("\n");
 }
@@ -63,6 +64,8 @@ void add_fit_command(CLI::App& app) {
   sub->add_option("--powers", args->powers, "Powers to fit, comma separated (default 1,3: odd, like Table 2.2)");
   sub->add_option("--samples", args->samples, "Equally spaced samples in (0, max-strain] (default 40)");
   sub->add_option("--norm", args->norm, "Relative error norm: max (minimax, default) or l2");
+  sub->add_option("--error", args->error,
+                  "Error minimised: full-scale (|p - y| / max |y|, default) or relative (|p - y| / |y|)");
   sub->callback([args]() {
     verify::FitOptions o;
     o.max_strain = args->max_strain;
@@ -74,12 +77,18 @@ void add_fit_command(CLI::App& app) {
       o.norm = verify::FitNorm::L2;
     else
       throw InputError("--norm: '" + args->norm + "' is not one of max, l2");
+    if (args->error == "full-scale")
+      o.scale = verify::FitScale::FullScale;
+    else if (args->error == "relative")
+      o.scale = verify::FitScale::Relative;
+    else
+      throw InputError("--error: '" + args->error + "' is not one of full-scale, relative");
     const auto law = materials::make_law(args->law, {});
     const verify::SpringFitResult r = verify::fit_springs(*law, o);
     const bool hunter = args->law == "hunter_canine";
     const solver::SpringSet table = solver::table_2_2_springs();
-    std::printf("Springs fitted to %s up to %.3g strain (%d samples, %s relative error), virtual scaling:\n",
-                args->law.c_str(), o.max_strain, o.samples, args->norm.c_str());
+    std::printf("Springs fitted to %s up to %.3g strain (%d samples, %s norm of the %s error), virtual scaling:\n",
+                args->law.c_str(), o.max_strain, o.samples, args->norm.c_str(), args->error.c_str());
     std::printf(" axial (nominal stress P(eps) of uniaxial stress along the axis):\n");
     static const char* const kAxes[3] = {"fibre", "sheet", "normal"};
     static const char* const kPairs[3] = {"fibre_sheet", "fibre_normal", "sheet_normal"};

@@ -82,12 +82,12 @@ struct CaseResult {
 };
 
 struct VerifyOptions {
-  int steps = 10;                      ///< load steps to 20 % (uniaxial, shear)
-  double max_strain = 0.2;             ///< final engineering strain / shear
-  std::filesystem::path benchmarks;    ///< folder of gravity-volume-p1e*.yaml
-  std::filesystem::path cache_dir;     ///< mesh-recipe cache (empty: solver default)
-  bool full_gravity = false;           ///< run the gravity scenes to their own t_end
-  std::string law = "hunter_canine";   ///< the law (no parameters: its defaults)
+  int steps = 10;                     ///< load steps to 20 % (uniaxial, shear)
+  double max_strain = 0.2;            ///< final engineering strain / shear
+  std::filesystem::path benchmarks;   ///< folder of gravity-volume-p1e*.yaml
+  std::filesystem::path cache_dir;    ///< mesh-recipe cache (empty: solver default)
+  bool full_gravity = false;          ///< run the gravity scenes to their own t_end
+  std::string law = "hunter_canine";  ///< the law (no parameters: its defaults)
 };
 
 /// Every case name, in run order.
@@ -99,7 +99,7 @@ struct VerifyOptions {
 
 struct ReportFiles {
   std::filesystem::path json, markdown;
-  std::vector<std::filesystem::path> plots;  ///< .png written (empty without gnuplot)
+  std::vector<std::filesystem::path> plots;    ///< .png written (empty without gnuplot)
   std::vector<std::filesystem::path> scripts;  ///< .gp + .dat
   bool gnuplot = false;
 };

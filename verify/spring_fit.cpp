@@ -11,23 +11,26 @@
 namespace adamss::verify {
 
 PolynomialFit fit_polynomial(const std::vector<double>& x, const std::vector<double>& y, const std::vector<int>& powers,
-                             FitNorm norm) {
+                             FitNorm norm, FitScale scale, bool nonnegative) {
   if (x.empty() || x.size() != y.size()) throw InputError("fit: need equally many x and y samples (at least one)");
   if (powers.empty()) throw InputError("fit: no polynomial powers given");
   for (const int p : powers)
     if (p < 1 || p > 3) throw InputError("fit: power " + std::to_string(p) + " is outside 1..3");
   const auto n = static_cast<Eigen::Index>(x.size());
   const auto m = static_cast<Eigen::Index>(powers.size());
+  double ymax = 0.0;
+  for (const double v : y) ymax = std::max(ymax, std::abs(v));
   Eigen::MatrixXd a(n, m);
   Eigen::VectorXd b(n);
   for (Eigen::Index j = 0; j < n; ++j) {
     const double yj = y[static_cast<std::size_t>(j)];
     if (!(std::abs(yj) > 0.0) || !std::isfinite(yj))
-      throw InputError("fit: target value " + std::to_string(yj) + " at x = " +
-                       std::to_string(x[static_cast<std::size_t>(j)]) + " (need finite, non-zero values)");
+      throw InputError("fit: target value " + std::to_string(yj) +
+                       " at x = " + std::to_string(x[static_cast<std::size_t>(j)]) + " (need finite, non-zero values)");
+    const double d = scale == FitScale::Relative ? yj : ymax;
     for (Eigen::Index c = 0; c < m; ++c)
-      a(j, c) = std::pow(x[static_cast<std::size_t>(j)], powers[static_cast<std::size_t>(c)]) / yj;
-    b[j] = 1.0;  // relative residual: p(x_j)/y_j - 1
+      a(j, c) = std::pow(x[static_cast<std::size_t>(j)], powers[static_cast<std::size_t>(c)]) / d;
+    b[j] = yj / d;  // residual (p(x_j) - y_j) / d
   }
   Eigen::VectorXd w = Eigen::VectorXd::Ones(n);
   Eigen::VectorXd best;
@@ -48,8 +51,17 @@ PolynomialFit fit_polynomial(const std::vector<double>& x, const std::vector<dou
     if (!(s > 0.0)) break;
     w /= s;
   }
+  if (nonnegative && best.minCoeff() < 0.0 && m > 1) {
+    Eigen::Index worst = 0;
+    best.minCoeff(&worst);
+    std::vector<int> fewer;
+    for (Eigen::Index c = 0; c < m; ++c)
+      if (c != worst) fewer.push_back(powers[static_cast<std::size_t>(c)]);
+    return fit_polynomial(x, y, fewer, norm, scale, true);
+  }
   PolynomialFit out;
-  for (Eigen::Index c = 0; c < m; ++c) out.k[static_cast<std::size_t>(powers[static_cast<std::size_t>(c)] - 1)] = best[c];
+  for (Eigen::Index c = 0; c < m; ++c)
+    out.k[static_cast<std::size_t>(powers[static_cast<std::size_t>(c)] - 1)] = best[c];
   double sum2 = 0.0;
   for (std::size_t j = 0; j < x.size(); ++j) {
     const double p = solver::spring_value(out.k, x[j]);
@@ -57,6 +69,7 @@ PolynomialFit fit_polynomial(const std::vector<double>& x, const std::vector<dou
     out.max_rel_error = std::max(out.max_rel_error, rel);
     out.max_abs_error = std::max(out.max_abs_error, std::abs(p - y[j]));
     sum2 += rel * rel;
+    out.max_fullscale_error = std::max(out.max_fullscale_error, std::abs(p - y[j]) / ymax);
   }
   out.rms_rel_error = std::sqrt(sum2 / static_cast<double>(x.size()));
   return out;
@@ -112,10 +125,10 @@ SpringFitResult fit_springs(const materials::Law& law, const FitOptions& o) {
   std::vector<double> y(x.size());
   for (int l = 0; l < 3; ++l) {
     for (std::size_t j = 0; j < x.size(); ++j) y[j] = uniaxial_nominal_stress(law, l, x[j]);
-    out.axial[static_cast<std::size_t>(l)] = fit_polynomial(x, y, o.powers, o.norm);
+    out.axial[static_cast<std::size_t>(l)] = fit_polynomial(x, y, o.powers, o.norm, o.scale, true);
     out.set.axial.k[static_cast<std::size_t>(l)] = out.axial[static_cast<std::size_t>(l)].k;
     for (std::size_t j = 0; j < x.size(); ++j) y[j] = shear_stress_for_torsion(law, l, x[j]);
-    out.torsion[static_cast<std::size_t>(l)] = fit_polynomial(x, y, o.powers, o.norm);
+    out.torsion[static_cast<std::size_t>(l)] = fit_polynomial(x, y, o.powers, o.norm, o.scale, true);
     out.set.torsion.k[static_cast<std::size_t>(l)] = out.torsion[static_cast<std::size_t>(l)].k;
   }
   return out;

@@ -38,7 +38,8 @@ TEST(SpringFit, RecoversKnownPolynomialsExactly) {
       std::vector<double> y;
       for (const double v : x) y.push_back(solver::spring_value(k, v));
       const auto f = verify::fit_polynomial(x, y, {1, 2, 3}, norm);
-      for (int i = 0; i < 3; ++i) EXPECT_NEAR(f.k[static_cast<std::size_t>(i)], k[static_cast<std::size_t>(i)], 1e-7 * 3000);
+      for (int i = 0; i < 3; ++i)
+        EXPECT_NEAR(f.k[static_cast<std::size_t>(i)], k[static_cast<std::size_t>(i)], 1e-7 * 3000);
       EXPECT_LT(f.max_rel_error, 1e-10);
     }
   }
@@ -100,8 +101,8 @@ TEST(SpringFit, HunterRefitAgainstTable22) {
   for (int l = 0; l < 3; ++l) {
     const auto& k = r.set.axial.k[static_cast<std::size_t>(l)];
     const auto& tk = t.axial.k[static_cast<std::size_t>(l)];
-    std::printf("  axial %d: fitted [%g, %g, %g] Pa, max rel. error %.4f | Table 2.2 [%g, %g, %g]\n", l, k[0], k[1], k[2],
-                r.axial[static_cast<std::size_t>(l)].max_rel_error, tk[0], tk[1], tk[2]);
+    std::printf("  axial %d: fitted [%g, %g, %g] Pa, max rel. error %.4f | Table 2.2 [%g, %g, %g]\n", l, k[0], k[1],
+                k[2], r.axial[static_cast<std::size_t>(l)].max_rel_error, tk[0], tk[1], tk[2]);
     EXPECT_LT(r.axial[static_cast<std::size_t>(l)].max_rel_error, 0.05);
     EXPECT_GE(k[0], 0.0);
     EXPECT_GE(k[2], 0.0);
