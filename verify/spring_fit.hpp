@@ -92,7 +92,9 @@ struct SpringFitResult {
   std::array<PolynomialFit, 3> torsion;  ///< (f,s), (f,n), (s,n)
 };
 
-/// Fits all six springs to `law` (see the header). Throws InputError for max_strain outside
+/// Fits all six springs to `law` (see the header). An axial k_1 that the non-negative active set
+/// drops is fixed to the law's small-strain slope instead (k_1 = 0 gives a singular static tangent)
+/// and the other powers are refitted. Throws InputError for max_strain outside
 /// (0, 0.5], samples < 2, or bad powers.
 [[nodiscard]] SpringFitResult fit_springs(const materials::Law& law, const FitOptions& options);
 
