@@ -36,7 +36,7 @@ void add_verify_command(CLI::App& app) {
                   "Folder of the gravity-volume-p1e*.yaml scenes (default: cases/benchmarks of the source tree)");
   sub->add_option("--cache", args->cache, "Mesh-recipe cache folder");
   sub->add_option("--steps", args->steps, "Load steps to 20 % strain (default 10)");
-  sub->add_flag("--full", args->full_gravity, "Run the gravity scenes to their own t_end (1 s) instead of 0.15 s");
+  sub->add_flag("--full", args->full_gravity, "Run the gravity scenes to their own t_end (1 s) instead of 0.08 s");
   sub->callback([args]() {
     if (args->list) {
       for (const auto& n : verify::case_names()) std::cout << n << "\n";
