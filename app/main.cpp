@@ -16,6 +16,8 @@ int main(int argc, char** argv) {
   adamss::app::add_mesh_command(app);
   adamss::app::add_info_command(app);
   adamss::app::add_run_command(app);
+  adamss::app::add_fit_command(app);
+  adamss::app::add_verify_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
