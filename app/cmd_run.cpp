@@ -83,10 +83,21 @@ void write_summary(const fs::path& file, const solver::LoadedScene& sc, const so
       one["volume_min_m3"] = e.min;
       one["volume_min_t_s"] = e.t_min;
       one["ejection_fraction"] = e.max > 0 ? (e.max - e.min) / e.max : 0.0;
+      // Beat metrics: from the volume extrema by default (EDV = largest, ESV = smallest volume,
+      // the pressures at those times); a circulation overrides them with its valve-event values.
+      one["edv_m3"] = e.max;
+      one["esv_m3"] = e.min;
+      one["edp_Pa"] = e.p_at_max;
+      one["esp_Pa"] = e.p_at_min;
+      one["stroke_volume_m3"] = e.max - e.min;
+      one["peak_pressure_Pa"] = e.p_max;
     }
+    for (const auto& [key, value] : c->metrics()) one[key] = value;
     cav.push_back(one);
   }
   j["cavities"] = cav;
+  j["fiber_stretch_max"] = writer.fibre_stretch_max();
+  j["fiber_stretch_min"] = writer.fibre_stretch_min();
   // "probes": {NAME: [x, y, z]} (final positions, m); the details beside it.
   json probes = json::object(), details = json::object();
   for (const auto& p : m.probes) {

@@ -35,6 +35,23 @@ CavityConstraintTerm::CavityConstraintTerm(const Surface& surface, TimeCourse ra
   unit_ = make_cavity_pressure_term(surface_, TimeCourse::constant(1.0), static_cast<std::size_t>(x_ref.cols()));
 }
 
+CavityConstraintTerm::CavityConstraintTerm(const Surface& surface, const CirculationSettings& circulation,
+                                           const Eigen::Matrix3Xd& x_ref, const std::string& what)
+    : CavityConstraintTerm(surface, TimeCourse::constant(1.0), x_ref) {
+  circulation_ = std::make_unique<Circulation>(circulation, v0_, what);
+}
+
+CavityCondition CavityConstraintTerm::condition(double t1, double h) const {
+  if (circulation_) return circulation_->condition(t1, h);
+  CavityCondition c;
+  c.volume = target_volume(t1);
+  return c;
+}
+
+void CavityConstraintTerm::end_step(const StateView& s, double dt) {
+  if (circulation_) circulation_->end_step(s.t, dt, volume(s.x), p_);
+}
+
 double CavityConstraintTerm::energy(const StateView& /*s*/) const {
   throw std::logic_error("force term '" + name() + "' has no energy");
 }
@@ -58,7 +75,14 @@ void CavityConstraintTerm::add_volume_gradient(const Eigen::Matrix3Xd& x, Eigen:
 
 std::string CavityConstraintTerm::describe() const {
   std::ostringstream os;
-  os << "volume held at r(t) V0, V0 = " << v0_ * 1e6 << " ml, r " << ratio_.describe();
+  if (circulation_) {
+    const auto& w = circulation_->windkessel().parameters();
+    os << "circulation (filling / isovolumic / Windkessel ejection), V0 = " << v0_ * 1e6 << " ml, Z_c "
+       << w.characteristic_impedance << " R_p " << w.peripheral_resistance << " Pa s/m^3, C " << w.compliance
+       << " m^3/Pa";
+  } else {
+    os << "volume held at r(t) V0, V0 = " << v0_ * 1e6 << " ml, r " << ratio_.describe();
+  }
   return os.str();
 }
 

@@ -14,10 +14,19 @@
 // (pressure()), reported in globals.csv and summary.json. backward_euler_newton solves the
 // same bordered system for the velocity update (solver/implicit.cpp); the explicit integrators
 // and the linearised backward_euler refuse the term by name.
+//
+// Generalised condition (a cavity coupled to a circulation, solver/circulation.hpp). Over a
+// step ending at t1 the cavity imposes either P = P_given (no volume condition: the bordered
+// row is dP = P_given - P) or V(x) = V*(P) with V*(P) = V_c + s P, s = dV*/dP <= 0 (a held
+// volume has s = 0; ejection into a Windkessel s = -h / b). The linearised row is
+//   g . dx - s dP = V*(P) - V(x),
+// so the Schur complement gains -s on its diagonal. Without a circulation the condition is the
+// held volume V* = r(t1) V0 above.
 #include <memory>
 #include <string>
 
 #include "solver/cavity_pressure.hpp"
+#include "solver/circulation.hpp"
 #include "solver/model.hpp"
 #include "solver/surface.hpp"
 
@@ -28,6 +37,10 @@ class CavityConstraintTerm final : public ForceTerm, public VolumeMonitor {
   /// `ratio` is r(t) = V*(t) / V0 with V0 the volume of `surface` at x_ref. InputError if the
   /// surface is open (a constraint needs a closed cavity: build it with a lid) or V0 <= 0.
   CavityConstraintTerm(const Surface& surface, TimeCourse ratio, const Eigen::Matrix3Xd& x_ref);
+  /// A cavity coupled to a circulation (phases, valves, Windkessel); the circulation starts from
+  /// the cavity volume at x_ref. Same InputErrors.
+  CavityConstraintTerm(const Surface& surface, const CirculationSettings& circulation, const Eigen::Matrix3Xd& x_ref,
+                       const std::string& what);
 
   [[nodiscard]] std::string name() const override { return "cavity_volume:" + surface_.name; }
   [[nodiscard]] bool has_energy() const override { return false; }
@@ -36,6 +49,8 @@ class CavityConstraintTerm final : public ForceTerm, public VolumeMonitor {
   void add_forces(const StateView& s, Eigen::Matrix3Xd& f) const override;
   void add_jacobian(const StateView& s, JacobianSink& sink) const override;
   [[nodiscard]] std::string describe() const override;
+  /// Advances the circulation (if any) after an accepted step: valve events, Windkessel state.
+  void end_step(const StateView& s, double dt) override;
 
   // VolumeMonitor
   [[nodiscard]] double volume(const Eigen::Matrix3Xd& x) const override { return enclosed_volume(surface_, x); }
@@ -44,6 +59,10 @@ class CavityConstraintTerm final : public ForceTerm, public VolumeMonitor {
   /// g = dV/dx (m^2 per coordinate), added to `g` (3 x n).
   void add_volume_gradient(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& g) const;
   [[nodiscard]] double target_volume(double t) const { return ratio_(t) * v0_; }
+  /// The condition over a step of length h ending at t1 (see above).
+  [[nodiscard]] CavityCondition condition(double t1, double h) const;
+  /// The circulation, or nullptr for a plain volume_ratio constraint.
+  [[nodiscard]] const Circulation* circulation() const { return circulation_.get(); }
   [[nodiscard]] double reference_volume() const { return v0_; }
   [[nodiscard]] double multiplier() const { return p_; }
   void set_multiplier(double p) { p_ = p; }
@@ -53,8 +72,9 @@ class CavityConstraintTerm final : public ForceTerm, public VolumeMonitor {
   TimeCourse ratio_;
   double v0_ = 0.0;
   double p_ = 0.0;
+  std::unique_ptr<Circulation> circulation_;
   std::unique_ptr<CavityPressureTerm> unit_;  // the eq. 2.119 load at P = 1 Pa
-  mutable Eigen::Matrix3Xd unit_scratch_;      // its forces, reused across evaluations
+  mutable Eigen::Matrix3Xd unit_scratch_;     // its forces, reused across evaluations
 };
 
 }  // namespace adamss::solver

@@ -47,6 +47,42 @@ void zero_dofs(Eigen::Matrix3Xd& m, const std::vector<PetscInt>& dofs) {
   for (const PetscInt d : dofs) m.data()[d] = 0.0;
 }
 
+/// Residual of cavity condition `c` at pressure p and volume v (solver/cavity_constraint.hpp):
+/// P_given - p, or V*(p) - v. `ok` when it is within the Newton tolerance (1e-10 relative).
+double condition_residual(const CavityCondition& c, double p, double v, double v_ref, bool& ok) {
+  if (c.pressure_given) {
+    const double r = c.pressure - p;
+    ok = std::abs(r) <= 1e-10 * std::max(1.0, std::abs(c.pressure));
+    return r;
+  }
+  const double r = c.volume + c.dvolume_dpressure * p - v;
+  ok = std::abs(r) <= 1e-10 * v_ref;
+  return r;
+}
+
+/// The m x m Schur system of the bordered Newton step: row k is g_k . y_l - s_k delta_kl with
+/// right-hand side r_k - g_k . y1 for a volume condition, the identity row with r_k for a given
+/// pressure. g, y: the (scaled) volume gradients and A^{-1} g_l; y1 = A^{-1} r.
+Eigen::VectorXd solve_schur(const std::vector<CavityCondition>& cond, const std::vector<Eigen::Matrix3Xd>& g,
+                            const std::vector<Eigen::Matrix3Xd>& y, const Eigen::Matrix3Xd& y1,
+                            const Eigen::VectorXd& rv) {
+  const auto m = static_cast<Eigen::Index>(cond.size());
+  Eigen::MatrixXd schur = Eigen::MatrixXd::Zero(m, m);
+  Eigen::VectorXd rhs(m);
+  for (Eigen::Index k = 0; k < m; ++k) {
+    const auto ku = static_cast<std::size_t>(k);
+    if (cond[ku].pressure_given) {
+      schur(k, k) = 1.0;
+      rhs[k] = rv[k];
+      continue;
+    }
+    rhs[k] = rv[k] - g[ku].cwiseProduct(y1).sum();
+    for (Eigen::Index l = 0; l < m; ++l) schur(k, l) = g[ku].cwiseProduct(y[static_cast<std::size_t>(l)]).sum();
+    schur(k, k) -= cond[ku].dvolume_dpressure;
+  }
+  return schur.fullPivLu().solve(rhs);
+}
+
 }  // namespace
 
 ImplicitIntegrator::ImplicitIntegrator(System& system, Kind kind, const ImplicitSettings& settings)
@@ -306,7 +342,11 @@ bool ImplicitIntegrator::attempt(State& s, double h, StepReport& rep) {
       // h g_k . dv = V*_k - V_k is the m x m Schur system (h g_k . y_l) dP = (V* - V) - h g_k . y1.
       const std::size_t mc = constraints_.size();
       std::vector<double> p_saved(mc);
-      for (std::size_t k = 0; k < mc; ++k) p_saved[k] = constraints_[k]->multiplier();
+      std::vector<CavityCondition> cond(mc);
+      for (std::size_t k = 0; k < mc; ++k) {
+        p_saved[k] = constraints_[k]->multiplier();
+        cond[k] = constraints_[k]->condition(t1, h);
+      }
       auto fail = [&] {
         for (std::size_t k = 0; k < mc; ++k) constraints_[k]->set_multiplier(p_saved[k]);
         return false;
@@ -325,8 +365,10 @@ bool ImplicitIntegrator::attempt(State& s, double h, StepReport& rep) {
         bool volumes_ok = true;
         for (std::size_t k = 0; k < mc; ++k) {
           const auto* c = constraints_[k];
-          rv[static_cast<Eigen::Index>(k)] = c->target_volume(t1) - c->volume(x);
-          volumes_ok = volumes_ok && std::abs(rv[static_cast<Eigen::Index>(k)]) <= 1e-10 * c->reference_volume();
+          bool ok = false;
+          rv[static_cast<Eigen::Index>(k)] =
+              condition_residual(cond[k], c->multiplier(), c->volume(x), c->reference_volume(), ok);
+          volumes_ok = volumes_ok && ok;
         }
         if (!std::isfinite(nr) || !rv.allFinite()) return fail();
         history_.push_back(nr);
@@ -344,8 +386,6 @@ bool ImplicitIntegrator::attempt(State& s, double h, StepReport& rep) {
         Eigen::Matrix3Xd dv(3, v.cols());
         from_vec(u_, dv);
         if (mc > 0) {
-          Eigen::MatrixXd schur(static_cast<Eigen::Index>(mc), static_cast<Eigen::Index>(mc));
-          Eigen::VectorXd rhs(static_cast<Eigen::Index>(mc));
           for (std::size_t k = 0; k < mc; ++k) {
             g[k].setZero(3, v.cols());
             constraints_[k]->add_volume_gradient(x, g[k]);
@@ -356,12 +396,7 @@ bool ImplicitIntegrator::attempt(State& s, double h, StepReport& rep) {
             y[k].resize(3, v.cols());
             from_vec(u_, y[k]);
           }
-          for (std::size_t k = 0; k < mc; ++k) {
-            rhs[static_cast<Eigen::Index>(k)] = rv[static_cast<Eigen::Index>(k)] - g[k].cwiseProduct(dv).sum();
-            for (std::size_t l = 0; l < mc; ++l)
-              schur(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(l)) = g[k].cwiseProduct(y[l]).sum();
-          }
-          const Eigen::VectorXd dp = schur.fullPivLu().solve(rhs);
+          const Eigen::VectorXd dp = solve_schur(cond, g, y, dv, rv);
           if (!dp.allFinite()) return fail();
           for (std::size_t k = 0; k < mc; ++k) {
             dv += dp[static_cast<Eigen::Index>(k)] * y[k];
@@ -401,7 +436,11 @@ bool ImplicitIntegrator::attempt_constrained_static(State& s, double h, StepRepo
   const double t1 = s.t + h;
   const std::size_t m = constraints_.size();
   std::vector<double> p_saved(m);
-  for (std::size_t k = 0; k < m; ++k) p_saved[k] = constraints_[k]->multiplier();
+  std::vector<CavityCondition> cond(m);
+  for (std::size_t k = 0; k < m; ++k) {
+    p_saved[k] = constraints_[k]->multiplier();
+    cond[k] = constraints_[k]->condition(t1, h);
+  }
   auto restore = [&] {
     for (std::size_t k = 0; k < m; ++k) constraints_[k]->set_multiplier(p_saved[k]);
     return false;
@@ -427,8 +466,10 @@ bool ImplicitIntegrator::attempt_constrained_static(State& s, double h, StepRepo
     bool volumes_ok = true;
     for (std::size_t k = 0; k < m; ++k) {
       const auto* c = constraints_[k];
-      rv[static_cast<Eigen::Index>(k)] = c->target_volume(t1) - c->volume(cur.x);
-      volumes_ok = volumes_ok && std::abs(rv[static_cast<Eigen::Index>(k)]) <= 1e-10 * c->reference_volume();
+      bool ok = false;
+      rv[static_cast<Eigen::Index>(k)] =
+          condition_residual(cond[k], c->multiplier(), c->volume(cur.x), c->reference_volume(), ok);
+      volumes_ok = volumes_ok && ok;
     }
     if (!std::isfinite(nr) || !rv.allFinite()) return restore();
     history_.push_back(nr);
@@ -453,15 +494,8 @@ bool ImplicitIntegrator::attempt_constrained_static(State& s, double h, StepRepo
       y[k].resize(3, n);
       from_vec(u_, y[k]);
     }
-    // Schur complement: (G^T Y) dP = (V* - V) - G^T y1.
-    Eigen::MatrixXd schur(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
-    Eigen::VectorXd rhs(static_cast<Eigen::Index>(m));
-    for (std::size_t k = 0; k < m; ++k) {
-      rhs[static_cast<Eigen::Index>(k)] = rv[static_cast<Eigen::Index>(k)] - g[k].cwiseProduct(y1).sum();
-      for (std::size_t l = 0; l < m; ++l)
-        schur(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(l)) = g[k].cwiseProduct(y[l]).sum();
-    }
-    const Eigen::VectorXd dp = schur.fullPivLu().solve(rhs);
+    // Schur complement: (G^T Y - diag s) dP = (V*(P) - V) - G^T y1 (given pressures: dP = P_given - P).
+    const Eigen::VectorXd dp = solve_schur(cond, g, y, y1, rv);
     if (!dp.allFinite()) return restore();
     Eigen::Matrix3Xd dx = y1;
     for (std::size_t k = 0; k < m; ++k) {

@@ -24,8 +24,10 @@
 // easy step (Newton <= 3 iterations, or linear iterations <= 1/4 of the limit) dt grows by 1.5
 // up to dt_max; after a hard one (Newton >= 8) it shrinks by 2.
 // A term without a Jacobian makes these integrators refuse the scene by name (require_jacobians).
-// Cavity volume constraints (solver/cavity_constraint.hpp) are enforced by `static` through a
-// bordered Newton system; the other integrators refuse them by name.
+// Cavity constraints (solver/cavity_constraint.hpp: a held volume, or a circulation's phase
+// condition -- given pressure, held volume, Windkessel ejection V = V*(P)) are enforced by
+// `static` and `backward_euler_newton` through a bordered Newton system; the linearised
+// backward_euler refuses them by name.
 #include <petscksp.h>
 
 #include <memory>
@@ -77,7 +79,7 @@ class ImplicitIntegrator : public Integrator {
   ImplicitSettings set_;
   BlockMatrix a_;
   std::vector<PetscInt> fixed_dofs_;
-  std::vector<CavityConstraintTerm*> constraints_;  ///< cavity volume constraints (static only)
+  std::vector<CavityConstraintTerm*> constraints_;  ///< cavity constraints (bordered Newton)
   KSP ksp_ = nullptr;
   Vec b_ = nullptr, u_ = nullptr;
   std::vector<double> history_;

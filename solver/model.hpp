@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "preprocess/mesh.hpp"
@@ -36,6 +37,9 @@ class VolumeMonitor {
   [[nodiscard]] virtual std::string name() const = 0;
   [[nodiscard]] virtual double volume(const Eigen::Matrix3Xd& x) const = 0;  ///< m^3
   [[nodiscard]] virtual double pressure(double t) const = 0;                 ///< Pa (0 if none applied)
+  /// Beat metrics known to the cavity (a circulation's valve-event values, SI, summary.json
+  /// keys); empty by default, when summary.json falls back to the volume extrema.
+  [[nodiscard]] virtual std::vector<std::pair<std::string, double>> metrics() const { return {}; }
 };
 
 /// The particles of one `boundary:` entry of a scene (for reaction forces in the summary).

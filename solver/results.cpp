@@ -230,19 +230,30 @@ void ResultsWriter::write_globals(const State& s, const GlobalsRow& row) {
   const bool first = !logged_;
   logged_ = true;
   max_volume_change_ = std::max(max_volume_change_, std::abs(vol - volume0_) / volume0_);
+  if (model_.mesh->has_fibres()) {
+    const Eigen::VectorXd st = fibre_stretch(*model_.mesh, s.x);
+    if (st.size() > 0) {
+      stretch_min_ = first ? st.minCoeff() : std::min(stretch_min_, st.minCoeff());
+      stretch_max_ = first ? st.maxCoeff() : std::max(stretch_max_, st.maxCoeff());
+    }
+  }
   for (std::size_t k = 0; k < model_.cavities.size(); ++k) {
     const auto& c = model_.cavities[k];
     const double cv = c->volume(s.x);
+    const double cp = c->pressure(s.t);
     Extremum& e = extrema_[k];
     if (first || cv < e.min) {
       e.min = cv;
       e.t_min = s.t;
+      e.p_at_min = cp;
     }
     if (first || cv > e.max) {
       e.max = cv;
       e.t_max = s.t;
+      e.p_at_max = cp;
     }
-    globals_ << ',' << cv << ',' << c->pressure(s.t);
+    e.p_max = first ? cp : std::max(e.p_max, cp);
+    globals_ << ',' << cv << ',' << cp;
   }
   globals_ << ',' << row.report.evaluations << ',' << row.report.rejected << ',' << row.report.error << ','
            << row.report.newton_iterations << ',' << row.report.linear_iterations << ',' << row.wall_seconds << '\n';

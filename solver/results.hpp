@@ -45,10 +45,15 @@ class ResultsWriter {
   void write_checkpoint(const State& s, std::size_t step) const;
 
   /// Smallest and largest volume (m^3) of each cavity over the logged rows, with their times.
+  /// The cavity pressure at those times and its largest value (Pa).
   struct Extremum {
     double min = 0.0, max = 0.0, t_min = 0.0, t_max = 0.0;
+    double p_at_min = 0.0, p_at_max = 0.0, p_max = 0.0;
   };
   [[nodiscard]] const std::vector<Extremum>& cavity_extrema() const { return extrema_; }
+  /// Smallest and largest element fibre stretch |F f0| over the logged rows (1 without fibres).
+  [[nodiscard]] double fibre_stretch_min() const { return stretch_min_; }
+  [[nodiscard]] double fibre_stretch_max() const { return stretch_max_; }
   /// Largest |V - V0| / V0 of the whole mesh over the logged rows.
   [[nodiscard]] double max_volume_change() const { return max_volume_change_; }
 
@@ -64,6 +69,7 @@ class ResultsWriter {
   double volume0_ = 0.0;
   std::vector<Extremum> extrema_;
   double max_volume_change_ = 0.0;
+  double stretch_min_ = 1.0, stretch_max_ = 1.0;
   bool logged_ = false;
   std::vector<double> element_volume0_;
 };

@@ -34,6 +34,10 @@ class ConstraintMonitor final : public VolumeMonitor {
   [[nodiscard]] std::string name() const override { return term_->name().substr(std::string("cavity_volume:").size()); }
   [[nodiscard]] double volume(const Eigen::Matrix3Xd& x) const override { return term_->volume(x); }
   [[nodiscard]] double pressure(double t) const override { return term_->pressure(t); }
+  [[nodiscard]] std::vector<std::pair<std::string, double>> metrics() const override {
+    return term_->circulation() != nullptr ? term_->circulation()->metrics()
+                                           : std::vector<std::pair<std::string, double>>{};
+  }
 
  private:
   const CavityConstraintTerm* term_;
@@ -71,12 +75,39 @@ void build_loads(SceneNode& loads, Model& model, const std::filesystem::path& /*
       surface = boundary_surface(*model.mesh, sel.region("region"), name);
     }
     sel.finish();
-    const bool given_p = p.has("pressure"), given_v = p.has("volume_ratio");
-    if (given_p == given_v)
+    const bool given_p = p.has("pressure"), given_v = p.has("volume_ratio"), given_c = p.has("circulation");
+    if (int(given_p) + int(given_v) + int(given_c) != 1)
       throw InputError(p.path() +
-                       ": give either pressure: (a load, Pa) or volume_ratio: (hold V = r(t) V0; the "
-                       "pressure becomes an unknown, integrator static)");
-    if (given_p) {
+                       ": give exactly one of pressure: (a load, Pa), volume_ratio: (hold V = r(t) V0; the "
+                       "pressure becomes an unknown, integrator static or backward_euler_newton) or circulation: "
+                       "(filling, isovolumic phases, Windkessel ejection)");
+    if (given_c) {
+      SceneNode c = p.map("circulation");
+      CirculationSettings cs;
+      cs.atrial_pressure = c.course("atrial_pressure", Dimension::Pressure);
+      cs.contraction_onset = c.positive("contraction_onset", Dimension::Time, std::nullopt, true);
+      cs.period = c.positive("period", Dimension::Time, 0.0, true);
+      if (auto w = c.optional_map("windkessel")) {
+        WindkesselParameters& wk = cs.windkessel;
+        // SI numbers: Pa s/m^3 for Z_c and R_p, m^3/Pa for C (no unit strings for these).
+        wk.characteristic_impedance =
+            w->quantity("characteristic_impedance", Dimension::Dimensionless, wk.characteristic_impedance);
+        wk.peripheral_resistance =
+            w->quantity("peripheral_resistance", Dimension::Dimensionless, wk.peripheral_resistance);
+        wk.compliance = w->quantity("compliance", Dimension::Dimensionless, wk.compliance);
+        wk.venous_pressure = w->quantity("venous_pressure", Dimension::Pressure, wk.venous_pressure);
+        wk.initial_pressure = w->quantity("initial_pressure", Dimension::Pressure, wk.initial_pressure);
+        const std::string wpath = w->path();
+        w->finish();
+        Windkessel check(wk, wpath);  // InputError naming the key
+      }
+      const std::string what = c.path();
+      c.finish();
+      p.finish();
+      auto term = std::make_unique<CavityConstraintTerm>(surface, cs, model.x_ref, what);
+      model.cavities.push_back(std::make_unique<ConstraintMonitor>(term.get()));
+      model.terms.push_back(std::move(term));
+    } else if (given_p) {
       const TimeCourse course = p.course("pressure", Dimension::Pressure);
       p.finish();
       model.terms.push_back(make_cavity_pressure_term(surface, course, model.node_count()));

@@ -109,3 +109,66 @@ TEST(CavityConstraint, NeedsAClosedSurfaceAndOneOfPressureOrVolume) {
   }
   EXPECT_THROW(isovolumic_scene("volume_ratio: 1", "volume_ratio: 1, pressure: 1 kPa"), InputError);
 }
+
+TEST(CavityConstraint, CirculationKeysAreCheckedByName) {
+  const std::string circ =
+      "circulation: {atrial_pressure: 1 kPa, contraction_onset: 0.1 s, windkessel: {peripheral_resistance: %R, "
+      "compliance: %C%X}}";
+  auto scene_with = [&](const std::string& r, const std::string& c, const std::string& extra) {
+    std::string text = circ;
+    text.replace(text.find("%R"), 2, r);
+    text.replace(text.find("%C"), 2, c);
+    text.replace(text.find("%X"), 2, extra);
+    return isovolumic_scene("volume_ratio: 1", text);
+  };
+  auto expect_error = [&](const std::string& r, const std::string& c, const std::string& extra,
+                          const std::string& key) {
+    try {
+      scene_with(r, c, extra);
+      FAIL() << "accepted: " << key;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+  };
+  EXPECT_NO_THROW(scene_with("4e9", "3.75e-10", ""));
+  expect_error("-4e9", "3.75e-10", "", "peripheral_resistance");
+  expect_error("4e9", "0", "", "compliance");
+  expect_error("4e9", "3.75e-10", ", resistance: 1", "resistance");
+  EXPECT_THROW(isovolumic_scene("volume_ratio: 1", "volume_ratio: 1, circulation: {atrial_pressure: 1 kPa}"),
+               InputError);
+}
+
+TEST(CavityConstraint, WindkesselEjectionIsCoupledImplicitly) {
+  // A circulation whose aortic valve opens at once (P_c(0) = 0, no filling: the contraction
+  // starts at t = 0): the static solver must satisfy V = V_prev - h Q(P) with the Windkessel's
+  // P = a + b Q at every ejection step.
+  auto sc = isovolumic_scene("volume_ratio: 1",
+                             "circulation: {atrial_pressure: 0, contraction_onset: 0, windkessel: "
+                             "{characteristic_impedance: 2e8, peripheral_resistance: 4e9, compliance: 3.75e-10, "
+                             "initial_pressure: 0}}");
+  solver::System sys(sc.model);
+  solver::ImplicitIntegrator integ(sys, solver::ImplicitIntegrator::Kind::Static, sc.run.implicit);
+  const auto& cav = *sc.model.cavities[0];
+  const solver::CavityConstraintTerm* term = nullptr;
+  for (const auto& t : sc.model.terms)
+    if (auto* c = dynamic_cast<const solver::CavityConstraintTerm*>(t.get())) term = c;
+  ASSERT_NE(term, nullptr);
+  solver::State s = sc.initial;
+  int ejection_steps = 0;
+  for (int i = 0; i < 6; ++i) {
+    const double h = 0.1, v_prev = cav.volume(s.x);
+    const bool ejecting = term->circulation()->phase() == solver::CardiacPhase::Ejection;
+    const auto rel = term->circulation()->windkessel().relation(h);
+    const auto rep = integ.step(s, h);
+    ASSERT_EQ(rep.rejected, 0);
+    const double v = cav.volume(s.x), p = cav.pressure(s.t);
+    if (ejecting) {
+      ++ejection_steps;
+      const double q = -(v - v_prev) / h;
+      EXPECT_GT(q, 0.0);
+      EXPECT_NEAR(p, rel.a + rel.b * q, 1e-4 * std::max(1.0, p)) << "step " << i;
+    }
+    for (auto& t : sc.model.terms) t->end_step({s.x, s.v, s.t}, h);
+  }
+  EXPECT_GE(ejection_steps, 3);
+}

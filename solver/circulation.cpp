@@ -1,0 +1,133 @@
+#include "solver/circulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/error.hpp"
+
+namespace adamss::solver {
+
+std::string phase_name(CardiacPhase p) {
+  switch (p) {
+    case CardiacPhase::Filling:
+      return "filling";
+    case CardiacPhase::IsovolumicContraction:
+      return "isovolumic_contraction";
+    case CardiacPhase::Ejection:
+      return "ejection";
+    case CardiacPhase::IsovolumicRelaxation:
+      return "isovolumic_relaxation";
+  }
+  return "?";
+}
+
+CardiacPhase next_phase(CardiacPhase p, const ValveInputs& in) {
+  switch (p) {
+    case CardiacPhase::Filling:
+      return (in.t >= in.contraction_onset && in.dv <= 0.0) ? CardiacPhase::IsovolumicContraction : p;
+    case CardiacPhase::IsovolumicContraction:
+      return in.pressure >= in.arterial_pressure ? CardiacPhase::Ejection : p;
+    case CardiacPhase::Ejection:
+      return in.dv >= 0.0 ? CardiacPhase::IsovolumicRelaxation : p;
+    case CardiacPhase::IsovolumicRelaxation:
+      return in.pressure <= in.atrial_pressure ? CardiacPhase::Filling : p;
+  }
+  return p;
+}
+
+Circulation::Circulation(CirculationSettings settings, double v_initial, const std::string& what)
+    : set_(std::move(settings)), wk_(set_.windkessel, what + ".windkessel"), v_prev_(v_initial) {
+  if (!(set_.contraction_onset >= 0.0)) throw InputError(what + ".contraction_onset must be >= 0 s");
+  if (!(set_.period >= 0.0)) throw InputError(what + ".period must be >= 0 s (0: one beat)");
+}
+
+CavityCondition Circulation::condition(double t1, double h) const {
+  CavityCondition c;
+  switch (phase_) {
+    case CardiacPhase::Filling:
+      c.pressure_given = true;
+      c.pressure = set_.atrial_pressure(t1);
+      break;
+    case CardiacPhase::IsovolumicContraction:
+    case CardiacPhase::IsovolumicRelaxation:
+      c.volume = v_held_;
+      break;
+    case CardiacPhase::Ejection: {
+      // Q = (P - a) / b = -(V - V_prev) / h  =>  V*(P) = V_prev + h a / b - (h / b) P.
+      const AffinePressure r = wk_.relation(h);
+      c.volume = v_prev_ + h * r.a / r.b;
+      c.dvolume_dpressure = -h / r.b;
+      break;
+    }
+  }
+  return c;
+}
+
+void Circulation::end_step(double t, double h, double v, double p) {
+  const double dv = v - v_prev_;
+  const double q = h > 0.0 ? -dv / h : 0.0;
+  // The Windkessel sees the outflow only while the aortic valve is open.
+  wk_.advance(h, phase_ == CardiacPhase::Ejection ? q : 0.0);
+  peak_ = std::max(peak_, p);
+  if (phase_ == CardiacPhase::IsovolumicContraction || phase_ == CardiacPhase::IsovolumicRelaxation)
+    drift_ = std::max(drift_, std::abs(v / v_held_ - 1.0));
+  ValveInputs in;
+  in.t = t;
+  in.contraction_onset = set_.contraction_onset + (set_.period > 0.0 ? beat_ * set_.period : 0.0);
+  if (set_.period == 0.0 && beat_ > 0) in.contraction_onset = INFINITY;  // one beat only
+  in.dv = dv;
+  in.pressure = p;
+  in.atrial_pressure = set_.atrial_pressure(t);
+  in.arterial_pressure = wk_.compliance_pressure();
+  const CardiacPhase next = next_phase(phase_, in);
+  if (next != phase_) {
+    switch (next) {
+      case CardiacPhase::IsovolumicContraction:
+        events_.emplace_back(t, "mitral_closes");
+        v_held_ = v;
+        edv_ = v;
+        edp_ = p;
+        if (edv_first_ < 0) edv_first_ = v;
+        break;
+      case CardiacPhase::Ejection:
+        events_.emplace_back(t, "aortic_opens");
+        break;
+      case CardiacPhase::IsovolumicRelaxation:
+        events_.emplace_back(t, "aortic_closes");
+        v_held_ = v;
+        esv_ = v;
+        esp_ = p;
+        ++completed_;
+        break;
+      case CardiacPhase::Filling:
+        events_.emplace_back(t, "mitral_opens");
+        ++beat_;
+        break;
+    }
+    phase_ = next;
+  }
+  v_prev_ = v;
+}
+
+std::vector<std::pair<std::string, double>> Circulation::metrics() const {
+  std::vector<std::pair<std::string, double>> m;
+  if (edv_ > 0) {
+    m.emplace_back("edv_m3", edv_);
+    m.emplace_back("edp_Pa", edp_);
+  }
+  if (esv_ > 0 && edv_ > 0) {
+    m.emplace_back("esv_m3", esv_);
+    m.emplace_back("esp_Pa", esp_);
+    m.emplace_back("stroke_volume_m3", edv_ - esv_);
+    m.emplace_back("ejection_fraction", (edv_ - esv_) / edv_);
+  }
+  m.emplace_back("peak_pressure_Pa", peak_);
+  m.emplace_back("isovolumic_volume_drift", drift_);
+  if (edv_first_ > 0 && completed_ > 0 && phase_ == CardiacPhase::Filling)
+    m.emplace_back("loop_closure", std::abs(v_prev_ - edv_first_) / edv_first_);
+  m.emplace_back("beats", completed_);
+  for (const auto& [t, name] : events_) m.emplace_back(name + "_t_s", t);  // the last of each
+  return m;
+}
+
+}  // namespace adamss::solver

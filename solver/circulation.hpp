@@ -1,0 +1,102 @@
+#pragma once
+// A lumped circulation for one cardiac cavity: the four phases of a beat, switched by the
+// valve conditions, and the condition each phase imposes on the cavity over a time step.
+//
+//   phase                     cavity condition over a step ending at t1 (length h)
+//   filling                   P = P_at(t1)                      (mitral open; atrial pressure course)
+//   isovolumic contraction    V = V_held                        (both valves closed; P unknown)
+//   ejection                  V = V_prev - h Q(P), P = a + b Q  (aortic open; 3-element Windkessel,
+//                                                                solver/windkessel.hpp)
+//   isovolumic relaxation     V = V_held                        (both valves closed; P unknown)
+//
+// Every condition is written as either "P given" or V*(P) = volume + dvolume_dpressure P:
+// a held volume has dV*/dP = 0; ejection has, from Q = (P - a)/b,
+//   V*(P) = V_prev + h a / b - (h / b) P.
+// The implicit solvers hold V(x) = V*(P) with P as the Lagrange multiplier of the bordered
+// Newton system (solver/implicit.cpp); dV*/dP enters the Schur complement's diagonal.
+//
+// Valve events are decided after each ACCEPTED step (never inside Newton), from the step's
+// volume change dV = V - V_prev, the cavity pressure P and the Windkessel pressure P_c:
+//   filling      -> IVC       mitral valve closes: t >= onset of the beat's contraction AND
+//                             dV <= 0 (the contracting wall starts to push blood back towards
+//                             the atrium; with P = P_at imposed this is the flow reversal
+//                             that closes the valve). V_held = V; EDV = V, EDP = P.
+//   IVC          -> ejection  aortic valve opens: P >= P_c.
+//   ejection     -> IVR       aortic valve closes: Q = -dV/h <= 0. V_held = V; ESV = V, ESP = P.
+//   IVR          -> filling   mitral valve opens: P <= P_at(t).
+// The contraction onset of beat n (n = 0, 1, ...) is onset + n period (period 0: one beat).
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "solver/time_course.hpp"
+#include "solver/windkessel.hpp"
+
+namespace adamss::solver {
+
+enum class CardiacPhase { Filling, IsovolumicContraction, Ejection, IsovolumicRelaxation };
+
+[[nodiscard]] std::string phase_name(CardiacPhase p);
+
+/// What a cavity imposes over one step: P = pressure, or V*(P) = volume + dvolume_dpressure P.
+struct CavityCondition {
+  bool pressure_given = false;
+  double pressure = 0.0;           ///< Pa (pressure_given)
+  double volume = 0.0;             ///< m^3
+  double dvolume_dpressure = 0.0;  ///< m^3/Pa (<= 0)
+};
+
+/// Inputs of the valve logic after an accepted step.
+struct ValveInputs {
+  double t = 0.0;                  ///< s, end of the step
+  double contraction_onset = 0.0;  ///< s, onset of the current beat's contraction
+  double dv = 0.0;                 ///< V - V_prev, m^3
+  double pressure = 0.0;           ///< cavity pressure, Pa
+  double atrial_pressure = 0.0;    ///< P_at(t), Pa
+  double arterial_pressure = 0.0;  ///< Windkessel P_c, Pa
+};
+
+/// The phase after an accepted step (the switching rules above; pure, unit-tested).
+[[nodiscard]] CardiacPhase next_phase(CardiacPhase p, const ValveInputs& in);
+
+struct CirculationSettings {
+  TimeCourse atrial_pressure;    ///< P_at(t), Pa
+  double contraction_onset = 0;  ///< s
+  double period = 0.0;           ///< s; 0 = one beat
+  WindkesselParameters windkessel;
+};
+
+class Circulation {
+ public:
+  /// v_initial: the cavity volume at the start (m^3). InputError (naming `what`) for a
+  /// negative onset or period or bad Windkessel parameters.
+  Circulation(CirculationSettings settings, double v_initial, const std::string& what = "circulation");
+
+  [[nodiscard]] CardiacPhase phase() const { return phase_; }
+  [[nodiscard]] const Windkessel& windkessel() const { return wk_; }
+  /// The condition for a step of length h ending at t1 (from the last accepted state).
+  [[nodiscard]] CavityCondition condition(double t1, double h) const;
+  /// After an accepted step of length h ending at t with volume v and pressure p: advances
+  /// the Windkessel and switches the phase.
+  void end_step(double t, double h, double v, double p);
+
+  /// Valve events so far: (t in s, "mitral_closes" | "aortic_opens" | "aortic_closes" | "mitral_opens").
+  [[nodiscard]] const std::vector<std::pair<double, std::string>>& events() const { return events_; }
+  /// Beat metrics (SI, keys as in summary.json): edv_m3, edp_Pa, esv_m3, esp_Pa, stroke_volume_m3,
+  /// ejection_fraction, peak_pressure_Pa, isovolumic_volume_drift (max |V/V_held - 1|),
+  /// loop_closure (|V_end - EDV_first| / EDV_first once the cavity is filling again), beats.
+  /// Values of the LAST completed beat; keys whose event has not happened are left out.
+  [[nodiscard]] std::vector<std::pair<std::string, double>> metrics() const;
+
+ private:
+  CirculationSettings set_;
+  Windkessel wk_;
+  CardiacPhase phase_ = CardiacPhase::Filling;
+  double v_prev_ = 0.0, v_held_ = 0.0;
+  int beat_ = 0;  ///< index of the beat whose contraction comes next / is under way
+  std::vector<std::pair<double, std::string>> events_;
+  double edv_ = -1, edp_ = 0, esv_ = -1, esp_ = 0, edv_first_ = -1, peak_ = 0, drift_ = 0;
+  int completed_ = 0;
+};
+
+}  // namespace adamss::solver
