@@ -1,0 +1,1 @@
+set(HARD_ALLOWED completed failed)
