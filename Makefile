@@ -30,6 +30,7 @@ heart: build
 # Explicit step cost per force term (ns per element evaluation, 1 and 2 threads); see bench/.
 bench: build
 	@$(BUILD_DIR)/bench/bench_forces --benchmark_counters_tabular=true
+	@bench/hybmss_cube.sh $(BUILD_DIR)/app/adamss bench/results/hybmss_cube.json
 
 format:
 	@git ls-files '*.cpp' '*.hpp' | xargs clang-format -i
