@@ -10,7 +10,9 @@ HEART_OUT ?= results/heart
 OMP_WAIT_POLICY ?= passive
 export OMP_WAIT_POLICY
 
-.PHONY: all deps configure build test heart bench clean format
+FUZZ_SECONDS ?= 60
+
+.PHONY: all deps configure build test heart bench fuzz sanitize clean format
 
 all: build
 
@@ -35,6 +37,21 @@ heart: build
 bench: build
 	@$(BUILD_DIR)/bench/bench_forces --benchmark_counters_tabular=true
 	@bench/hybmss_cube.sh $(BUILD_DIR)/app/adamss bench/results/hybmss_cube.json
+
+# libFuzzer on the NIfTI reader, the mesh.h5 reader and the scene parser (clang, ASan + UBSan, in
+# build-fuzz/), FUZZ_SECONDS per target; findings fail and leave a reproducer (fuzz/README.md).
+fuzz: deps
+	@CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DADAMSS_FUZZ=ON \
+	  -DADAMSS_FUZZ_SECONDS=$(FUZZ_SECONDS) > build-fuzz.configure.log 2>&1 || (cat build-fuzz.configure.log; exit 1)
+	@cmake --build build-fuzz -j $(JOBS) --target fuzz_nifti fuzz_mesh_h5 fuzz_scene
+	@cd build-fuzz && ctest -L fuzz --output-on-failure
+
+# The unit tests under AddressSanitizer + UndefinedBehaviorSanitizer (gcc, build-asan/).
+sanitize: deps
+	@cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DADAMSS_SANITIZE=ON > build-asan.configure.log 2>&1 \
+	  || (cat build-asan.configure.log; exit 1)
+	@cmake --build build-asan -j $(JOBS)
+	@cd build-asan && ASAN_OPTIONS=detect_leaks=0 ctest -L unit --output-on-failure -j $(JOBS)
 
 format:
 	@git ls-files '*.cpp' '*.hpp' | xargs clang-format -i

@@ -5,6 +5,7 @@
 // Every HDF5 handle lives in an RAII wrapper, HDF5's automatic error printing is switched off
 // while we work, and every failure surfaces as adamss::InputError naming the file and the
 // dataset or attribute.
+#include <algorithm>
 #include <hdf5.h>
 
 #include <array>
@@ -192,11 +193,16 @@ void write_attribute(const Ctx& ctx, hid_t obj, const std::string& name, const s
 void write_string_attribute(const Ctx& ctx, hid_t obj, const std::string& name, const std::string& where,
                             const std::string& value) {
   if (value.find('\0') != std::string::npos) ctx.fail("attribute " + where + name + ": value contains a NUL character");
+  // Fixed-length (NUL-padded) UTF-8: no variable-length data, so the file has no global heap.
+  // (Fuzzing found that libhdf5 1.10 can loop forever reading a variable-length attribute whose
+  // global-heap entry is corrupted; files we write never take that path. fuzz/README.md.)
   const Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
-  if (!type.valid() || H5Tset_size(type.get(), H5T_VARIABLE) < 0 || H5Tset_cset(type.get(), H5T_CSET_UTF8) < 0)
+  if (!type.valid() || H5Tset_size(type.get(), std::max<std::size_t>(value.size(), 1)) < 0 ||
+      H5Tset_strpad(type.get(), H5T_STR_NULLPAD) < 0 || H5Tset_cset(type.get(), H5T_CSET_UTF8) < 0)
     ctx.fail("attribute " + where + name + ": cannot create string type");
-  const char* cstr = value.c_str();
-  write_attribute(ctx, obj, name, where, type.get(), type.get(), &cstr);
+  std::string padded = value;
+  if (padded.empty()) padded.push_back('\0');
+  write_attribute(ctx, obj, name, where, type.get(), type.get(), padded.data());
 }
 
 void write_int_attribute(const Ctx& ctx, hid_t obj, const std::string& name, const std::string& where, int value) {
