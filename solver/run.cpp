@@ -88,7 +88,7 @@ void request_stop() {
   g_stop.store(true);
 }
 
-void check_checkpoint(const Model& model, const RunSettings& set, const StateArchive& a) {
+void check_checkpoint(Model& model, const RunSettings& set, const StateArchive& a) {
   const std::string& src = a.source();
   const auto n = static_cast<Eigen::Index>(model.node_count());
   const preprocess::Mesh& mesh = *model.mesh;
@@ -105,6 +105,8 @@ void check_checkpoint(const Model& model, const RunSettings& set, const StateArc
                      " force terms, the scene " + std::to_string(model.terms.size()) + " (a different scene)");
   if (r.integer("integrator") != integrator_code(set.integrator))
     throw InputError(src + ": the checkpoint was written by another integrator than the scene's " + set.integrator);
+  for (std::size_t k = 0; k < model.terms.size(); ++k)
+    model.terms[k]->load_state(a.child("terms/" + std::to_string(k)));
 }
 
 RunOutcome run_simulation(Model& model, State& s, const RunSettings& set, ResultsWriter& writer,
@@ -194,9 +196,7 @@ RunOutcome run_simulation(Model& model, State& s, const RunSettings& set, Result
     last_rep.rejected = static_cast<int>(li[1]);
     last_rep.newton_iterations = static_cast<int>(li[2]);
     last_rep.linear_iterations = static_cast<int>(li[3]);
-    integ->load_state(a.child("integrator"));
-    for (std::size_t k = 0; k < model.terms.size(); ++k)
-      model.terms[k]->load_state(a.child("terms/" + std::to_string(k)));
+    integ->load_state(a.child("integrator"));  // the terms' state: check_checkpoint above
   }
 
   // A resumable checkpoint: taken at the top of the loop, between two accepted steps, where the

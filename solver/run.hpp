@@ -76,8 +76,10 @@ RunOutcome run_simulation(Model& model, State& s, const RunSettings& settings, R
                           const StateArchive* resume = nullptr);
 
 /// InputError (naming the checkpoint) unless `checkpoint` is a resumable checkpoint of this
-/// model and integrator: node, element and term counts and the integrator must match.
-void check_checkpoint(const Model& model, const RunSettings& settings, const StateArchive& checkpoint);
+/// model and integrator: node, element and term counts and the integrator must match, and every
+/// term must accept its saved state (the terms' state is loaded here already; run_simulation
+/// loads it again). Call it before the results writer touches the output folder.
+void check_checkpoint(Model& model, const RunSettings& settings, const StateArchive& checkpoint);
 
 /// Requests that a running simulation stop at the next step (what SIGINT does).
 void request_stop();

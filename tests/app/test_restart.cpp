@@ -241,7 +241,7 @@ TEST(Restart, ACheckpointOfAnotherSceneIsRefusedByName) {
 TEST(Restart, SigtermWritesAResumableCheckpoint) {
   const auto dir = scratch_dir("restart_sigterm");
   const auto scene = write_scene(dir, slab_scene("{type: symplectic_euler, dt: 1 us}", "100 s"));
-  const std::string cmd = "timeout --preserve-status -s TERM 1 " + std::string(ADAMSS_BINARY) + " run " +
+  const std::string cmd = "timeout --preserve-status -s TERM 3 " + std::string(ADAMSS_BINARY) + " run " +
                           scene.string() + " -o " + (dir / "out").string() + cache_arg(dir) + " -q";
   const int rc = std::system(cmd.c_str());
   EXPECT_EQ(WEXITSTATUS(rc), 130);
