@@ -141,9 +141,10 @@ fs::path write_scene(const fs::path& dir, const std::string& text) {
 
 TEST(Restart, Abm3WithRejectedStepsAndAdaptiveSpringsIsBitwiseIdentical) {
   const auto dir = scratch_dir("restart_abm3");
-  // error_max 2e-9 m with a 20 us first step: the start-up and the ramp's kinks force halvings.
+  // error bounds 1e-10 / 1e-9 m: the step doubles while the motion is smooth and is halved
+  // (the attempt rejected and retried) at the start-up and again later in the run (step 207).
   const auto scene =
-      write_scene(dir, slab_scene("{type: abm3, dt: 20 us, error_min: 1e-11 m, error_max: 2e-9 m, dt_max: 40 us}",
+      write_scene(dir, slab_scene("{type: abm3, dt: 20 us, error_min: 1e-10 m, error_max: 1e-9 m, dt_max: 1 ms}",
                                   "2.5 ms", "\n      - volume_springs: {k_s: 2 N/m, mu: 1000}"));
   const auto full = dir / "full";
   auto r = run_adamss("run " + scene.string() + " -o " + full.string() + cache_arg(dir) + " -q");
@@ -176,7 +177,7 @@ TEST(Restart, BackwardEulerNewtonIsBitwiseIdentical) {
 TEST(Restart, IsovolumicLvCavityMultiplierIsBitwiseIdentical) {
   const auto dir = scratch_dir("restart_lv");
   const std::string scene = std::string(ADAMSS_SOURCE_DIR) + "/cases/quick/lv_isovolumic_static.yaml";
-  check_restarts(dir, scene, {1, 3});
+  check_restarts(dir, scene, {1});
 }
 
 TEST(Restart, RepeatedInterruptionsAndPeriodicCheckpoints) {
