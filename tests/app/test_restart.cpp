@@ -79,7 +79,9 @@ void expect_identical(const fs::path& a, const fs::path& b) {
   std::size_t frames_a = 0, frames_b = 0;
   for (const auto& e : fs::directory_iterator(a / "frames")) {
     ++frames_a;
-    EXPECT_EQ(read_file(e.path()), read_file(b / "frames" / e.path().filename())) << e.path().filename();
+    // (not EXPECT_EQ: a failure would print two binary files)
+    EXPECT_TRUE(read_file(e.path()) == read_file(b / "frames" / e.path().filename()))
+        << "frame " << e.path().filename() << " differs";
   }
   for ([[maybe_unused]] const auto& e : fs::directory_iterator(b / "frames")) ++frames_b;
   EXPECT_EQ(frames_a, frames_b) << b;
@@ -177,7 +179,7 @@ TEST(Restart, BackwardEulerNewtonIsBitwiseIdentical) {
 TEST(Restart, IsovolumicLvCavityMultiplierIsBitwiseIdentical) {
   const auto dir = scratch_dir("restart_lv");
   const std::string scene = std::string(ADAMSS_SOURCE_DIR) + "/cases/quick/lv_isovolumic_static.yaml";
-  check_restarts(dir, scene, {1});
+  check_restarts(dir, scene, {});
 }
 
 TEST(Restart, RepeatedInterruptionsAndPeriodicCheckpoints) {
@@ -257,4 +259,18 @@ TEST(Restart, SigtermWritesAResumableCheckpoint) {
   EXPECT_EQ(summary_without_wall(dir / "out")["steps"], steps + 50);
   EXPECT_FALSE(fs::exists(dir / "out" / "checkpoint.h5.tmp"));
   EXPECT_FALSE(fs::exists(dir / "out" / "summary.json.tmp"));
+}
+
+TEST(Restart, ACirculationIsRefusedUntilItsStateIsCheckpointed) {
+  // Known limitation: Circulation (phase, held volume, Windkessel P_c, beat metrics) has no
+  // save_state yet, so a resume could not be exact; it is refused by name, outputs untouched.
+  const auto dir = scratch_dir("restart_circulation");
+  const std::string scene = std::string(ADAMSS_SOURCE_DIR) + "/cases/heart/lv_beat_quick.yaml";
+  auto r = run_adamss("run " + scene + " -o " + (dir / "out").string() + cache_arg(dir) + " -q --stop-after-steps 1");
+  ASSERT_EQ(r.exit_code, 130) << r.output;
+  const std::string before = read_file(dir / "out" / "globals.csv");
+  r = run_adamss("run " + scene + cache_arg(dir) + " -q --resume " + (dir / "out" / "checkpoint.h5").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("circulation"), std::string::npos) << r.output;
+  EXPECT_EQ(read_file(dir / "out" / "globals.csv"), before);
 }
