@@ -205,6 +205,7 @@ void ResultsWriter::save_state(StateArchive& archive) const {
 }
 
 void ResultsWriter::resume_from(const StateArchive& archive) {
+  // Everything is checked before anything in the folder changes.
   const std::string& src = archive.source();
   frames_.clear();
   for (const double t : archive.doubles("frame_times")) {
@@ -215,13 +216,6 @@ void ResultsWriter::resume_from(const StateArchive& archive) {
                        " is missing (resume into the folder the checkpoint was written in)");
     frames_.emplace_back(t, std::string("frames/") + name);
   }
-  std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(dir_ / "frames")) {
-    const std::string stem = entry.path().stem().string();
-    if (entry.path().extension() != ".vtu" || stem.rfind("frame_", 0) != 0) continue;
-    if (std::strtoull(stem.c_str() + 6, nullptr, 10) >= frames_.size()) fs::remove(entry.path(), ec);
-  }
-  if (!frames_.empty()) write_pvd();
   rows_ = static_cast<std::size_t>(archive.integer("globals_rows"));
   logged_ = archive.integer("logged") != 0;
   max_volume_change_ = archive.scalar("volume_change_max");
@@ -236,8 +230,10 @@ void ResultsWriter::resume_from(const StateArchive& archive) {
   extrema_.clear();
   for (std::size_t k = 0; k + 7 <= ex.size(); k += 7)
     extrema_.push_back({ex[k], ex[k + 1], ex[k + 2], ex[k + 3], ex[k + 4], ex[k + 5], ex[k + 6]});
-  // globals.csv: the header and the first rows_ rows, rewritten atomically, then appended to.
+  // globals.csv: the header and the first rows_ rows (later rows of the interrupted run, and a
+  // partial last line of a killed one, are dropped).
   const fs::path csv = dir_ / "globals.csv", tmp = dir_ / "globals.csv.tmp";
+  std::string kept;
   {
     std::ifstream in(csv);
     if (!in) throw InputError("cannot resume from " + src + ": " + csv.string() + " is missing");
@@ -246,24 +242,35 @@ void ResultsWriter::resume_from(const StateArchive& archive) {
     if (line + "\n" != globals_header())
       throw InputError("cannot resume from " + src + ": the header of " + csv.string() +
                        " does not match the scene (a different scene wrote that folder)");
-    std::ofstream out(tmp);
-    out << line << '\n';
+    kept = line + "\n";
     std::size_t n = 0;
     while (n < rows_ && std::getline(in, line)) {
       if (in.eof()) break;  // a last line without its newline is an incomplete row
-      out << line << '\n';
+      kept += line + "\n";
       ++n;
     }
     if (n != rows_)
       throw InputError("cannot resume from " + src + ": " + csv.string() + " has " + std::to_string(n) +
                        " complete rows, the checkpoint counted " + std::to_string(rows_));
+  }
+  {
+    std::ofstream out(tmp);
+    out << kept;
     if (!out) throw InputError("cannot write " + tmp.string());
   }
+  std::error_code ec;
   fs::rename(tmp, csv, ec);
   if (ec) throw InputError("cannot rename " + tmp.string() + " to " + csv.string() + ": " + ec.message());
   globals_.open(csv, std::ios::app);
   if (!globals_) throw InputError("cannot write " + csv.string());
   globals_ << std::setprecision(10);
+  // Frames the interrupted run wrote after the checkpoint (its final frame) are not part of the series.
+  for (const auto& entry : fs::directory_iterator(dir_ / "frames")) {
+    const std::string stem = entry.path().stem().string();
+    if (entry.path().extension() != ".vtu" || stem.rfind("frame_", 0) != 0) continue;
+    if (std::strtoull(stem.c_str() + 6, nullptr, 10) >= frames_.size()) fs::remove(entry.path(), ec);
+  }
+  if (!frames_.empty()) write_pvd();
 }
 
 void ResultsWriter::write_frame(const State& s, const Eigen::Matrix3Xd& f) {
