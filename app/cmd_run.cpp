@@ -7,6 +7,7 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "app/commands.hpp"
 #include "common/error.hpp"
@@ -24,6 +25,8 @@ struct RunArgs {
   std::string output;
   std::string cache;
   std::string petsc;
+  std::string resume;
+  std::size_t stop_after_steps = 0;
   bool check_only = false;
   bool quiet = false;
 };
@@ -175,17 +178,32 @@ int run_scene(const RunArgs& a) {
   }
   if (!a.petsc.empty()) sc.run.implicit.petsc_options += " " + a.petsc;
   if (a.check_only) return 0;
-  if (a.output.empty()) throw InputError("-o/--output is required (the results folder)");
+  // --resume: the whole checkpoint is read (and checked against the scene) before anything in
+  // the output folder changes; the results continue in the checkpoint's folder by default.
+  std::optional<solver::StateArchive> checkpoint;
+  std::optional<solver::StateArchive> writer_state;
+  fs::path output = a.output;
+  if (!a.resume.empty()) {
+    checkpoint = solver::StateArchive::read_hdf5(a.resume);
+    solver::check_checkpoint(sc.model, sc.run, *checkpoint);
+    writer_state = checkpoint->child("writer");
+    if (output.empty()) output = fs::path(a.resume).parent_path();
+    if (output.empty()) output = ".";
+  }
+  if (output.empty()) throw InputError("-o/--output is required (the results folder)");
 
-  solver::ResultsWriter writer(a.output, sc.model);
+  solver::ResultsWriter writer(output, sc.model, writer_state ? &*writer_state : nullptr);
   solver::State s = sc.initial;
   const solver::State initial = s;
   sc.run.progress = !a.quiet;
-  const solver::RunOutcome out = solver::run_simulation(sc.model, s, sc.run, writer);
+  sc.run.stop_after_steps = a.stop_after_steps;
+  const solver::RunOutcome out =
+      solver::run_simulation(sc.model, s, sc.run, writer, checkpoint ? &*checkpoint : nullptr);
   write_summary(writer.dir() / "summary.json", sc, out, initial, writer);
   if (!a.quiet) {
     std::cout << out.status << " (" << out.reason << "): " << out.steps << " steps to t = " << out.t << " s in "
-              << out.wall_seconds << " s wall, " << writer.frame_count() << " frames; results in " << a.output << "\n";
+              << out.wall_seconds << " s wall, " << writer.frame_count() << " frames; results in " << output.string()
+              << "\n";
   }
   if (out.status == "unstable" || out.status == "failed") {
     throw NumericalError("run " + out.status + ": " + out.reason);
@@ -210,6 +228,13 @@ void add_run_command(CLI::App& app) {
   sub->add_option("--petsc", args->petsc,
                   "PETSc options for the implicit and static integrators, e.g. \"-ksp_monitor -pc_type gamg\" "
                   "(added after the scene's integrator.petsc_options)");
+  sub->add_option("--resume", args->resume,
+                  "Continue an interrupted run from its checkpoint (OUT/checkpoint.h5, written on SIGINT/SIGTERM "
+                  "and every output.checkpoint_interval): the result equals the uninterrupted run bit for bit. "
+                  "The results continue in -o (default: the checkpoint's folder)");
+  sub->add_option("--stop-after-steps", args->stop_after_steps,
+                  "Stop as on SIGINT (checkpoint, status interrupted) once this many steps are done (tests)")
+      ->group("");
   sub->add_flag("--check", args->check_only, "Validate the scene and print the model summary, do not run");
   sub->add_flag("-q,--quiet", args->quiet, "No progress line and no summary on stdout");
   sub->callback([args]() {

@@ -135,4 +135,38 @@ StepReport Abm3::step(State& s, double dt) {
   return rep;
 }
 
+void Abm3::save_state(StateArchive& archive) const {
+  archive.put("h", h_);
+  archive.put_int("history_size", static_cast<std::int64_t>(hist_.size()));
+  archive.put_ints("counters", {doublings_, halvings_});
+  for (std::size_t k = 0; k < hist_.size(); ++k) {
+    StateArchive p = archive.child("history/" + std::to_string(k));
+    p.put("x", hist_[k].x);
+    p.put("v", hist_[k].v);
+    p.put("a", hist_[k].a);
+    p.put("t", hist_[k].t);
+  }
+}
+
+void Abm3::load_state(const StateArchive& archive) {
+  const Eigen::Index n = static_cast<Eigen::Index>(sys_.model().node_count());
+  h_ = archive.scalar("h");
+  const std::int64_t size = archive.integer("history_size");
+  if (size < 0 || size > 5) throw InputError(archive.source() + ": abm3 history_size must be 0..5");
+  const auto& c = archive.integers("counters");
+  if (c.size() != 2) throw InputError(archive.source() + ": abm3 counters should hold 2 values");
+  doublings_ = static_cast<int>(c[0]);
+  halvings_ = static_cast<int>(c[1]);
+  hist_.clear();
+  for (std::int64_t k = 0; k < size; ++k) {
+    const StateArchive p = archive.child("history/" + std::to_string(k));
+    Point pt;
+    pt.x = p.matrix("x", n);
+    pt.v = p.matrix("v", n);
+    pt.a = p.matrix("a", n);
+    pt.t = p.scalar("t");
+    hist_.push_back(std::move(pt));
+  }
+}
+
 }  // namespace adamss::solver

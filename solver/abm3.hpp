@@ -37,6 +37,13 @@ class Abm3 final : public Integrator {
   [[nodiscard]] std::string name() const override { return "abm3"; }
   [[nodiscard]] bool adaptive() const override { return true; }
   StepReport step(State& s, double dt) override;
+  /// Checkpoint: h_ ("h"), the equidistant history (1-5 points: x, v, a, t; "history/k", newest
+  /// first; fewer than 3 means the Heun start-up is still under way) and the doubling/halving
+  /// counters. With them the next step uses the same predictor, corrector and step control as
+  /// the uninterrupted run; the accelerations are stored, not recomputed, so even a force term
+  /// whose evaluation is not bitwise repeatable could not change them.
+  void save_state(StateArchive& archive) const override;
+  void load_state(const StateArchive& archive) override;
 
   [[nodiscard]] double current_dt() const { return h_; }
   [[nodiscard]] int doublings() const { return doublings_; }

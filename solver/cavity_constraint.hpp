@@ -51,6 +51,13 @@ class CavityConstraintTerm final : public ForceTerm, public VolumeMonitor {
   [[nodiscard]] std::string describe() const override;
   /// Advances the circulation (if any) after an accepted step: valve events, Windkessel state.
   void end_step(const StateView& s, double dt) override;
+  /// Checkpoint: the pressure multiplier P ("multiplier"), which the bordered Newton solve starts
+  /// from, so a restarted step begins where the uninterrupted one did. A circulation's state
+  /// (phase, held volume, Windkessel P_c, beat counters, events) is saved once Circulation has
+  /// save_state/load_state (hook in cavity_constraint.cpp); until then load_state refuses a
+  /// checkpoint of a cavity with a circulation, since the restart would not be exact.
+  void save_state(StateArchive& archive) const override;
+  void load_state(const StateArchive& archive) override;
 
   // VolumeMonitor
   [[nodiscard]] double volume(const Eigen::Matrix3Xd& x) const override { return enclosed_volume(surface_, x); }

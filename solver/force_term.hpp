@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "preprocess/mesh.hpp"
+#include "solver/state_archive.hpp"
 
 namespace adamss::solver {
 
@@ -58,6 +59,13 @@ class ForceTerm {
   /// absent) and the term writes its elements' values. The default adds nothing.
   virtual void add_cell_fields(const StateView& /*s*/, std::size_t /*element_count*/,
                                std::map<std::string, Eigen::VectorXd>& /*fields*/) const {}
+  /// Checkpoint/restart (solver/state_archive.hpp): writes the term's internal state -- whatever
+  /// end_step or an integrator changes between steps (adaptive stiffnesses, a multiplier) -- into
+  /// `archive` (a prefix of its own), so that load_state on a freshly built term of the same scene
+  /// makes it bitwise the term of the interrupted run. Stateless terms (the default) save nothing.
+  virtual void save_state(StateArchive& /*archive*/) const {}
+  /// Restores what save_state wrote; InputError (naming the checkpoint and key) if it does not fit.
+  virtual void load_state(const StateArchive& /*archive*/) {}
   /// Short human description for the run log ("764 elements, law hunter").
   [[nodiscard]] virtual std::string describe() const { return {}; }
 };

@@ -511,4 +511,16 @@ bool ImplicitIntegrator::attempt_constrained_static(State& s, double h, StepRepo
   return true;
 }
 
+void ImplicitIntegrator::save_state(StateArchive& archive) const {
+  archive.put_int("have_prev", have_prev_ ? 1 : 0);
+  archive.put("prev_h", prev_h_);
+  if (have_prev_) archive.put("prev_x", prev_x_);
+}
+
+void ImplicitIntegrator::load_state(const StateArchive& archive) {
+  have_prev_ = archive.integer("have_prev") != 0;
+  prev_h_ = archive.scalar("prev_h");
+  if (have_prev_) prev_x_ = archive.matrix("prev_x", static_cast<Eigen::Index>(sys_.model().node_count()));
+}
+
 }  // namespace adamss::solver

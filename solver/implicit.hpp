@@ -62,6 +62,12 @@ class ImplicitIntegrator : public Integrator {
   [[nodiscard]] std::string name() const override;
   [[nodiscard]] bool adaptive() const override { return set_.adapt; }
   StepReport step(State& s, double dt) override;
+  /// Checkpoint: the static predictor (prev_x_, prev_h_, have_prev_), from which the next load
+  /// step's Newton iteration starts; the cavity multipliers are the constraint terms' own state.
+  /// The KSP keeps no state between solves that the result depends on (zero initial guess, the
+  /// preconditioner rebuilt for every new matrix).
+  void save_state(StateArchive& archive) const override;
+  void load_state(const StateArchive& archive) override;
 
   /// Residual 2-norms of the Newton iterations of the last step (for tests and logs).
   [[nodiscard]] const std::vector<double>& residual_history() const { return history_; }

@@ -16,6 +16,7 @@
 #include <string>
 
 #include "solver/model.hpp"
+#include "solver/state_archive.hpp"
 
 namespace adamss::solver {
 
@@ -37,6 +38,7 @@ class System {
   [[nodiscard]] const Model& model() const { return model_; }
   /// Positions at which fixed coordinates are held (the state at t = 0).
   void set_fixed_positions(const Eigen::Matrix3Xd& x) { x_fixed_ = x; }
+  [[nodiscard]] const Eigen::Matrix3Xd& fixed_positions() const { return x_fixed_; }
 
  private:
   Model& model_;
@@ -66,6 +68,13 @@ class Integrator {
   virtual StepReport step(State& s, double dt) = 0;
   /// True if the integrator chooses its own step size (then `dt` of step() is a proposal).
   [[nodiscard]] virtual bool adaptive() const { return false; }
+  /// Checkpoint/restart: everything the next step() depends on besides the state passed to it
+  /// (multistep history, current step size, predictors), written into `archive` so that
+  /// load_state on a fresh integrator of the same scene continues bit for bit. The one-step
+  /// explicit schemes have none (the default).
+  virtual void save_state(StateArchive& /*archive*/) const {}
+  /// Restores what save_state wrote; InputError naming the checkpoint and key if it does not fit.
+  virtual void load_state(const StateArchive& /*archive*/) {}
 };
 
 /// Settings of the adaptive ABM3 scheme (sec. 2.5.4).

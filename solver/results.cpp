@@ -1,11 +1,10 @@
 #include "solver/results.hpp"
 
-#include <hdf5.h>
-
 #include <Eigen/Dense>
 #include <array>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <iomanip>
 #include <sstream>
 #include <system_error>
@@ -161,23 +160,117 @@ void write_vtu(const fs::path& path, const preprocess::Mesh& mesh, const Eigen::
   if (ec) throw InputError("cannot rename " + tmp.string() + " to " + path.string() + ": " + ec.message());
 }
 
-ResultsWriter::ResultsWriter(fs::path out_dir, const Model& model) : dir_(std::move(out_dir)), model_(model) {
+ResultsWriter::ResultsWriter(fs::path out_dir, const Model& model, const StateArchive* resume)
+    : dir_(std::move(out_dir)), model_(model) {
   std::error_code ec;
   fs::create_directories(dir_ / "frames", ec);
   if (ec) throw InputError("cannot create the output folder " + (dir_ / "frames").string() + ": " + ec.message());
+  element_volume0_ = element_volumes(*model.mesh, model.x_ref);
+  for (const double v : element_volume0_) volume0_ += v;
+  if (resume != nullptr) {
+    resume_from(*resume);
+    return;
+  }
   // Stale frames of an earlier run in the same folder would mix into ParaView's view of the series.
   for (const auto& entry : fs::directory_iterator(dir_ / "frames")) {
     if (entry.path().extension() == ".vtu") fs::remove(entry.path(), ec);
   }
-  element_volume0_ = element_volumes(*model.mesh, model.x_ref);
-  for (const double v : element_volume0_) volume0_ += v;
   globals_.open(dir_ / "globals.csv");
   if (!globals_) throw InputError("cannot write " + (dir_ / "globals.csv").string());
-  globals_ << "step,t,dt,kinetic_energy,total_volume,volume_change,element_volume_change_max,barycentre_x,barycentre_y,"
-              "barycentre_z";
-  for (const auto& c : model.cavities) globals_ << ',' << c->name() << "_volume," << c->name() << "_pressure";
-  globals_ << ",force_evaluations,rejected_steps,abm3_error,newton_iterations,linear_iterations,wall_time\n";
+  globals_ << globals_header();
   globals_ << std::setprecision(10);
+}
+
+std::string ResultsWriter::globals_header() const {
+  std::ostringstream h;
+  h << "step,t,dt,kinetic_energy,total_volume,volume_change,element_volume_change_max,barycentre_x,barycentre_y,"
+       "barycentre_z";
+  for (const auto& c : model_.cavities) h << ',' << c->name() << "_volume," << c->name() << "_pressure";
+  h << ",force_evaluations,rejected_steps,abm3_error,newton_iterations,linear_iterations,wall_time\n";
+  return h.str();
+}
+
+void ResultsWriter::save_state(StateArchive& archive) const {
+  std::vector<double> times;
+  for (const auto& fr : frames_) times.push_back(fr.first);
+  archive.put("frame_times", times);
+  archive.put_int("globals_rows", static_cast<std::int64_t>(rows_));
+  archive.put_int("logged", logged_ ? 1 : 0);
+  archive.put("volume_change_max", max_volume_change_);
+  archive.put("fibre_stretch", std::vector<double>{stretch_min_, stretch_max_});
+  std::vector<double> ex;
+  for (const Extremum& e : extrema_)
+    ex.insert(ex.end(), {e.min, e.max, e.t_min, e.t_max, e.p_at_min, e.p_at_max, e.p_max});
+  archive.put("cavity_extrema", ex);
+}
+
+void ResultsWriter::resume_from(const StateArchive& archive) {
+  // Everything is checked before anything in the folder changes.
+  const std::string& src = archive.source();
+  frames_.clear();
+  for (const double t : archive.doubles("frame_times")) {
+    char name[64];
+    std::snprintf(name, sizeof name, "frame_%05zu.vtu", frames_.size());
+    if (!fs::exists(dir_ / "frames" / name))
+      throw InputError("cannot resume from " + src + ": " + (dir_ / "frames" / name).string() +
+                       " is missing (resume into the folder the checkpoint was written in)");
+    frames_.emplace_back(t, std::string("frames/") + name);
+  }
+  rows_ = static_cast<std::size_t>(archive.integer("globals_rows"));
+  logged_ = archive.integer("logged") != 0;
+  max_volume_change_ = archive.scalar("volume_change_max");
+  const auto& st = archive.doubles("fibre_stretch");
+  if (st.size() != 2) throw InputError(src + ": writer/fibre_stretch should hold 2 values");
+  stretch_min_ = st[0];
+  stretch_max_ = st[1];
+  const auto& ex = archive.doubles("cavity_extrema");
+  if (ex.size() % 7 != 0 || (ex.size() != 0 && ex.size() / 7 != model_.cavities.size()))
+    throw InputError(src + ": writer/cavity_extrema does not match the scene's " +
+                     std::to_string(model_.cavities.size()) + " cavities");
+  extrema_.clear();
+  for (std::size_t k = 0; k + 7 <= ex.size(); k += 7)
+    extrema_.push_back({ex[k], ex[k + 1], ex[k + 2], ex[k + 3], ex[k + 4], ex[k + 5], ex[k + 6]});
+  // globals.csv: the header and the first rows_ rows (later rows of the interrupted run, and a
+  // partial last line of a killed one, are dropped).
+  const fs::path csv = dir_ / "globals.csv", tmp = dir_ / "globals.csv.tmp";
+  std::string kept;
+  {
+    std::ifstream in(csv);
+    if (!in) throw InputError("cannot resume from " + src + ": " + csv.string() + " is missing");
+    std::string line;
+    std::getline(in, line);
+    if (line + "\n" != globals_header())
+      throw InputError("cannot resume from " + src + ": the header of " + csv.string() +
+                       " does not match the scene (a different scene wrote that folder)");
+    kept = line + "\n";
+    std::size_t n = 0;
+    while (n < rows_ && std::getline(in, line)) {
+      if (in.eof()) break;  // a last line without its newline is an incomplete row
+      kept += line + "\n";
+      ++n;
+    }
+    if (n != rows_)
+      throw InputError("cannot resume from " + src + ": " + csv.string() + " has " + std::to_string(n) +
+                       " complete rows, the checkpoint counted " + std::to_string(rows_));
+  }
+  {
+    std::ofstream out(tmp);
+    out << kept;
+    if (!out) throw InputError("cannot write " + tmp.string());
+  }
+  std::error_code ec;
+  fs::rename(tmp, csv, ec);
+  if (ec) throw InputError("cannot rename " + tmp.string() + " to " + csv.string() + ": " + ec.message());
+  globals_.open(csv, std::ios::app);
+  if (!globals_) throw InputError("cannot write " + csv.string());
+  globals_ << std::setprecision(10);
+  // Frames the interrupted run wrote after the checkpoint (its final frame) are not part of the series.
+  for (const auto& entry : fs::directory_iterator(dir_ / "frames")) {
+    const std::string stem = entry.path().stem().string();
+    if (entry.path().extension() != ".vtu" || stem.rfind("frame_", 0) != 0) continue;
+    if (std::strtoull(stem.c_str() + 6, nullptr, 10) >= frames_.size()) fs::remove(entry.path(), ec);
+  }
+  if (!frames_.empty()) write_pvd();
 }
 
 void ResultsWriter::write_frame(const State& s, const Eigen::Matrix3Xd& f) {
@@ -210,7 +303,9 @@ void ResultsWriter::write_pvd() const {
     out << "  </Collection>\n</VTKFile>\n";
     if (!out) throw InputError("cannot write " + tmp.string());
   }
-  fs::rename(tmp, dir_ / "series.pvd");
+  std::error_code ec;
+  fs::rename(tmp, dir_ / "series.pvd", ec);
+  if (ec) throw InputError("cannot rename " + tmp.string() + ": " + ec.message());
 }
 
 void ResultsWriter::write_globals(const State& s, const GlobalsRow& row) {
@@ -258,35 +353,19 @@ void ResultsWriter::write_globals(const State& s, const GlobalsRow& row) {
   globals_ << ',' << row.report.evaluations << ',' << row.report.rejected << ',' << row.report.error << ','
            << row.report.newton_iterations << ',' << row.report.linear_iterations << ',' << row.wall_seconds << '\n';
   globals_.flush();
+  ++rows_;
 }
 
 void ResultsWriter::write_checkpoint(const State& s, std::size_t step) const {
-  const fs::path file = dir_ / "checkpoint.h5";
-  const fs::path tmp = dir_ / "checkpoint.h5.tmp";
-  const hid_t f = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  if (f < 0) throw InputError("cannot create " + tmp.string());
-  auto write_matrix = [&](const char* name, const Eigen::Matrix3Xd& m) {
-    const hsize_t dims[2] = {static_cast<hsize_t>(m.cols()), 3};
-    const hid_t space = H5Screate_simple(2, dims, nullptr);
-    const hid_t ds = H5Dcreate2(f, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    const herr_t st = H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, m.data());
-    H5Dclose(ds);
-    H5Sclose(space);
-    return st >= 0;
-  };
-  auto write_attr = [&](const char* name, double v) {
-    const hid_t space = H5Screate(H5S_SCALAR);
-    const hid_t a = H5Acreate2(f, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT);
-    H5Awrite(a, H5T_NATIVE_DOUBLE, &v);
-    H5Aclose(a);
-    H5Sclose(space);
-  };
-  const bool ok = write_matrix("x", s.x) && write_matrix("v", s.v);
-  write_attr("t", s.t);
-  write_attr("step", static_cast<double>(step));
-  H5Fclose(f);
-  if (!ok) throw InputError("error while writing " + tmp.string());
-  fs::rename(tmp, file);
+  StateArchive a;
+  a.put("x", s.x);
+  a.put("v", s.v);
+  a.put_int("run/resumable", 0);
+  write_checkpoint(a, s.t, step);
+}
+
+void ResultsWriter::write_checkpoint(const StateArchive& archive, double t, std::size_t step) const {
+  archive.write_hdf5(dir_ / "checkpoint.h5", {{"t", t}, {"step", static_cast<double>(step)}});
 }
 
 }  // namespace adamss::solver

@@ -10,7 +10,13 @@
 //                         relative volume change, barycentre, per cavity volume and pressure,
 //                         force evaluations, rejected steps, ABM3 error, wall time
 //   summary.json          status and the final numbers (see docs/file-formats.md)
-//   checkpoint.h5         written on SIGINT and on failures: /x, /v (n x 3), attribute t
+//   checkpoint.h5         written every output.checkpoint_interval, on SIGINT/SIGTERM and on
+//                         failures: /x, /v (n x 3), attributes t and step, and (for a resumable
+//                         checkpoint) the run loop's, integrator's, terms' and this writer's
+//                         state (solver/state_archive.hpp, docs/file-formats.md)
+// Every file except globals.csv is written to NAME.tmp and renamed over NAME, so an interrupted
+// run never leaves a truncated frame, series, summary or checkpoint. globals.csv is appended one
+// flushed row at a time; a resume truncates it to the rows the checkpoint had seen.
 #include <Eigen/Core>
 #include <filesystem>
 #include <fstream>
@@ -20,6 +26,7 @@
 
 #include "solver/integrator.hpp"
 #include "solver/model.hpp"
+#include "solver/state_archive.hpp"
 
 namespace adamss::solver {
 
@@ -34,15 +41,24 @@ struct GlobalsRow {
 
 class ResultsWriter {
  public:
-  /// Creates `out_dir` (and out_dir/frames); InputError if it cannot.
-  ResultsWriter(std::filesystem::path out_dir, const Model& model);
+  /// Creates `out_dir` (and out_dir/frames); InputError if it cannot. A fresh run removes
+  /// stale frames and starts globals.csv; with `resume` (the "writer" part of a checkpoint,
+  /// see save_state) the writer continues the series: globals.csv keeps its header and the
+  /// first rows the checkpoint counted (later rows of the interrupted run are dropped), frames
+  /// from the checkpoint's frame count on are removed and series.pvd is rewritten.
+  ResultsWriter(std::filesystem::path out_dir, const Model& model, const StateArchive* resume = nullptr);
 
   /// Writes frame k of the series at state s with total forces f (N).
   void write_frame(const State& s, const Eigen::Matrix3Xd& f);
   /// Appends one row to globals.csv (flushed).
   void write_globals(const State& s, const GlobalsRow& row);
-  /// Writes checkpoint.h5 with positions, velocities and time.
+  /// Writes checkpoint.h5 with positions, velocities, time and step only (a failure snapshot
+  /// of the last good state; not resumable).
   void write_checkpoint(const State& s, std::size_t step) const;
+  /// Writes checkpoint.h5 from a full archive (the run loop's); t and step become attributes.
+  void write_checkpoint(const StateArchive& archive, double t, std::size_t step) const;
+  /// The writer's counters: frame times, the number of globals rows, the summary extrema.
+  void save_state(StateArchive& archive) const;
 
   /// Smallest and largest volume (m^3) of each cavity over the logged rows, with their times.
   /// The cavity pressure at those times and its largest value (Pa).
@@ -62,6 +78,8 @@ class ResultsWriter {
 
  private:
   void write_pvd() const;
+  void resume_from(const StateArchive& archive);
+  [[nodiscard]] std::string globals_header() const;
   std::filesystem::path dir_;
   const Model& model_;
   std::ofstream globals_;
@@ -71,6 +89,7 @@ class ResultsWriter {
   double max_volume_change_ = 0.0;
   double stretch_min_ = 1.0, stretch_max_ = 1.0;
   bool logged_ = false;
+  std::size_t rows_ = 0;  ///< data rows in globals.csv
   std::vector<double> element_volume0_;
 };
 

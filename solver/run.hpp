@@ -12,8 +12,17 @@
 //     check) is written as the final frame and as checkpoint.h5
 //   * a numerical failure inside a step (e.g. ABM3 cannot reach its error bound):
 //                                                    status "failed", same outputs
-//   * SIGINT (Ctrl-C)                                status "interrupted": checkpoint.h5 and a
-//     final frame are written, then the run returns
+//   * SIGINT (Ctrl-C) or SIGTERM                     status "interrupted": checkpoint.h5 and a
+//     final frame are written, then the run returns (the step under way, with its retries,
+//     is finished first: a checkpoint is always taken between two accepted steps)
+//   * stop_after_steps reached (hidden --stop-after-steps, for restart tests): as a signal
+// Checkpoints (solver/state_archive.hpp): besides on a signal, every checkpoint_interval of
+// simulated time. A resumable checkpoint holds the state, this loop's counters (step, next dt,
+// next frame/globals/checkpoint times, the last good state, the step report of the last step),
+// the integrator's history, every force term's internal state and the results writer's counters;
+// run_simulation(..., resume) restores all of it and continues exactly as the uninterrupted run
+// would have (same binary, same thread count: bit for bit). A failure checkpoint (the last good
+// state of an unstable or failed run) holds x, v, t only and is not resumable.
 // Whatever the status, globals.csv holds every logged row and summary.json is written by the caller.
 #include <cstddef>
 #include <optional>
@@ -31,15 +40,17 @@ struct RunSettings {
   double dt = 0.0;     ///< s (> 0); the initial step for abm3
   std::string integrator = "symplectic_euler";
   Abm3Settings abm3;
-  ImplicitSettings implicit;      ///< backward_euler, backward_euler_newton, static
-  double ke_threshold = -1.0;     ///< J; < 0 disables the kinetic-energy stop
-  double ke_after = 0.0;          ///< s; the kinetic-energy stop is armed from this time on
-  std::size_t max_steps = 0;      ///< 0: no limit
-  std::size_t check_every = 1;    ///< steps between instability checks
-  double flat_fraction = 1e-3;    ///< element is flat when its volume check <= this * reference
-  double export_interval = 0.0;   ///< s between frames; 0: first and last only
-  double globals_interval = 0.0;  ///< s between globals rows; 0: every step
-  bool progress = false;          ///< live progress line on stderr
+  ImplicitSettings implicit;         ///< backward_euler, backward_euler_newton, static
+  double ke_threshold = -1.0;        ///< J; < 0 disables the kinetic-energy stop
+  double ke_after = 0.0;             ///< s; the kinetic-energy stop is armed from this time on
+  std::size_t max_steps = 0;         ///< 0: no limit
+  std::size_t check_every = 1;       ///< steps between instability checks
+  double flat_fraction = 1e-3;       ///< element is flat when its volume check <= this * reference
+  double export_interval = 0.0;      ///< s between frames; 0: first and last only
+  double globals_interval = 0.0;     ///< s between globals rows; 0: every step
+  bool progress = false;             ///< live progress line on stderr
+  double checkpoint_interval = 0.0;  ///< s of simulated time between checkpoints; 0: only on signals/failures
+  std::size_t stop_after_steps = 0;  ///< > 0: stop as on SIGINT once this many steps are done (tests)
 };
 
 struct RunOutcome {
@@ -57,8 +68,18 @@ struct RunOutcome {
   State final_state;                       ///< the last good state
 };
 
-/// Runs the loop from state s (s is advanced in place). Output goes to `writer`.
-RunOutcome run_simulation(Model& model, State& s, const RunSettings& settings, ResultsWriter& writer);
+/// Runs the loop from state s (s is advanced in place). Output goes to `writer`. With `resume`
+/// (a checkpoint read by StateArchive::read_hdf5, the writer built from its "writer" part) s,
+/// the integrator, the terms and the loop are restored from it first; InputError if it is not a
+/// resumable checkpoint of this scene (node count, term count, integrator).
+RunOutcome run_simulation(Model& model, State& s, const RunSettings& settings, ResultsWriter& writer,
+                          const StateArchive* resume = nullptr);
+
+/// InputError (naming the checkpoint) unless `checkpoint` is a resumable checkpoint of this
+/// model and integrator: node, element and term counts and the integrator must match, and every
+/// term must accept its saved state (the terms' state is loaded here already; run_simulation
+/// loads it again). Call it before the results writer touches the output folder.
+void check_checkpoint(Model& model, const RunSettings& settings, const StateArchive& checkpoint);
 
 /// Requests that a running simulation stop at the next step (what SIGINT does).
 void request_stop();

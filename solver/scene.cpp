@@ -429,6 +429,7 @@ LoadedScene assemble(const YAML::Node& root_yaml, const fs::path& origin, const 
   if (auto out = root.optional_map("output")) {
     run.export_interval = out->positive("frame_interval", Dimension::Time, 0.0, true);
     run.globals_interval = out->positive("globals_interval", Dimension::Time, 0.0, true);
+    run.checkpoint_interval = out->positive("checkpoint_interval", Dimension::Time, 0.0, true);
     std::set<std::string> probe_names;
     for (SceneNode& p : out->list("probes")) {
       const std::string pname = p.text("name");

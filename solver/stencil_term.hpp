@@ -18,6 +18,8 @@
 //                 MatJ& dfdx, MatJ& dfdv) const;               // MatJ = 3N x 3N, local (a,b) block at (3a, 3b)
 // (energy/jacobian may be left undefined when the matching flag is false.)
 // Optional: void end_step(const StateView& s, double dt);   // state update after a step
+//           void save_state(StateArchive&) const; void load_state(const StateArchive&);
+//                                                            // that state, for checkpoints
 #include <algorithm>
 #include <array>
 #include <exception>
@@ -49,6 +51,13 @@ class StencilTerm final : public ForceTerm {
   /// Forwards to `kernel.end_step(s, dt)` when the kernel has internal state.
   void end_step(const StateView& s, double dt) override {
     if constexpr (requires { kernel_.end_step(s, dt); }) kernel_.end_step(s, dt);
+  }
+  /// Forwards to the kernel's save_state / load_state when it has internal state.
+  void save_state(StateArchive& archive) const override {
+    if constexpr (requires { kernel_.save_state(archive); }) kernel_.save_state(archive);
+  }
+  void load_state(const StateArchive& archive) override {
+    if constexpr (requires { kernel_.load_state(archive); }) kernel_.load_state(archive);
   }
   /// Forwards to `kernel.add_cell_fields(s, element_count, fields)` when the kernel has output fields.
   void add_cell_fields(const StateView& s, std::size_t element_count,

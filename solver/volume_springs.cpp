@@ -159,6 +159,17 @@ void VolumeSpringKernel<K>::end_step(const StateView& s, double dt) {
   }
 }
 
+template <int K>
+void VolumeSpringKernel<K>::load_state(const StateArchive& archive) {
+  const std::vector<double>& k = archive.doubles("k_hat");
+  if (k.size() != k_hat.size()) {
+    throw InputError(archive.source() + ": volume_springs k_hat has " + std::to_string(k.size()) +
+                     " values, the scene's term has " + std::to_string(k_hat.size()) +
+                     " elements (the checkpoint belongs to a different scene)");
+  }
+  k_hat = k;
+}
+
 template struct VolumeSpringKernel<4>;
 template struct VolumeSpringKernel<8>;
 

@@ -117,6 +117,10 @@ struct VolumeSpringKernel {
   /// LMS update of k_hat after an accepted step of dt seconds (no-op unless adaptive,
   /// or for dt <= 0).
   void end_step(const StateView& s, double dt);
+  /// Checkpoint: k_hat (one value per element), the only thing end_step changes; restoring it
+  /// bitwise makes the forces after a restart those of the uninterrupted run.
+  void save_state(StateArchive& archive) const { archive.put("k_hat", k_hat); }
+  void load_state(const StateArchive& archive);
 };
 
 extern template struct VolumeSpringKernel<4>;

@@ -1,0 +1,276 @@
+// Checkpoint/restart (issue 10): a run stopped after N steps (--stop-after-steps, which takes
+// the SIGINT path: checkpoint, status "interrupted") and resumed with --resume must give the
+// same results as the uninterrupted run, bit for bit: every frame file byte for byte, series.pvd,
+// globals.csv (without the wall-clock column) and summary.json (without the wall-clock keys).
+// Scenes: ABM3 with error bounds that force step rejections and adaptive volume springs; static
+// with its secant predictor; backward_euler_newton; the isovolumic LV (cavity multiplier).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli_runner.hpp"
+
+using adamss::test::run_adamss;
+using adamss::test::scratch_dir;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string slab_scene(const std::string& integrator, const std::string& t_end, const std::string& extra_terms = "") {
+  return R"(
+name: slab
+mesh: {phantom: slab, slab_size: [2, 2, 4], voxel_size: 1 mm, topology: tet6m, fibre: [0, 0, 1], sheet: [1, 0, 0]}
+materials:
+  - name: m
+    labels: [1]
+    density: 1000 kg/m^3
+    terms:
+      - virtual_hexahedron: {law: neo_hookean, parameters: {E: 20 kPa, nu: 0.3}})" +
+         extra_terms + R"(
+boundary:
+  - select: {region: {plane: {point: [0, 0, 0], normal: [0, 0, 1]}}}
+    fix: xyz
+  - select: {region: {plane: {point: [0, 0, 4 mm], normal: [0, 0, 1], tolerance: 0.001 mm}}}
+    control: {axis: z, displacement: {ramp: {to: 0.5 mm, duration: 2 ms}}}
+integrator: )" +
+         integrator + "\nrun: {t_end: " + t_end +
+         "}\noutput:\n  frame_interval: 0.5 ms\n  probes:\n    - {name: top, point: [1 mm, 1 mm, 4 mm]}\n"
+         "    - {name: mid, point: [2 mm, 2 mm, 2 mm]}\n";
+}
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+/// globals.csv without its last column (wall time).
+std::string strip_wall(const fs::path& csv) {
+  std::ifstream in(csv);
+  std::string line, out;
+  while (std::getline(in, line)) out += line.substr(0, line.rfind(',')) + "\n";
+  return out;
+}
+
+nlohmann::json summary_without_wall(const fs::path& out) {
+  std::ifstream in(out / "summary.json");
+  nlohmann::json j = nlohmann::json::parse(in);
+  j.erase("wall_time_s");
+  j.erase("ns_per_element_evaluation");
+  return j;
+}
+
+std::string cache_arg(const fs::path& dir) {
+  return " --cache " + (dir / "cache").string();
+}
+
+/// Every output of `b` equals that of `a` bit for bit (frames byte for byte).
+void expect_identical(const fs::path& a, const fs::path& b) {
+  EXPECT_EQ(strip_wall(a / "globals.csv"), strip_wall(b / "globals.csv")) << b;
+  EXPECT_EQ(read_file(a / "series.pvd"), read_file(b / "series.pvd")) << b;
+  EXPECT_EQ(summary_without_wall(a), summary_without_wall(b)) << b;
+  std::size_t frames_a = 0, frames_b = 0;
+  for (const auto& e : fs::directory_iterator(a / "frames")) {
+    ++frames_a;
+    // (not EXPECT_EQ: a failure would print two binary files)
+    EXPECT_TRUE(read_file(e.path()) == read_file(b / "frames" / e.path().filename()))
+        << "frame " << e.path().filename() << " differs";
+  }
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(b / "frames")) ++frames_b;
+  EXPECT_EQ(frames_a, frames_b) << b;
+}
+
+/// Values of column `name` of globals.csv (as text, one per row).
+std::vector<std::string> column(const fs::path& csv, const std::string& name) {
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  auto split = [](const std::string& l) {
+    std::vector<std::string> f;
+    std::stringstream ss(l);
+    std::string x;
+    while (std::getline(ss, x, ',')) f.push_back(x);
+    return f;
+  };
+  const auto head = split(line);
+  const auto it = std::find(head.begin(), head.end(), name);
+  if (it == head.end()) return {};
+  const auto k = static_cast<std::size_t>(it - head.begin());
+  std::vector<std::string> v;
+  while (std::getline(in, line)) v.push_back(split(line).at(k));
+  return v;
+}
+
+/// Runs `scene` uninterrupted into dir/full, then for each N (`stops`, the middle step and the
+/// last but one): stop after N steps, resume, compare.
+void check_restarts(const fs::path& dir, const std::string& scene, std::vector<int> stops) {
+  const auto full = dir / "full";
+  auto r = run_adamss("run " + scene + " -o " + full.string() + cache_arg(dir) + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const int steps = summary_without_wall(full)["steps"].get<int>();
+  ASSERT_GE(steps, 4);
+  for (const int extra : {steps / 2, steps - 1})
+    if (std::find(stops.begin(), stops.end(), extra) == stops.end()) stops.push_back(extra);
+  for (const int n : stops) {
+    ASSERT_LT(n, steps) << "choose stop points inside the run";
+    const auto part = dir / ("stop" + std::to_string(n));
+    r = run_adamss("run " + scene + " -o " + part.string() + cache_arg(dir) + " -q --stop-after-steps " +
+                   std::to_string(n));
+    ASSERT_EQ(r.exit_code, 130) << r.output;
+    ASSERT_EQ(summary_without_wall(part)["status"], "interrupted");
+    ASSERT_EQ(summary_without_wall(part)["steps"], n);
+    r = run_adamss("run " + scene + cache_arg(dir) + " -q --resume " + (part / "checkpoint.h5").string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    SCOPED_TRACE("stopped after " + std::to_string(n) + " steps");
+    expect_identical(full, part);
+  }
+}
+
+fs::path write_scene(const fs::path& dir, const std::string& text) {
+  const fs::path p = dir / "scene.yaml";
+  std::ofstream(p) << text;
+  return p;
+}
+
+}  // namespace
+
+TEST(Restart, Abm3WithRejectedStepsAndAdaptiveSpringsIsBitwiseIdentical) {
+  const auto dir = scratch_dir("restart_abm3");
+  // error bounds 1e-10 / 1e-9 m: the step doubles while the motion is smooth and is halved
+  // (the attempt rejected and retried) at the start-up and again later in the run (step 207).
+  const auto scene =
+      write_scene(dir, slab_scene("{type: abm3, dt: 20 us, error_min: 1e-10 m, error_max: 1e-9 m, dt_max: 1 ms}",
+                                  "2.5 ms", "\n      - volume_springs: {k_s: 2 N/m, mu: 1000}"));
+  const auto full = dir / "full";
+  auto r = run_adamss("run " + scene.string() + " -o " + full.string() + cache_arg(dir) + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // The step with the first rejection (a retried step) and its neighbours are stop points.
+  const auto rejected = column(full / "globals.csv", "rejected_steps");
+  const auto step = column(full / "globals.csv", "step");
+  int retry = -1;
+  for (std::size_t k = 1; k < rejected.size(); ++k)
+    if (std::stoi(rejected[k]) > 0 && std::stoi(step[k]) > 3) {
+      retry = std::stoi(step[k]);
+      break;
+    }
+  ASSERT_GT(retry, 0) << "the scene must force a rejected (retried) step after the start-up";
+  check_restarts(dir, scene.string(), {1, 2, retry - 1, retry, retry + 7});
+}
+
+TEST(Restart, StaticWithPredictorIsBitwiseIdentical) {
+  const auto dir = scratch_dir("restart_static");
+  const auto scene = write_scene(dir, slab_scene("{type: static, dt: 0.25 ms}", "3 ms"));
+  check_restarts(dir, scene.string(), {1, 2});
+}
+
+TEST(Restart, BackwardEulerNewtonIsBitwiseIdentical) {
+  const auto dir = scratch_dir("restart_ben");
+  const auto scene = write_scene(dir, slab_scene("{type: backward_euler_newton, dt: 0.1 ms}", "2.5 ms"));
+  check_restarts(dir, scene.string(), {1, 3});
+}
+
+TEST(Restart, IsovolumicLvCavityMultiplierIsBitwiseIdentical) {
+  const auto dir = scratch_dir("restart_lv");
+  const std::string scene = std::string(ADAMSS_SOURCE_DIR) + "/cases/quick/lv_isovolumic_static.yaml";
+  check_restarts(dir, scene, {});
+}
+
+TEST(Restart, RepeatedInterruptionsAndPeriodicCheckpoints) {
+  // Stop at 5, resume to 11, resume to the end. Then output.checkpoint_interval: the completed
+  // run's last periodic checkpoint (t = 2 ms, step 8) resumed into its own folder rolls the
+  // outputs back to step 8 and recomputes the rest: identical again.
+  const auto dir = scratch_dir("restart_chain");
+  std::string text = slab_scene("{type: static, dt: 0.25 ms, dt_max: 0.25 ms}", "3 ms");
+  text.replace(text.find("frame_interval: 0.5 ms"), 22, "frame_interval: 0.5 ms\n  checkpoint_interval: 1 ms");
+  const auto scene = write_scene(dir, text).string();
+  const auto full = dir / "full", part = dir / "part", copy = dir / "copy";
+  auto r = run_adamss("run " + scene + " -o " + full.string() + cache_arg(dir) + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_EQ(summary_without_wall(full)["steps"], 12);
+  r = run_adamss("run " + scene + " -o " + part.string() + cache_arg(dir) + " -q --stop-after-steps 5");
+  ASSERT_EQ(r.exit_code, 130) << r.output;
+  r = run_adamss("run " + scene + " -o " + part.string() + cache_arg(dir) + " -q --stop-after-steps 11 --resume " +
+                 (part / "checkpoint.h5").string());
+  ASSERT_EQ(r.exit_code, 130) << r.output;
+  r = run_adamss("run " + scene + cache_arg(dir) + " -q --resume " + (part / "checkpoint.h5").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  expect_identical(full, part);
+
+  fs::copy(full, copy, fs::copy_options::recursive);
+  // From the periodic checkpoint at step 8 to step 10 (so it was not the end state), then on.
+  r = run_adamss("run " + scene + cache_arg(dir) + " -q --stop-after-steps 10 --resume " +
+                 (full / "checkpoint.h5").string());
+  ASSERT_EQ(r.exit_code, 130) << r.output;
+  EXPECT_EQ(summary_without_wall(full)["steps"], 10);
+  r = run_adamss("run " + scene + cache_arg(dir) + " -q --resume " + (full / "checkpoint.h5").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  expect_identical(copy, full);
+}
+
+TEST(Restart, ACheckpointOfAnotherSceneIsRefusedByName) {
+  const auto dir = scratch_dir("restart_wrong");
+  const auto a = write_scene(dir, slab_scene("{type: static, dt: 0.25 ms}", "3 ms"));
+  auto r =
+      run_adamss("run " + a.string() + " -o " + (dir / "a").string() + cache_arg(dir) + " -q --stop-after-steps 2");
+  ASSERT_EQ(r.exit_code, 130) << r.output;
+  std::string other = slab_scene("{type: static, dt: 0.25 ms}", "3 ms");
+  other.replace(other.find("slab_size: [2, 2, 4]"), 20, "slab_size: [2, 2, 5]");
+  const fs::path b = dir / "other.yaml";
+  std::ofstream(b) << other;
+  const std::string before = read_file(dir / "a" / "globals.csv");
+  r = run_adamss("run " + b.string() + cache_arg(dir) + " -q --resume " + (dir / "a" / "checkpoint.h5").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("checkpoint.h5"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("different scene"), std::string::npos) << r.output;
+  EXPECT_EQ(read_file(dir / "a" / "globals.csv"), before) << "a refused resume must not touch the outputs";
+  // Another integrator on the same mesh.
+  const auto c = write_scene(dir, slab_scene("{type: backward_euler_newton, dt: 0.25 ms}", "3 ms"));
+  r = run_adamss("run " + c.string() + cache_arg(dir) + " -q --resume " + (dir / "a" / "checkpoint.h5").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("integrator"), std::string::npos) << r.output;
+  // Not a checkpoint at all.
+  r = run_adamss("run " + a.string() + cache_arg(dir) + " -q --resume " + (dir / "nope.h5").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("does not exist"), std::string::npos) << r.output;
+}
+
+TEST(Restart, SigtermWritesAResumableCheckpoint) {
+  const auto dir = scratch_dir("restart_sigterm");
+  const auto scene = write_scene(dir, slab_scene("{type: symplectic_euler, dt: 1 us}", "100 s"));
+  const std::string cmd = "timeout --preserve-status -s TERM 3 " + std::string(ADAMSS_BINARY) + " run " +
+                          scene.string() + " -o " + (dir / "out").string() + cache_arg(dir) + " -q";
+  const int rc = std::system(cmd.c_str());
+  EXPECT_EQ(WEXITSTATUS(rc), 130);
+  const auto j = summary_without_wall(dir / "out");
+  EXPECT_EQ(j["status"], "interrupted");
+  EXPECT_NE(j["reason"].get<std::string>().find("SIGTERM"), std::string::npos);
+  const int steps = j["steps"].get<int>();
+  ASSERT_GT(steps, 0);
+  const auto r = run_adamss("run " + scene.string() + cache_arg(dir) + " -q --stop-after-steps " +
+                            std::to_string(steps + 50) + " --resume " + (dir / "out" / "checkpoint.h5").string());
+  EXPECT_EQ(r.exit_code, 130) << r.output;
+  EXPECT_EQ(summary_without_wall(dir / "out")["steps"], steps + 50);
+  EXPECT_FALSE(fs::exists(dir / "out" / "checkpoint.h5.tmp"));
+  EXPECT_FALSE(fs::exists(dir / "out" / "summary.json.tmp"));
+}
+
+TEST(Restart, ACirculationIsRefusedUntilItsStateIsCheckpointed) {
+  // Known limitation: Circulation (phase, held volume, Windkessel P_c, beat metrics) has no
+  // save_state yet, so a resume could not be exact; it is refused by name, outputs untouched.
+  const auto dir = scratch_dir("restart_circulation");
+  const std::string scene = std::string(ADAMSS_SOURCE_DIR) + "/cases/heart/lv_beat_quick.yaml";
+  auto r = run_adamss("run " + scene + " -o " + (dir / "out").string() + cache_arg(dir) + " -q --stop-after-steps 1");
+  ASSERT_EQ(r.exit_code, 130) << r.output;
+  const std::string before = read_file(dir / "out" / "globals.csv");
+  r = run_adamss("run " + scene + cache_arg(dir) + " -q --resume " + (dir / "out" / "checkpoint.h5").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("circulation"), std::string::npos) << r.output;
+  EXPECT_EQ(read_file(dir / "out" / "globals.csv"), before);
+}
