@@ -196,12 +196,13 @@ CaseResult hybmss_volume_case(const VerifyOptions& o) {
           if (!r.completed) {
             all_done = false;
             const double reached = static_cast<double>(strain) * r.t_reached;
-            cell[k] += " (stopped at " + fmt("%g", reached) + " %)";
-            failures += " " + models[k].name + " Newton failed after " + fmt("%g", reached) + " % (" + r.failure + ");";
+            cell[k] += " (stopped at " + fmt("%.1f", reached) + " %)";
+            failures +=
+                " " + models[k].name + " Newton failed after " + fmt("%.1f", reached) + " % (" + r.failure + ");";
           }
         }
         const auto paper = paper_volume(tension, nu, strain);
-        const std::string key = test + ".nu" + fmt("%g", nu) + "." + std::to_string(strain) + "pct";
+        const std::string key = test + ".nu" + fmt("%g", nu) + ".strain" + std::to_string(strain) + "pct";
         const std::string note = "e: HybMSS-FD " + cell[0] + ", HybMSS " + cell[1] + ", FEM " + cell[2] +
                                  "; paper HybMSS " + pct(paper[1]) + ", FEM " + pct(paper[2]) + failures;
         const bool checked = strain == 5;
