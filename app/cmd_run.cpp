@@ -93,6 +93,16 @@ void write_summary(const fs::path& file, const solver::LoadedScene& sc, const so
       one["peak_pressure_Pa"] = e.p_max;
     }
     for (const auto& [key, value] : c->metrics()) one[key] = value;
+    const auto beats = c->beat_metrics();
+    if (!beats.empty()) {
+      json per_beat = json::array();
+      for (const auto& b : beats) {
+        json e = json::object();
+        for (const auto& [key, value] : b) e[key] = value;
+        per_beat.push_back(e);
+      }
+      one["per_beat"] = per_beat;
+    }
     cav.push_back(one);
   }
   j["cavities"] = cav;
