@@ -2,17 +2,20 @@
 # The planning scenario: the scarred beat completes, its ejection fraction lies in
 # EXPECT_SCAR_EJECTION_FRACTION and is lower than the healthy one by at least EXPECT_SCAR_EF_DROP_MIN.
 include(${EXPECTED})
+if(NOT DEFINED CAVITY)
+  set(CAVITY lv)  # summary.json cavities.NAME
+endif()
 file(READ ${HEALTHY} h)
 file(READ ${SCARRED} s)
 string(JSON status GET "${s}" status)
 if(NOT status STREQUAL EXPECT_STATUS)
   message(FATAL_ERROR "heart case (scar): status ${status}, expected ${EXPECT_STATUS}")
 endif()
-string(JSON ef_h ERROR_VARIABLE err GET "${h}" cavities 0 ejection_fraction)
+string(JSON ef_h ERROR_VARIABLE err GET "${h}" cavities ${CAVITY} ejection_fraction)
 if(err)
   message(FATAL_ERROR "heart case: ${HEALTHY} has no ejection_fraction (${err})")
 endif()
-string(JSON ef_s ERROR_VARIABLE err GET "${s}" cavities 0 ejection_fraction)
+string(JSON ef_s ERROR_VARIABLE err GET "${s}" cavities ${CAVITY} ejection_fraction)
 if(err)
   message(FATAL_ERROR "heart case (scar): ${SCARRED} has no ejection_fraction (the beat did not complete?)")
 endif()

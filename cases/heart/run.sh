@@ -64,7 +64,7 @@ python3 - "$out" "$voxel" "$t_sim" "$scar" > "$out/report.md" <<'PY'
 import json, sys
 out, voxel, t_sim, scar = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4] == "1"
 s = json.load(open(out + "/summary.json"))
-c = s["cavities"][0]
+c = s["cavities"]["lv"]
 g = lambda k, f=1.0: c.get(k, float("nan")) * f
 print("# Two LV beats with a circulation, healthy and scarred\n")
 print(f"Mesh: `adamss phantom lv` at {voxel} voxels -> `adamss mesh` tet6m, {s['nodes']} nodes, "
@@ -91,7 +91,7 @@ if beats:
 print("\n![PV loop](pv_loop.png)\n\n![pressure and volume](pressure_volume_time.png)\n")
 if scar:
     z = json.load(open(out + "/scar/summary.json"))
-    d = z["cavities"][0]
+    d = z["cavities"]["lv"]
     ef_h, ef_s = c.get("ejection_fraction", float("nan")), d.get("ejection_fraction", float("nan"))
     print("## Planning scenario: apical-anterior scar\n")
     print("Scar: the wall voxels within 30 deg of the axis (0, 1, -1) from the LV centre (`adamss phantom lv "
