@@ -176,7 +176,7 @@ double helix_angle_of(const Eigen::Vector3d& fiber, const Eigen::Vector3d& x_m);
 // half-angle (x = the voxel centre). The default of `adamss phantom lv --scar-out` is the
 // apical-anterior segment: centre 0 (the LV ellipsoid centre), axis (0, 1, -1) (towards the
 // apex and +y; this code calls +y "anterior": the biv RV lies on +x, the septal side), half-
-// angle 30 deg -- about 12 % of the lv wall.
+// angle 30 deg -- 8.7 % of the lv wall voxels at 2.5 mm, 11 % at 1 mm and 0.5 mm.
 
 struct ScarCone {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();  ///< m
