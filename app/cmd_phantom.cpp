@@ -24,7 +24,31 @@ struct PhantomArgs {
   std::string helix_endo = "60";
   std::string helix_epi = "-60";
   std::string size = "4,4,8";
+  std::string scar_out;
+  std::string scar_direction = "0,1,-1";
+  std::string scar_angle = "30";
 };
+
+Eigen::Vector3d parse_direction(const std::string& text, const std::string& option) {
+  Eigen::Vector3d out;
+  std::stringstream ss(text);
+  std::string item;
+  int n = 0;
+  while (std::getline(ss, item, ',')) {
+    if (n >= 3) throw InputError(option + ": '" + text + "' is not X,Y,Z");
+    try {
+      std::size_t used = 0;
+      out[n] = std::stod(item, &used);
+      if (used != item.size() || !std::isfinite(out[n])) throw std::invalid_argument("bad");
+    } catch (const std::exception&) {
+      throw InputError(option + ": '" + text + "' is not X,Y,Z with three numbers");
+    }
+    ++n;
+  }
+  if (n != 3) throw InputError(option + ": '" + text + "' is not X,Y,Z");
+  if (!(out.norm() > 0.0)) throw InputError(option + ": the direction must not be zero");
+  return out;
+}
 
 std::array<std::int64_t, 3> parse_size(const std::string& text) {
   std::array<std::int64_t, 3> out{};
@@ -66,6 +90,16 @@ void run_phantom(const PhantomArgs& a) {
     throw InputError("--fiber-out/--sheet-out: fibre fields exist only for the lv and biv phantoms, not '" + a.kind +
                      "'");
   }
+  ScarCone cone;
+  if (!a.scar_out.empty()) {
+    if (a.kind != "lv" && a.kind != "biv")
+      throw InputError("--scar-out: a scar segment exists only for the lv and biv phantoms, not '" + a.kind + "'");
+    cone.direction = parse_direction(a.scar_direction, "--scar-direction");
+    cone.half_angle_rad = parse_angle_deg_default(a.scar_angle, "--scar-angle");
+    if (!(cone.half_angle_rad > 0.0 && cone.half_angle_rad < std::numbers::pi))
+      throw InputError("--scar-angle: the half-angle must lie in (0, 180) degrees");
+    require_parent_dir(a.scar_out, "--scar-out");
+  }
   require_parent_dir(a.output, "-o");
   if (!a.fiber_out.empty()) require_parent_dir(a.fiber_out, "--fiber-out");
   if (!a.sheet_out.empty()) require_parent_dir(a.sheet_out, "--sheet-out");
@@ -74,6 +108,12 @@ void run_phantom(const PhantomArgs& a) {
   write_label_image(a.output, ph.image);
   if (!a.fiber_out.empty()) write_vector_image(a.fiber_out, *ph.fiber);
   if (!a.sheet_out.empty()) write_vector_image(a.sheet_out, *ph.sheet);
+  std::size_t scar_voxels = 0;
+  if (!a.scar_out.empty()) {
+    const ScalarImage scar = scar_image(ph.image, cone);
+    for (double v : scar.values) scar_voxels += v > 0.5 ? 1 : 0;
+    write_scalar_image(a.scar_out, scar);
+  }
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   const auto& d = ph.image.grid.dims;
@@ -86,6 +126,10 @@ void run_phantom(const PhantomArgs& a) {
   std::cout << "wrote " << a.output;
   if (!a.fiber_out.empty()) std::cout << ", " << a.fiber_out;
   if (!a.sheet_out.empty()) std::cout << ", " << a.sheet_out;
+  if (!a.scar_out.empty()) {
+    const auto wall = ph.image.histogram().count(kMyocardium) ? ph.image.histogram().at(kMyocardium) : 0;
+    std::cout << ", " << a.scar_out << " (scar: " << scar_voxels << " of " << wall << " wall voxels)";
+  }
   std::cout << " in " << secs << " s\n";
 }
 
@@ -110,6 +154,13 @@ void add_phantom_command(CLI::App& app) {
                   "Fibre helix angle at the epicardium, degrees unless a unit is given (Land problem 3: -90)")
       ->capture_default_str();
   sub->add_option("--size", args->size, "slab: NX,NY,NZ voxels")->capture_default_str();
+  sub->add_option("--scar-out", args->scar_out,
+                  "lv/biv: also write a 0/1 scar image (float NIfTI, same grid): the wall voxels inside a cone from "
+                  "the LV centre along --scar-direction with half-angle --scar-angle (default: apical-anterior)");
+  sub->add_option("--scar-direction", args->scar_direction, "Axis X,Y,Z of the scar cone (from the LV centre)")
+      ->capture_default_str();
+  sub->add_option("--scar-angle", args->scar_angle, "Half-angle of the scar cone, degrees unless a unit is given")
+      ->capture_default_str();
   sub->callback([args]() { run_phantom(*args); });
 }
 

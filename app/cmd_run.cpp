@@ -72,7 +72,8 @@ void write_summary(const fs::path& file, const solver::LoadedScene& sc, const so
                           {"max_abs_relative_change", writer.max_volume_change()}};
   j["kinetic_energy_final_J"] = solver::kinetic_energy(m.mass, s.v);
   j["mass_kg"] = m.mass.sum();
-  json cav = json::array();
+  // "cavities": {NAME: {...}} keyed by the cavity name (`name` repeated inside each entry).
+  json cav = json::object();
   for (std::size_t k = 0; k < m.cavities.size(); ++k) {
     const auto& c = m.cavities[k];
     json one = {{"name", c->name()},
@@ -96,7 +97,17 @@ void write_summary(const fs::path& file, const solver::LoadedScene& sc, const so
       one["peak_pressure_Pa"] = e.p_max;
     }
     for (const auto& [key, value] : c->metrics()) one[key] = value;
-    cav.push_back(one);
+    const auto beats = c->beat_metrics();
+    if (!beats.empty()) {
+      json per_beat = json::array();
+      for (const auto& b : beats) {
+        json e = json::object();
+        for (const auto& [key, value] : b) e[key] = value;
+        per_beat.push_back(e);
+      }
+      one["per_beat"] = per_beat;
+    }
+    cav[c->name()] = one;
   }
   j["cavities"] = cav;
   j["fiber_stretch_max"] = writer.fibre_stretch_max();

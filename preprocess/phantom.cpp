@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <sstream>
 
 #include "common/error.hpp"
@@ -329,6 +330,32 @@ Phantom make_phantom(const std::string& kind, const PhantomOptions& options) {
   if (kind == "biv") return make_biv(options);
   if (kind == "beam") return make_beam(options);
   return make_slab(options);
+}
+
+ScalarImage scar_image(const LabelImage& labels, const ScarCone& cone, std::int32_t wall_label) {
+  const double len = cone.direction.norm();
+  if (!std::isfinite(len) || !(len > 0.0)) throw InputError("scar: the cone direction must be a non-zero vector");
+  if (!(cone.half_angle_rad > 0.0 && cone.half_angle_rad < std::numbers::pi))
+    throw InputError("scar: the cone half-angle must lie in (0, 180) degrees");
+  if (!cone.centre.allFinite()) throw InputError("scar: the cone centre must be finite");
+  const Eigen::Vector3d d = cone.direction / len;
+  const double cos_max = std::cos(cone.half_angle_rad);
+  ScalarImage out;
+  out.grid = labels.grid;
+  out.values.assign(labels.labels.size(), 0.0);
+  const auto& n = labels.grid.dims;
+  for (std::int64_t k = 0; k < n[2]; ++k) {
+    for (std::int64_t j = 0; j < n[1]; ++j) {
+      for (std::int64_t i = 0; i < n[0]; ++i) {
+        const std::size_t v = labels.grid.linear(i, j, k);
+        if (labels.labels[v] != wall_label) continue;
+        const Eigen::Vector3d q = labels.grid.to_world(Eigen::Vector3d(double(i), double(j), double(k))) - cone.centre;
+        const double r = q.norm();
+        if (r > 0.0 && q.dot(d) >= cos_max * r) out.values[v] = 1.0;
+      }
+    }
+  }
+  return out;
 }
 
 }  // namespace adamss::preprocess

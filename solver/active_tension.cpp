@@ -98,6 +98,10 @@ void validate_time_course(const TimeCourse& course, const std::string& what) {
       if (!(course.rise > 0.0) || !(course.decay > 0.0)) {
         throw InputError(what + ": twitch rise and decay must be > 0 (s)");
       }
+      require_finite(course.period, what + ".period");
+      if (course.period < 0.0 || (course.period > 0.0 && course.period < course.rise + course.decay)) {
+        throw InputError(what + ".period: must be 0 (one twitch) or >= rise + decay (s)");
+      }
       break;
   }
 }

@@ -69,6 +69,7 @@ void Circulation::end_step(double t, double h, double v, double p) {
   // The Windkessel sees the outflow only while the aortic valve is open.
   wk_.advance(h, phase_ == CardiacPhase::Ejection ? q : 0.0);
   peak_ = std::max(peak_, p);
+  beat_peak_ = std::max(beat_peak_, p);
   if (phase_ == CardiacPhase::IsovolumicContraction || phase_ == CardiacPhase::IsovolumicRelaxation)
     drift_ = std::max(drift_, std::abs(v / v_held_ - 1.0));
   ValveInputs in;
@@ -87,6 +88,7 @@ void Circulation::end_step(double t, double h, double v, double p) {
         v_held_ = v;
         edv_ = v;
         edp_ = p;
+        beat_peak_ = p;
         if (edv_first_ < 0) edv_first_ = v;
         break;
       case CardiacPhase::Ejection:
@@ -98,6 +100,7 @@ void Circulation::end_step(double t, double h, double v, double p) {
         esv_ = v;
         esp_ = p;
         ++completed_;
+        beats_.push_back({edv_, edp_, esv_, esp_, beat_peak_});
         break;
       case CardiacPhase::Filling:
         events_.emplace_back(t, "mitral_opens");
@@ -121,13 +124,31 @@ std::vector<std::pair<std::string, double>> Circulation::metrics() const {
     m.emplace_back("stroke_volume_m3", edv_ - esv_);
     m.emplace_back("ejection_fraction", (edv_ - esv_) / edv_);
   }
-  m.emplace_back("peak_pressure_Pa", peak_);
+  m.emplace_back("peak_pressure_Pa", beats_.empty() ? peak_ : beats_.back().peak);  // of the last beat
   m.emplace_back("isovolumic_volume_drift", drift_);
   if (edv_first_ > 0 && completed_ > 0 && phase_ == CardiacPhase::Filling)
     m.emplace_back("loop_closure", std::abs(v_prev_ - edv_first_) / edv_first_);
   m.emplace_back("beats", completed_);
+  if (beats_.size() >= 2) {
+    const BeatRecord &a = beats_[beats_.size() - 2], &b = beats_.back();
+    m.emplace_back("beat_to_beat_change", std::max(std::abs(b.edv / a.edv - 1.0), std::abs(b.esv / a.esv - 1.0)));
+  }
   for (const auto& [t, name] : events_) m.emplace_back(name + "_t_s", t);  // the last of each
   return m;
+}
+
+std::vector<std::vector<std::pair<std::string, double>>> Circulation::beat_metrics() const {
+  std::vector<std::vector<std::pair<std::string, double>>> out;
+  for (const BeatRecord& b : beats_) {
+    out.push_back({{"edv_m3", b.edv},
+                   {"edp_Pa", b.edp},
+                   {"esv_m3", b.esv},
+                   {"esp_Pa", b.esp},
+                   {"stroke_volume_m3", b.edv - b.esv},
+                   {"ejection_fraction", b.ejection_fraction()},
+                   {"peak_pressure_Pa", b.peak}});
+  }
+  return out;
 }
 
 }  // namespace adamss::solver

@@ -59,6 +59,13 @@ struct ValveInputs {
 /// The phase after an accepted step (the switching rules above; pure, unit-tested).
 [[nodiscard]] CardiacPhase next_phase(CardiacPhase p, const ValveInputs& in);
 
+/// The valve-event values of one completed beat (SI): EDV and EDP at the mitral closure, ESV
+/// and ESP at the aortic closure, the peak cavity pressure between the two.
+struct BeatRecord {
+  double edv = 0.0, edp = 0.0, esv = 0.0, esp = 0.0, peak = 0.0;
+  [[nodiscard]] double ejection_fraction() const { return edv > 0.0 ? (edv - esv) / edv : 0.0; }
+};
+
 struct CirculationSettings {
   TimeCourse atrial_pressure;    ///< P_at(t), Pa
   double contraction_onset = 0;  ///< s
@@ -83,10 +90,18 @@ class Circulation {
   /// Valve events so far: (t in s, "mitral_closes" | "aortic_opens" | "aortic_closes" | "mitral_opens").
   [[nodiscard]] const std::vector<std::pair<double, std::string>>& events() const { return events_; }
   /// Beat metrics (SI, keys as in summary.json): edv_m3, edp_Pa, esv_m3, esp_Pa, stroke_volume_m3,
-  /// ejection_fraction, peak_pressure_Pa, isovolumic_volume_drift (max |V/V_held - 1|),
-  /// loop_closure (|V_end - EDV_first| / EDV_first once the cavity is filling again), beats.
+  /// ejection_fraction, peak_pressure_Pa (of the last completed beat; before one completes,
+  /// the largest pressure so far), isovolumic_volume_drift (max |V/V_held - 1|, all beats),
+  /// loop_closure (|V_end - EDV_first| / EDV_first once the cavity is filling again), beats,
+  /// and after two completed beats beat_to_beat_change = max(|EDV_n/EDV_{n-1} - 1|,
+  /// |ESV_n/ESV_{n-1} - 1|) of the last two (0 for a periodic state).
   /// Values of the LAST completed beat; keys whose event has not happened are left out.
   [[nodiscard]] std::vector<std::pair<std::string, double>> metrics() const;
+  /// Every completed beat, in order.
+  [[nodiscard]] const std::vector<BeatRecord>& beats() const { return beats_; }
+  /// beats() as summary.json key/value lists (edv_m3, edp_Pa, esv_m3, esp_Pa, stroke_volume_m3,
+  /// ejection_fraction, peak_pressure_Pa).
+  [[nodiscard]] std::vector<std::vector<std::pair<std::string, double>>> beat_metrics() const;
 
  private:
   CirculationSettings set_;
@@ -96,7 +111,9 @@ class Circulation {
   int beat_ = 0;  ///< index of the beat whose contraction comes next / is under way
   std::vector<std::pair<double, std::string>> events_;
   double edv_ = -1, edp_ = 0, esv_ = -1, esp_ = 0, edv_first_ = -1, peak_ = 0, drift_ = 0;
+  double beat_peak_ = 0;  ///< peak pressure since the last mitral closure
   int completed_ = 0;
+  std::vector<BeatRecord> beats_;
 };
 
 }  // namespace adamss::solver

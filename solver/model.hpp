@@ -40,6 +40,8 @@ class VolumeMonitor {
   /// Beat metrics known to the cavity (a circulation's valve-event values, SI, summary.json
   /// keys); empty by default, when summary.json falls back to the volume extrema.
   [[nodiscard]] virtual std::vector<std::pair<std::string, double>> metrics() const { return {}; }
+  /// The same per completed beat (summary.json `per_beat`); empty by default.
+  [[nodiscard]] virtual std::vector<std::vector<std::pair<std::string, double>>> beat_metrics() const { return {}; }
 };
 
 /// The particles of one `boundary:` entry of a scene (for reaction forces in the summary).

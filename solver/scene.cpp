@@ -10,6 +10,7 @@
 #include <functional>
 #include <iomanip>
 #include <numbers>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -17,6 +18,7 @@
 #include "preprocess/boundary_labels.hpp"
 #include "preprocess/box_mesh.hpp"
 #include "preprocess/cavities.hpp"
+#include "preprocess/cell_fields.hpp"
 #include "preprocess/ellipsoid_mesh.hpp"
 #include "preprocess/fibre_field.hpp"
 #include "preprocess/lattice_mesher.hpp"
@@ -147,10 +149,27 @@ preprocess::Mesh load_mesh(SceneNode node, const fs::path& base, const SceneOpti
       po.slab_size = {s[0], s[1], s[2]};
     }
     const std::string topo = node.choice("topology", {"hex", "tet5", "tet5m", "tet6", "tet6m"}, "tet6m");
+    // Optional scar segment (lv/biv): the 0/1 cell field `scar` of preprocess::scar_image.
+    std::optional<preprocess::ScarCone> scar;
+    if (auto sc = node.optional_map("scar")) {
+      if (kind != "lv" && kind != "biv")
+        throw InputError(sc->path() + ": a scar segment exists only for the lv and biv phantoms");
+      preprocess::ScarCone cone;
+      cone.direction = sc->vector3("direction", Dimension::Dimensionless, cone.direction);
+      cone.half_angle_rad = sc->quantity("angle", Dimension::Angle, cone.half_angle_rad);
+      if (!(cone.direction.norm() > 0.0)) throw InputError(sc->at("direction") + ": must not be zero");
+      if (!(cone.half_angle_rad > 0.0 && cone.half_angle_rad < std::numbers::pi))
+        throw InputError(sc->at("angle") + ": the half-angle must lie in (0, 180) degrees");
+      sc->finish();
+      scar = cone;
+    }
     std::ostringstream key;
     key << std::setprecision(17) << "v2;" << kind << ';' << po.voxel_size_m << ';' << po.helix_endo_rad << ';'
         << po.helix_epi_rad << ';' << po.slab_size[0] << ',' << po.slab_size[1] << ',' << po.slab_size[2] << ';'
         << topo;
+    if (scar)
+      key << ";scar;" << scar->direction.x() << ',' << scar->direction.y() << ',' << scar->direction.z() << ';'
+          << scar->half_angle_rad;
     const fs::path dir = opt.cache_dir.empty() ? default_cache_dir() : opt.cache_dir;
     const fs::path file = dir / ("mesh-" + kind + "-" + topo + "-" + hash_hex(key.str()) + ".h5");
     source = file.string();
@@ -185,6 +204,9 @@ preprocess::Mesh load_mesh(SceneNode node, const fs::path& base, const SceneOpti
         }
         if (!b.empty()) mesh.node_tags["base"] = std::move(b);
       }
+      if (scar)
+        preprocess::add_cell_field(mesh, "scar", preprocess::scar_image(ph.image, *scar),
+                                   preprocess::Interpolation::Nearest);
       mesh.attributes["source"] = "phantom " + kind + " (scene recipe)";
       // Several runs (parallel tests) may build the same recipe at once: each writes its own
       // file and renames it into place, so readers only ever see a complete mesh.
@@ -323,22 +345,47 @@ LoadedScene assemble(const YAML::Node& root_yaml, const fs::path& origin, const 
     const double rho = m.positive("density", Dimension::Density);
     std::vector<std::size_t> elems;
     std::vector<long long> labels = m.integers("labels");
+    // Optional `cell_field: {name: F, min: a, max: b}`: only the elements (of these labels)
+    // with a <= F_e <= b (a scar field splitting the wall into a healthy and a scar material).
+    const Eigen::VectorXd* field = nullptr;
+    double f_min = -INFINITY, f_max = INFINITY;
+    std::string where = m.at("labels");
+    if (auto f = m.optional_map("cell_field")) {
+      const std::string fname = f->text("name");
+      const auto it = mesh->cell_scalars.find(fname);
+      if (it == mesh->cell_scalars.end()) {
+        std::string have;
+        for (const auto& [k, v] : mesh->cell_scalars) have += (have.empty() ? "" : ", ") + k;
+        throw InputError(f->at("name") + ": the mesh has no cell field '" + fname + "' (it has: " +
+                         (have.empty() ? std::string("none; add one with adamss mesh --cell-field NAME=IMAGE") : have) +
+                         ")");
+      }
+      field = &it->second;
+      f_min = f->quantity("min", Dimension::Dimensionless, -INFINITY);
+      f_max = f->quantity("max", Dimension::Dimensionless, INFINITY);
+      if (!(f_min <= f_max)) throw InputError(f->path() + ": min must be <= max");
+      where = f->path();
+      f->finish();
+    }
     for (std::size_t e = 0; e < mesh->element_count(); ++e) {
       if (std::find(labels.begin(), labels.end(), mesh->labels[e]) == labels.end()) continue;
+      if (field != nullptr &&
+          !((*field)(static_cast<Eigen::Index>(e)) >= f_min && (*field)(static_cast<Eigen::Index>(e)) <= f_max))
+        continue;
       if (!owner[e].empty())
-        throw InputError(m.at("labels") + ": label " + std::to_string(mesh->labels[e]) +
-                         " already belongs to material '" + owner[e] + "'");
+        throw InputError(where + ": element " + std::to_string(e) + " (label " + std::to_string(mesh->labels[e]) +
+                         ") already belongs to material '" + owner[e] + "'");
       owner[e] = name;
       density[e] = rho;
       elems.push_back(e);
     }
-    if (elems.empty()) throw InputError(m.at("labels") + ": no element of the mesh carries these labels");
+    if (elems.empty()) throw InputError(where + ": no element of the mesh carries these labels (and field range)");
     mat_elements.emplace_back(m, std::move(elems));
   }
   for (std::size_t e = 0; e < density.size(); ++e) {
     if (density[e] < 0.0)
       throw InputError("materials: element " + std::to_string(e) + " has label " + std::to_string(mesh->labels[e]) +
-                       ", which no material lists");
+                       ", which no material lists (or outside every cell_field range)");
   }
   model.mass = voronoi_masses(*mesh, density);
 

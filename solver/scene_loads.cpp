@@ -38,6 +38,10 @@ class ConstraintMonitor final : public VolumeMonitor {
     return term_->circulation() != nullptr ? term_->circulation()->metrics()
                                            : std::vector<std::pair<std::string, double>>{};
   }
+  [[nodiscard]] std::vector<std::vector<std::pair<std::string, double>>> beat_metrics() const override {
+    return term_->circulation() != nullptr ? term_->circulation()->beat_metrics()
+                                           : std::vector<std::vector<std::pair<std::string, double>>>{};
+  }
 
  private:
   const CavityConstraintTerm* term_;

@@ -196,7 +196,8 @@ TimeCourse SceneNode::to_course(const YAML::Node& n, Dimension dim, const std::s
   if (auto w = m.optional_map("twitch")) {
     ++kinds;
     tc = TimeCourse::twitch(w->quantity("peak", dim), w->quantity("onset", Dimension::Time, 0.0),
-                            w->positive("rise", Dimension::Time), w->positive("decay", Dimension::Time), w->path());
+                            w->positive("rise", Dimension::Time), w->positive("decay", Dimension::Time), w->path(),
+                            w->positive("period", Dimension::Time, 0.0, true));
     w->finish();
   }
   if (m.has("constant")) {

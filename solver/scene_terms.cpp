@@ -77,7 +77,7 @@ void build_virtual_hex(SceneNode& node, MaterialContext& ctx) {
   if (gauss) {
     ctx.model.terms.push_back(make_gauss_point_term(ctx.mesh, law, &ctx.elements, "virtual_hexahedron"));
   } else {
-    ctx.model.terms.push_back(make_virtual_hex_term(ctx.mesh, ctx.frames(), law));
+    ctx.model.terms.push_back(make_virtual_hex_term(ctx.mesh, ctx.frames(), law, &ctx.elements));
   }
   ctx.wave_modulus = std::max(ctx.wave_modulus, law_modulus(*law));
 }
@@ -113,7 +113,7 @@ void build_material_friction(SceneNode& node, MaterialContext& ctx) {
     p.value = per_axis(node, "k_d", Dimension::Dimensionless);
   }
   node.finish();
-  ctx.model.terms.push_back(make_material_friction_term(ctx.mesh, ctx.frames(), p, nullptr));
+  ctx.model.terms.push_back(make_material_friction_term(ctx.mesh, ctx.frames(), p, &ctx.elements));
 }
 
 void build_active_tension(SceneNode& node, MaterialContext& ctx) {
@@ -138,7 +138,7 @@ void build_active_tension(SceneNode& node, MaterialContext& ctx) {
       p.delay[k] = offset + (preprocess::element_barycentre(ctx.mesh, fr.element[k]) - origin).norm() / speed;
   }
   node.finish();
-  ctx.model.terms.push_back(make_active_tension_term(ctx.mesh, ctx.frames(), p, nullptr));
+  ctx.model.terms.push_back(make_active_tension_term(ctx.mesh, ctx.frames(), p, &ctx.elements));
 }
 
 void build_volume(SceneNode& node, MaterialContext& ctx) {
@@ -150,7 +150,7 @@ void build_volume(SceneNode& node, MaterialContext& ctx) {
                        : VolumeDistribution::Isotropic;
   node.finish();
   const AxisFrames* frames = p.distribution == VolumeDistribution::Anisotropic ? &ctx.frames() : nullptr;
-  ctx.model.terms.push_back(make_volume_term(ctx.mesh, frames, p, frames != nullptr ? nullptr : &ctx.elements));
+  ctx.model.terms.push_back(make_volume_term(ctx.mesh, frames, p, &ctx.elements));
   ctx.bulk_modulus += 2.0 * p.p;  // W_v = p (J - 1)^2 has bulk modulus 2 p
 }
 
@@ -189,7 +189,7 @@ void build_axial_springs(SceneNode& node, MaterialContext& ctx) {
   for (int l = 0; l < 3; ++l)
     if (node.has(axes[l])) p.k[static_cast<std::size_t>(l)] = polynomial(node, axes[l], p.scaling);
   node.finish();
-  ctx.model.terms.push_back(make_axial_spring_term(ctx.mesh, ctx.frames(), p, nullptr));
+  ctx.model.terms.push_back(make_axial_spring_term(ctx.mesh, ctx.frames(), p, &ctx.elements));
   if (p.scaling != SpringScaling::None)
     ctx.wave_modulus = std::max({ctx.wave_modulus, p.k[0][0], p.k[1][0], p.k[2][0]});
 }
@@ -207,7 +207,7 @@ void build_torsion_springs(SceneNode& node, MaterialContext& ctx) {
   for (int q = 0; q < 3; ++q)
     if (node.has(pairs[q])) p.k[static_cast<std::size_t>(q)] = polynomial(node, pairs[q], p.scaling);
   node.finish();
-  ctx.model.terms.push_back(make_torsion_spring_term(ctx.mesh, ctx.frames(), p, nullptr));
+  ctx.model.terms.push_back(make_torsion_spring_term(ctx.mesh, ctx.frames(), p, &ctx.elements));
 }
 
 /// Total reference volume of the material's elements (m^3).

@@ -13,6 +13,12 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 }
 
+double TimeCourse::twitch_time(double t) const {
+  const double tr = t - onset;
+  if (tr < 0.0 || period <= 0.0) return tr;
+  return std::fmod(tr, period);
+}
+
 double TimeCourse::operator()(double t) const {
   switch (kind) {
     case Kind::Constant:
@@ -31,7 +37,7 @@ double TimeCourse::operator()(double t) const {
       return values[k - 1] + w * (values[k] - values[k - 1]);
     }
     case Kind::Twitch: {
-      const double tr = t - onset;
+      const double tr = twitch_time(t);
       if (tr < 0.0) return 0.0;
       if (tr <= rise) return peak * 0.5 * (1.0 - std::cos(kPi * tr / rise));
       const double td = tr - rise;
@@ -56,7 +62,7 @@ double TimeCourse::derivative(double t) const {
       return (values[k] - values[k - 1]) / (times[k] - times[k - 1]);
     }
     case Kind::Twitch: {
-      const double tr = t - onset;
+      const double tr = twitch_time(t);
       if (tr < 0.0) return 0.0;
       if (tr <= rise) return peak * 0.5 * kPi / rise * std::sin(kPi * tr / rise);
       const double td = tr - rise;
@@ -80,7 +86,9 @@ std::string TimeCourse::describe() const {
       os << "table of " << times.size() << " points over [" << times.front() << ", " << times.back() << "] s";
       break;
     case Kind::Twitch:
-      os << "twitch peak " << peak << " from " << onset << " s (rise " << rise << " s, decay " << decay << " s)";
+      os << "twitch peak " << peak << " from " << onset << " s (rise " << rise << " s, decay " << decay << " s";
+      if (period > 0.0) os << ", every " << period << " s";
+      os << ")";
       break;
   }
   return os.str();
@@ -126,14 +134,20 @@ TimeCourse TimeCourse::table(std::vector<double> times, std::vector<double> valu
   return tc;
 }
 
-TimeCourse TimeCourse::twitch(double peak, double onset, double rise, double decay, const std::string& what) {
+TimeCourse TimeCourse::twitch(double peak, double onset, double rise, double decay, const std::string& what,
+                              double period) {
   if (!(rise > 0.0) || !(decay > 0.0)) throw InputError(what + ": twitch rise and decay times must be > 0");
+  if (!(period >= 0.0)) throw InputError(what + ".period: must be >= 0 s (0: one twitch)");
+  if (period > 0.0 && period < rise + decay)
+    throw InputError(what + ".period: " + std::to_string(period) + " s is shorter than rise + decay (" +
+                     std::to_string(rise + decay) + " s); the twitches would overlap");
   TimeCourse tc;
   tc.kind = Kind::Twitch;
   tc.peak = peak;
   tc.onset = onset;
   tc.rise = rise;
   tc.decay = decay;
+  tc.period = period;
   return tc;
 }
 

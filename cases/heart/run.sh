@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
-# The heart case, end to end: image -> mesh -> one simulated beat with a circulation -> plots,
-# report and check.
+# The heart case, end to end: image -> mesh -> two simulated beats with a circulation, healthy
+# and with an apical-anterior scar -> plots, report and checks.
 # Usage: cases/heart/run.sh ADAMSS_BINARY OUTPUT_DIR
 #   HEART_VOXEL (default 2.5mm; 1.25mm does not yet finish: the refilling after the beat stalls) sets the voxel size (the base plane z = 5 mm must be a whole
 #   number of voxels: 0.5, 1, 1.25, 2.5 mm); HEART_CHECK=0 skips the physiology check.
-# Writes OUTPUT_DIR/{summary.json, pv_loop.png, pressure_volume_time.png, report.md} and the
-# simulation in OUTPUT_DIR/sim (series.pvd + frames/*.vtu, globals.csv).
+#   HEART_SCAR=0 skips the scarred run.
+# Writes OUTPUT_DIR/{summary.json, pv_loop.png, pressure_volume_time.png, pv_loop_scar.png,
+# report.md}, the healthy simulation in OUTPUT_DIR/sim (series.pvd + frames/*.vtu, globals.csv)
+# and the scarred one in OUTPUT_DIR/scar (its summary.json there).
 set -euo pipefail
 adamss=${1:?usage: run.sh ADAMSS_BINARY OUTPUT_DIR}
 out=${2:?usage: run.sh ADAMSS_BINARY OUTPUT_DIR}
@@ -14,35 +16,57 @@ here=$(cd "$(dirname "$0")" && pwd)
 mkdir -p "$out"
 SECONDS=0
 
-echo "== 1/5 phantom: Land 2015 LV truncated ellipsoid, $voxel voxels, helix +60/-60 deg"
-"$adamss" phantom lv --voxel-size "$voxel" -o "$out/lv.nii.gz" \
-  --fiber-out "$out/lv_fiber.nii.gz" --sheet-out "$out/lv_sheet.nii.gz" --helix-endo 60 --helix-epi -60
+scar=${HEART_SCAR:-1}
 
-echo "== 2/5 mesh: tet6m, phantom fibres, closed LV cavity (label 2) with its lid, base plane tag"
+echo "== 1/6 phantom: Land 2015 LV truncated ellipsoid, $voxel voxels, helix +60/-60 deg, apical-anterior scar segment"
+"$adamss" phantom lv --voxel-size "$voxel" -o "$out/lv.nii.gz" \
+  --fiber-out "$out/lv_fiber.nii.gz" --sheet-out "$out/lv_sheet.nii.gz" --helix-endo 60 --helix-epi -60 \
+  --scar-out "$out/lv_scar.nii.gz" --scar-direction 0,1,-1 --scar-angle 30
+
+echo "== 2/6 mesh: tet6m, phantom fibres, closed LV cavity (label 2) with its lid, base plane tag, scar cell field"
 "$adamss" mesh "$out/lv.nii.gz" --solid 1 --topology tet6m \
-  --fiber "$out/lv_fiber.nii.gz" --sheet "$out/lv_sheet.nii.gz" \
+  --fiber "$out/lv_fiber.nii.gz" --sheet "$out/lv_sheet.nii.gz" --cell-field scar="$out/lv_scar.nii.gz" \
   --cavity lv=2 --tag-plane base=z:5mm -o "$out/lv.h5"
 "$adamss" info "$out/lv.h5" --json > "$out/mesh_info.json"
 "$adamss" info "$out/lv.h5"
 
-echo "== 3/5 simulation: one beat (filling, IVC, Windkessel ejection, IVR, refilling), see lv_beat.yaml"
+echo "== 3/6 simulation, healthy: two beats (filling, IVC, Windkessel ejection, IVR, refilling), see lv_beat.yaml"
 cp "$here/lv_beat.yaml" "$out/lv_beat.yaml"
 t_sim=$SECONDS
 OMP_NUM_THREADS=${OMP_NUM_THREADS:-1} "$adamss" run "$out/lv_beat.yaml" -o "$out/sim" -q
 t_sim=$((SECONDS - t_sim))
 cp "$out/sim/summary.json" "$out/summary.json"
 
-echo "== 4/5 plots and report"
-awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) { if ($i == "t") ct = i; if ($i == "lv_volume") cv = i; if ($i == "lv_pressure") cp = i } next }
-         { printf "%.6g %.6g %.6g\n", 1e3 * $ct, 1e6 * $cv, 1e-3 * $cp }' "$out/sim/globals.csv" > "$out/pv.dat"
-gnuplot -e "data='$out/pv.dat'; outdir='$out'" "$here/plots.gp"
-python3 - "$out" "$voxel" "$t_sim" > "$out/report.md" <<'PY'
+echo "== 4/6 simulation, scarred: the same two beats with the scar segment (no active tension, k_ij x10), see lv_beat_scar.yaml"
+t_scar=0
+if [[ "$scar" == 1 ]]; then
+  cp "$here/lv_beat_scar.yaml" "$out/lv_beat_scar.yaml"
+  t_scar=$SECONDS
+  OMP_NUM_THREADS=${OMP_NUM_THREADS:-1} "$adamss" run "$out/lv_beat_scar.yaml" -o "$out/scar" -q
+  t_scar=$((SECONDS - t_scar))
+else
+  echo "skipped (HEART_SCAR=0)"
+fi
+
+echo "== 5/6 plots and report"
+pv_dat() {
+  awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) { if ($i == "t") ct = i; if ($i == "lv_volume") cv = i; if ($i == "lv_pressure") cp = i } next }
+           { printf "%.6g %.6g %.6g\n", 1e3 * $ct, 1e6 * $cv, 1e-3 * $cp }' "$1" > "$2"
+}
+pv_dat "$out/sim/globals.csv" "$out/pv.dat"
+if [[ "$scar" == 1 ]]; then
+  pv_dat "$out/scar/globals.csv" "$out/pv_scar.dat"
+  gnuplot -e "data='$out/pv.dat'; scar='$out/pv_scar.dat'; outdir='$out'; period=800" "$here/plots.gp"
+else
+  gnuplot -e "data='$out/pv.dat'; outdir='$out'; period=800" "$here/plots.gp"
+fi
+python3 - "$out" "$voxel" "$t_sim" "$scar" > "$out/report.md" <<'PY'
 import json, sys
-out, voxel, t_sim = sys.argv[1], sys.argv[2], sys.argv[3]
+out, voxel, t_sim, scar = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4] == "1"
 s = json.load(open(out + "/summary.json"))
-c = s["cavities"][0]
+c = s["cavities"]["lv"]
 g = lambda k, f=1.0: c.get(k, float("nan")) * f
-print("# LV beat with a circulation\n")
+print("# Two LV beats with a circulation, healthy and scarred\n")
 print(f"Mesh: `adamss phantom lv` at {voxel} voxels -> `adamss mesh` tet6m, {s['nodes']} nodes, "
       f"{s['elements']} elements. Scene: [lv_beat.yaml](lv_beat.yaml). Integrator {s['integrator']}, "
       f"{s['steps']} steps, {s['newton_iterations']} Newton iterations, simulation {float(s['wall_time_s']):.0f} s wall.\n")
@@ -52,21 +76,50 @@ rows = [("end-diastolic volume EDV", f"{g('edv_m3', 1e6):.3f} ml"), ("end-systol
         ("end-diastolic pressure", f"{g('edp_Pa', 1e-3):.2f} kPa"), ("end-systolic pressure", f"{g('esp_Pa', 1e-3):.2f} kPa"),
         ("peak pressure", f"{g('peak_pressure_Pa', 1e-3):.2f} kPa ({g('peak_pressure_Pa', 0.0075006):.0f} mmHg)"),
         ("isovolumic volume drift", f"{100 * g('isovolumic_volume_drift'):.3g} %"),
-        ("loop closure after refilling", f"{100 * g('loop_closure'):.3g} %"),
+        ("loop closure after refilling (V_end vs EDV of beat 1)", f"{100 * g('loop_closure'):.3g} %"),
+        ("beat-to-beat change of EDV/ESV", f"{100 * g('beat_to_beat_change'):.3g} %"),
         ("fibre stretch min / max", f"{s['fiber_stretch_min']:.3f} / {s['fiber_stretch_max']:.3f}")]
 for k in ("mitral_closes_t_s", "aortic_opens_t_s", "aortic_closes_t_s", "mitral_opens_t_s"):
     if k in c: rows.append((k[:-4].replace("_", " ") + " at", f"{1e3 * c[k]:.0f} ms"))
 for a, b in rows: print(f"| {a} | {b} |")
+beats = c.get("per_beat", [])
+if beats:
+    print("\nPer beat (healthy):\n\n| beat | EDV (ml) | ESV (ml) | EF | EDP (kPa) | ESP (kPa) | peak (kPa) |\n|---|---|---|---|---|---|---|")
+    for i, b in enumerate(beats):
+        print(f"| {i + 1} | {1e6 * b['edv_m3']:.3f} | {1e6 * b['esv_m3']:.3f} | {100 * b['ejection_fraction']:.1f} % | "
+              f"{1e-3 * b['edp_Pa']:.2f} | {1e-3 * b['esp_Pa']:.2f} | {1e-3 * b['peak_pressure_Pa']:.2f} |")
 print("\n![PV loop](pv_loop.png)\n\n![pressure and volume](pressure_volume_time.png)\n")
+if scar:
+    z = json.load(open(out + "/scar/summary.json"))
+    d = z["cavities"]["lv"]
+    ef_h, ef_s = c.get("ejection_fraction", float("nan")), d.get("ejection_fraction", float("nan"))
+    print("## Planning scenario: apical-anterior scar\n")
+    print("Scar: the wall voxels within 30 deg of the axis (0, 1, -1) from the LV centre (`adamss phantom lv "
+          "--scar-out`), carried to the elements as the cell field `scar` (`adamss mesh --cell-field`); there the "
+          "material has no active tension and k_ij x10 ([lv_beat_scar.yaml](lv_beat_scar.yaml)). Values of beat 2.\n")
+    print("| quantity | healthy | scar |\n|---|---|---|")
+    for label, key, f, unit in (("EDV", "edv_m3", 1e6, "ml"), ("ESV", "esv_m3", 1e6, "ml"),
+                                ("stroke volume", "stroke_volume_m3", 1e6, "ml"),
+                                ("peak pressure", "peak_pressure_Pa", 1e-3, "kPa"),
+                                ("end-systolic pressure", "esp_Pa", 1e-3, "kPa")):
+        print(f"| {label} | {f * c.get(key, float('nan')):.3f} {unit} | {f * d.get(key, float('nan')):.3f} {unit} |")
+    print(f"| ejection fraction | {100 * ef_h:.1f} % | {100 * ef_s:.1f} % |")
+    print(f"\nChange in ejection fraction: {100 * (ef_s - ef_h):+.1f} percentage points "
+          f"({100 * (ef_s / ef_h - 1):+.1f} % relative).\n")
+    print("![PV loops, healthy and scar](pv_loop_scar.png)\n")
 print("Fields over time (displacement, fibre_stretch, active_tension, J): open [sim/series.pvd](sim/series.pvd) "
       "in ParaView. Every step: [sim/globals.csv](sim/globals.csv); everything: [summary.json](summary.json).")
 PY
 
-echo "== 5/5 check against cases/heart/expected.cmake"
+echo "== 6/6 check against cases/heart/expected.cmake"
 if [[ "${HEART_CHECK:-1}" == 1 ]]; then
   cmake -DSUMMARY="$out/summary.json" -DEXPECTED="$here/expected.cmake" -P "$here/check.cmake"
+  if [[ "$scar" == 1 ]]; then
+    cmake -DHEALTHY="$out/summary.json" -DSCARRED="$out/scar/summary.json" -DEXPECTED="$here/expected.cmake" \
+      -P "$here/check_scar.cmake"
+  fi
 else
   echo "skipped (HEART_CHECK=0)"
 fi
 cat "$out/report.md"
-echo "heart case done in ${SECONDS} s (simulation ${t_sim} s); results in $out"
+echo "heart case done in ${SECONDS} s (healthy simulation ${t_sim} s, scarred ${t_scar} s); results in $out"

@@ -66,6 +66,13 @@ TEST(Cli, ErrorsAreOneLineNamingTheCulprit) {
       {"phantom lv --voxel-size 5ms -o " + (dir / "x.nii").string(), "--voxel-size"},
       {"phantom lv --helix-endo 120 -o " + (dir / "x.nii").string(), "--helix-endo"},
       {"phantom beam --fiber-out " + (dir / "f.nii").string() + " -o " + (dir / "x.nii").string(), "--fiber-out"},
+      {"phantom beam --scar-out " + (dir / "s.nii").string() + " -o " + (dir / "x.nii").string(), "--scar-out"},
+      {"phantom lv --scar-out " + (dir / "s.nii").string() + " --scar-angle 0 -o " + (dir / "x.nii").string(),
+       "--scar-angle"},
+      {"phantom lv --scar-out " + (dir / "s.nii").string() + " --scar-direction 0,0,0 -o " + (dir / "x.nii").string(),
+       "--scar-direction"},
+      {"phantom lv --scar-out " + (dir / "s.nii").string() + " --scar-direction 1,2 -o " + (dir / "x.nii").string(),
+       "--scar-direction"},
       {"info " + (dir / "nothing.h5").string(), "nothing.h5"},
   };
   for (const Case& c : cases) {
@@ -74,4 +81,22 @@ TEST(Cli, ErrorsAreOneLineNamingTheCulprit) {
     EXPECT_NE(r.output.find(c.must_contain), std::string::npos) << c.args << "\n" << r.output;
     EXPECT_NE(r.output.find("error"), std::string::npos) << c.args << "\n" << r.output;
   }
+}
+
+// The scar segment travels phantom -> image -> mesh cell field: 0/1, some but not most elements.
+TEST(Cli, PhantomScarBecomesACellField) {
+  const auto dir = scratch_dir("scar");
+  const std::string img = (dir / "lv.nii.gz").string(), scar = (dir / "scar.nii.gz").string();
+  const std::string mesh = (dir / "lv.h5").string();
+  auto r = run_adamss("phantom lv --voxel-size 2.5mm -o " + img + " --scar-out " + scar);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("scar: 18 of 208 wall voxels"), std::string::npos) << r.output;
+  r = run_adamss("mesh " + img + " --solid 1 --topology tet6m --cell-field scar=" + scar + " -o " + mesh);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_adamss("info " + mesh + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const json jm = json::parse(r.output);
+  ASSERT_TRUE(jm["cell_fields"].contains("scar")) << jm["cell_fields"].dump();
+  EXPECT_EQ(jm["cell_fields"]["scar"]["min"].get<double>(), 0.0) << jm["cell_fields"].dump();
+  EXPECT_EQ(jm["cell_fields"]["scar"]["max"].get<double>(), 1.0) << jm["cell_fields"].dump();
 }

@@ -167,8 +167,8 @@ TEST(Run, ImplicitRunsAreBitwiseRepeatable) {
   for (const char* threads : {"1", "1", "2"}) {
     const auto out = dir / ("out" + std::to_string(tables.size()));
     ::setenv("OMP_NUM_THREADS", threads, 1);
-    const auto r = adamss::test::run_adamss("run " + scene + " -o " + out.string() + " --cache " + (dir / "cache").string() +
-                                    " -q");
+    const auto r = adamss::test::run_adamss("run " + scene + " -o " + out.string() + " --cache " +
+                                            (dir / "cache").string() + " -q");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     tables.push_back(strip_wall(out / "globals.csv"));
     ASSERT_GT(tables.back().size(), 200u);
@@ -176,4 +176,27 @@ TEST(Run, ImplicitRunsAreBitwiseRepeatable) {
   ::unsetenv("OMP_NUM_THREADS");
   EXPECT_EQ(tables[0], tables[1]);
   EXPECT_EQ(tables[0], tables[2]);
+}
+
+// summary.json `cavities` is an object keyed by the pressure surface's name (with `name` inside)
+// carrying the beat metrics from the volume extrema.
+TEST(Run, CavitiesAreKeyedByName) {
+  const auto dir = scratch_dir("run_cavities");
+  const auto scene = write_scene(
+      dir, slab_scene("{type: symplectic_euler, dt: 5 us}", "{t_end: 1 ms}") +
+               "loads:\n  pressure:\n    - {name: top, surface: {region: {plane: {point: [0, 0, 4 mm], normal: [0, 0, "
+               "1], tolerance: 0.001 mm}}}, pressure: 100 Pa}\n");
+  const auto r = run_adamss("run " + scene.string() + " -o " + (dir / "out").string() + cache_arg(dir));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto j = summary(dir / "out");
+  ASSERT_TRUE(j["cavities"].is_object()) << j["cavities"].dump();
+  ASSERT_TRUE(j["cavities"].contains("top")) << j["cavities"].dump();
+  const auto& c = j["cavities"]["top"];
+  EXPECT_EQ(c["name"], "top");
+  for (const char* key : {"edv_m3", "esv_m3", "edp_Pa", "esp_Pa", "stroke_volume_m3", "ejection_fraction",
+                          "peak_pressure_Pa", "volume_initial_m3", "volume_final_m3"})
+    EXPECT_TRUE(c.contains(key)) << key;
+  EXPECT_DOUBLE_EQ(c["peak_pressure_Pa"].get<double>(), 100.0);
+  EXPECT_TRUE(j.contains("fiber_stretch_max"));
+  EXPECT_TRUE(j.contains("fiber_stretch_min"));
 }

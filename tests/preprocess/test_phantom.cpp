@@ -459,3 +459,47 @@ TEST(PhantomBiv, RvFreeWallUsesTheRvShellAndSeptumTheLvShell) {
 
 }  // namespace
 }  // namespace adamss::preprocess
+
+namespace adamss::preprocess {
+namespace {
+
+// The scar segment: 1 exactly on the wall voxels inside the cone, 0 elsewhere (cavity and
+// background never scar); the default apical-anterior cone takes a minority of the wall; bad
+// cones are InputErrors.
+TEST(PhantomScar, MarksTheWallVoxelsInsideTheCone) {
+  PhantomOptions o;
+  o.voxel_size_m = 1e-3;
+  const Phantom ph = make_phantom("lv", o);
+  const ScarCone cone;  // axis (0, 1, -1), half-angle 30 deg, centre 0
+  const ScalarImage scar = scar_image(ph.image, cone);
+  ASSERT_EQ(scar.values.size(), ph.image.labels.size());
+  const Vector3d d = Vector3d(0, 1, -1).normalized();
+  std::size_t wall = 0, marked = 0;
+  const auto& n = ph.image.grid.dims;
+  for (std::int64_t k = 0; k < n[2]; ++k)
+    for (std::int64_t j = 0; j < n[1]; ++j)
+      for (std::int64_t i = 0; i < n[0]; ++i) {
+        const std::size_t v = ph.image.grid.linear(i, j, k);
+        const Vector3d x = ph.image.grid.to_world(Vector3d(double(i), double(j), double(k)));
+        const bool in_cone = x.normalized().dot(d) >= std::cos(30.0 * std::numbers::pi / 180.0);
+        const bool is_wall = ph.image.labels[v] == kMyocardium;
+        wall += is_wall ? 1 : 0;
+        marked += scar.values[v] > 0.5 ? 1 : 0;
+        EXPECT_EQ(scar.values[v], (is_wall && in_cone) ? 1.0 : 0.0) << i << ' ' << j << ' ' << k;
+        if (scar.values[v] > 0.5) EXPECT_GT(x.y(), 0.0);
+      }
+  const double fraction = double(marked) / double(wall);
+  EXPECT_GT(fraction, 0.05);
+  EXPECT_LT(fraction, 0.25);
+  ScarCone bad;
+  bad.direction = Vector3d::Zero();
+  EXPECT_THROW((void)scar_image(ph.image, bad), InputError);
+  bad = ScarCone{};
+  bad.half_angle_rad = 0.0;
+  EXPECT_THROW((void)scar_image(ph.image, bad), InputError);
+  bad.half_angle_rad = 4.0;
+  EXPECT_THROW((void)scar_image(ph.image, bad), InputError);
+}
+
+}  // namespace
+}  // namespace adamss::preprocess

@@ -118,3 +118,110 @@ TEST(Circulation, RefusesNegativeTimes) {
   cs.period = -0.8;
   EXPECT_THROW(solver::Circulation(cs, 1e-6), InputError);
 }
+
+// A twitch with a period repeats: beat n is the first twitch shifted by n T; the course is
+// zero between the beats; a period shorter than rise + decay (overlapping twitches) is refused.
+TEST(TimeCourse, PeriodicTwitchRepeatsEveryPeriod) {
+  const auto one = solver::TimeCourse::twitch(90e3, 0.1, 0.15, 0.25);
+  const auto rep = solver::TimeCourse::twitch(90e3, 0.1, 0.15, 0.25, "twitch", 0.8);
+  for (double t = -0.2; t < 0.9; t += 0.0137) {
+    EXPECT_DOUBLE_EQ(rep(t), one(t)) << t;  // the first beat is the single twitch
+    EXPECT_NEAR(rep(t + 0.8), one(t), 1e-6 * 90e3) << t;
+    EXPECT_NEAR(rep(t + 1.6), one(t), 1e-6 * 90e3) << t;
+    EXPECT_NEAR(rep.derivative(t + 0.8), one.derivative(t), 1e-5 * 90e3) << t;
+  }
+  EXPECT_DOUBLE_EQ(one(0.9 + 0.15), 0.0);           // one twitch: nothing at the second onset
+  EXPECT_NEAR(rep(0.9 + 0.15), 90e3, 1e-6 * 90e3);  // repeated: the second peak
+  EXPECT_DOUBLE_EQ(rep(0.7), 0.0);                  // rest between the beats
+  EXPECT_NE(rep.describe().find("every 0.8 s"), std::string::npos);
+  EXPECT_THROW((void)solver::TimeCourse::twitch(1.0, 0.0, 0.15, 0.25, "tw", 0.3), InputError);
+  EXPECT_THROW((void)solver::TimeCourse::twitch(1.0, 0.0, 0.15, 0.25, "tw", -1.0), InputError);
+  try {
+    (void)solver::TimeCourse::twitch(1.0, 0.0, 0.15, 0.25, "tension.twitch", 0.3);
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("tension.twitch.period"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW((void)solver::TimeCourse::twitch(1.0, 0.0, 0.15, 0.25, "tw", 0.4));  // touching twitches
+}
+
+namespace {
+/// Drives one synthetic beat from filling (starting at t) through the four phases and back to
+/// filling: fills (dV > 0) until the onset, holds, ejects `n_eject` steps of dv, relaxes. Returns t.
+double synthetic_beat(solver::Circulation& c, double t, double onset, double h, double& v, double dv, int n_eject,
+                      double& edv) {
+  while (t < onset - 1e-12) {  // filling: the volume grows, so the valve stays open even past the onset
+    t += h;
+    v += 1e-9;
+    c.end_step(t, h, v, 1000.0);
+    EXPECT_EQ(c.phase(), CardiacPhase::Filling) << t;
+  }
+  t += h;
+  c.end_step(t, h, v - 1e-12, 1000.0);  // the contraction pushes: the mitral valve closes
+  v -= 1e-12;
+  edv = v;
+  EXPECT_EQ(c.phase(), CardiacPhase::IsovolumicContraction) << t;
+  t += h;
+  c.end_step(t, h, v, 20000.0);  // above P_c: the aortic valve opens
+  EXPECT_EQ(c.phase(), CardiacPhase::Ejection) << t;
+  for (int i = 0; i < n_eject; ++i) {
+    t += h;
+    v -= dv;
+    c.end_step(t, h, v, 15000.0 + i);
+  }
+  t += h;
+  c.end_step(t, h, v, 12000.0);  // no outflow: the aortic valve closes
+  EXPECT_EQ(c.phase(), CardiacPhase::IsovolumicRelaxation) << t;
+  t += h;
+  c.end_step(t, h, v, 500.0);  // the mitral valve opens
+  EXPECT_EQ(c.phase(), CardiacPhase::Filling) << t;
+  return t;
+}
+}  // namespace
+
+// With a period the phase machine runs a second cycle: filling -> IVC again at onset + T (not
+// before), per-beat records, beat_to_beat_change from the last two beats.
+TEST(Circulation, SecondBeatAfterOnePeriod) {
+  solver::CirculationSettings cs;
+  cs.atrial_pressure = solver::TimeCourse::constant(1000.0);
+  cs.contraction_onset = 0.1;
+  cs.period = 0.5;
+  cs.windkessel.initial_pressure = 10000.0;
+  const double h = 1e-3, v0 = 100e-6;
+  solver::Circulation c(cs, v0);
+  double v = v0, edv1 = 0, edv2 = 0;
+  double t = synthetic_beat(c, 0.0, 0.1, h, v, 1e-6, 40, edv1);
+  EXPECT_LT(t, 0.6);
+  // Refill to the start volume; a fall of the volume before the second onset does not close the valve.
+  t += h;
+  v = v0;
+  c.end_step(t, h, v, 1000.0);
+  t += h;
+  c.end_step(t, h, v - 1e-10, 1000.0);
+  v -= 1e-10;
+  EXPECT_EQ(c.phase(), CardiacPhase::Filling);
+  ASSERT_EQ(c.beats().size(), 1u);
+  const auto m1 = c.metrics();
+  for (const auto& kv : m1) EXPECT_NE(kv.first, "beat_to_beat_change");
+  t = synthetic_beat(c, t, 0.6, h, v, 1.05e-6, 40, edv2);  // the second beat ejects 5 % more per step
+  ASSERT_EQ(c.beats().size(), 2u);
+  EXPECT_GT(c.events()[4].first, 0.6);  // the second mitral closure, within a step after onset + T
+  EXPECT_LT(c.events()[4].first, 0.6 + 1.5 * h);
+  EXPECT_EQ(c.events()[4].second, "mitral_closes");
+  EXPECT_DOUBLE_EQ(c.beats()[0].edv, edv1);
+  EXPECT_DOUBLE_EQ(c.beats()[1].edv, edv2);
+  EXPECT_NEAR(c.beats()[1].esv, edv2 - 40 * 1.05e-6, 1e-15);
+  EXPECT_DOUBLE_EQ(c.beats()[0].peak, 20000.0);
+  std::map<std::string, double> m;
+  for (const auto& [key, value] : c.metrics()) m[key] = value;
+  EXPECT_DOUBLE_EQ(m.at("beats"), 2.0);
+  EXPECT_DOUBLE_EQ(m.at("esv_m3"), c.beats()[1].esv);
+  const double esv_change = std::abs(c.beats()[1].esv / c.beats()[0].esv - 1.0);
+  EXPECT_GT(esv_change, 0.01);
+  EXPECT_NEAR(m.at("beat_to_beat_change"), esv_change, 1e-12);
+  const auto per_beat = c.beat_metrics();
+  ASSERT_EQ(per_beat.size(), 2u);
+  std::map<std::string, double> b2(per_beat[1].begin(), per_beat[1].end());
+  EXPECT_NEAR(b2.at("ejection_fraction"), c.beats()[1].ejection_fraction(), 1e-15);
+  EXPECT_NEAR(b2.at("stroke_volume_m3"), 40 * 1.05e-6, 1e-15);
+  EXPECT_DOUBLE_EQ(m.at("peak_pressure_Pa"), c.beats()[1].peak);
+}

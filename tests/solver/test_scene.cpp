@@ -164,3 +164,60 @@ TEST(Scene, InvalidYamlIsAnInputError) {
   EXPECT_NE(error_of("mesh: [unclosed").find("not valid YAML"), std::string::npos);
   EXPECT_THROW(solver::load_scene("/nonexistent/scene.yaml"), InputError);
 }
+
+// A scar segment on the lv recipe (cell field `scar`, 0/1) splits the wall into two materials by
+// `cell_field: {name, min, max}`; every element must belong to exactly one.
+TEST(Scene, MaterialsSplitByACellField) {
+  const std::string scene = R"(
+name: scar
+mesh: {phantom: lv, voxel_size: 2.5 mm, topology: tet6m, scar: {direction: [0, 1, -1], angle: 30 deg}}
+materials:
+  - name: healthy
+    labels: [1]
+    cell_field: {name: scar, max: 0.5}
+    density: 1000 kg/m^3
+    terms:
+      - virtual_hexahedron: {law: hunter_canine}
+      - active_tension: {tension: 10 kPa}
+  - name: scar
+    labels: [1]
+    cell_field: {name: scar, min: 0.5}
+    density: 1000 kg/m^3
+    terms:
+      - virtual_hexahedron: {law: hunter_canine, parameters: {k11: 28 kPa}}
+boundary:
+  - select: {tag: base}
+    fix: xyz
+integrator: {type: static, dt: 10 ms}
+run: {t_end: 10 ms}
+)";
+  const auto sc = load(scene);
+  const auto& f = sc.model.mesh->cell_scalars.at("scar");
+  const auto n_scar = (f.array() > 0.5).count();
+  EXPECT_GT(n_scar, 0);
+  EXPECT_LT(n_scar, f.size() / 4);
+  EXPECT_EQ((f.array() * (1.0 - f.array())).abs().maxCoeff(), 0.0);  // 0/1 only
+  int healthy = 0, scar = 0;
+  for (const auto& line : sc.term_summary) {
+    healthy += line.find("[material healthy]") != std::string::npos ? 1 : 0;
+    scar += line.find("[material scar]") != std::string::npos ? 1 : 0;
+  }
+  EXPECT_EQ(healthy, 2);
+  EXPECT_EQ(scar, 1);
+  // Overlapping ranges, a missing field, a range with no element, a scar on a slab.
+  EXPECT_NE(error_of(replaced(scene, "{name: scar, min: 0.5}", "{name: scar, min: 0}")).find("already belongs"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(scene, "{name: scar, min: 0.5}", "{name: infarct, min: 0.5}"))
+                .find("materials[1].cell_field.name: the mesh has no cell field 'infarct'"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(scene, "{name: scar, min: 0.5}", "{name: scar, min: 2}")).find("no element"),
+            std::string::npos);
+  EXPECT_NE(
+      error_of(replaced(scene, "{name: scar, min: 0.5}", "{name: scar, min: 1, max: 0}")).find("min must be <= max"),
+      std::string::npos);
+  EXPECT_NE(error_of(replaced(scene, "    cell_field: {name: scar, min: 0.5}\n", "")).find("already belongs"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(scene, "angle: 30 deg", "angle: 0 deg")).find("mesh.scar.angle"), std::string::npos);
+  EXPECT_NE(error_of(replaced(kBase, "voxel_size: 1 mm,", "voxel_size: 1 mm, scar: {},")).find("lv and biv"),
+            std::string::npos);
+}
