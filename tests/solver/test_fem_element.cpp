@@ -92,7 +92,9 @@ TEST(FemElement, PatchTestAffineDeformationIsExact) {
     const double fmax = fo.cwiseAbs().maxCoeff();
     ASSERT_GT(fmax, 0.0);
     for (Eigen::Index i = 0; i < x.cols(); ++i) {
-      if (!on_boundary(mesh.nodes.col(i))) EXPECT_LT(fo.col(i).norm(), 1e-10 * fmax) << "interior node " << i;
+      if (!on_boundary(mesh.nodes.col(i))) {
+        EXPECT_LT(fo.col(i).norm(), 1e-10 * fmax) << "interior node " << i;
+      }
     }
     EXPECT_LT(fo.rowwise().sum().norm(), 1e-10 * fmax);
   }
