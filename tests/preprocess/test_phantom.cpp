@@ -486,7 +486,9 @@ TEST(PhantomScar, MarksTheWallVoxelsInsideTheCone) {
         wall += is_wall ? 1 : 0;
         marked += scar.values[v] > 0.5 ? 1 : 0;
         EXPECT_EQ(scar.values[v], (is_wall && in_cone) ? 1.0 : 0.0) << i << ' ' << j << ' ' << k;
-        if (scar.values[v] > 0.5) EXPECT_GT(x.y(), 0.0);
+        if (scar.values[v] > 0.5) {
+          EXPECT_GT(x.y(), 0.0);
+        }
       }
   const double fraction = double(marked) / double(wall);
   EXPECT_GT(fraction, 0.05);
