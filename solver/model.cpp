@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "preprocess/element_faces.hpp"
+#include "solver/element_rules.hpp"
 
 namespace adamss::solver {
 
@@ -15,39 +16,18 @@ namespace {
 using preprocess::kHexCornerCode;
 using preprocess::kHexNeighbour;
 
-// Gradients of the eight trilinear shape functions at the 2x2x2 Gauss points of the
-// unit cube (VTK corner order); det J of a trilinear map is of degree <= 2 in each
-// parameter, so the rule integrates the volume exactly.
-const std::array<std::array<Eigen::Vector3d, 8>, 8>& hex_gauss_gradients() {
-  static const std::array<std::array<Eigen::Vector3d, 8>, 8> grads = [] {
-    std::array<std::array<Eigen::Vector3d, 8>, 8> g{};
-    const double o = 0.5 / std::sqrt(3.0);
-    for (int q = 0; q < 8; ++q) {
-      const double r = 0.5 + ((q & 1) ? o : -o), s = 0.5 + ((q & 2) ? o : -o), t = 0.5 + ((q & 4) ? o : -o);
-      for (int a = 0; a < 8; ++a) {
-        const int c = kHexCornerCode[static_cast<std::size_t>(a)];
-        const bool cx = (c & 1) != 0, cy = (c & 2) != 0, cz = (c & 4) != 0;
-        const double nx = cx ? r : 1 - r, ny = cy ? s : 1 - s, nz = cz ? t : 1 - t;
-        g[static_cast<std::size_t>(q)][static_cast<std::size_t>(a)] =
-            Eigen::Vector3d((cx ? 1 : -1) * ny * nz, nx * (cy ? 1 : -1) * nz, nx * ny * (cz ? 1 : -1));
-      }
-    }
-    return g;
-  }();
-  return grads;
-}
-
 double tet_volume(const Eigen::Matrix3Xd& x, const Index* n) {
   const Eigen::Vector3d x0 = x.col(n[0]);
   return (x.col(n[1]) - x0).dot((x.col(n[2]) - x0).cross(x.col(n[3]) - x0)) / 6.0;
 }
 
 double hex_volume(const Eigen::Matrix3Xd& x, const Index* n) {
+  // The 2x2x2 rule integrates det J exactly (degree <= 2 per parameter; element_rules.hpp).
   const auto& grads = hex_gauss_gradients();
   double v = 0.0;
   for (std::size_t q = 0; q < 8; ++q) {
     Eigen::Matrix3d jac = Eigen::Matrix3d::Zero();
-    for (std::size_t a = 0; a < 8; ++a) jac += x.col(n[a]) * grads[q][a].transpose();
+    for (Eigen::Index a = 0; a < 8; ++a) jac += x.col(n[a]) * grads[q].row(a);
     v += jac.determinant();
   }
   return v / 8.0;

@@ -11,6 +11,7 @@
 
 #include "common/error.hpp"
 #include "preprocess/element_faces.hpp"
+#include "solver/element_rules.hpp"
 
 namespace adamss::solver {
 
@@ -19,19 +20,6 @@ namespace fs = std::filesystem;
 namespace {
 
 using preprocess::ElementType;
-using preprocess::kHexCornerCode;
-
-/// Shape-function gradients of the trilinear hexahedron at parameter point (r, s, t) in [0,1]^3.
-std::array<Eigen::Vector3d, 8> hex_gradients(double r, double s, double t) {
-  std::array<Eigen::Vector3d, 8> g{};
-  for (std::size_t a = 0; a < 8; ++a) {
-    const int c = kHexCornerCode[a];
-    const bool cx = (c & 1) != 0, cy = (c & 2) != 0, cz = (c & 4) != 0;
-    const double nx = cx ? r : 1 - r, ny = cy ? s : 1 - s, nz = cz ? t : 1 - t;
-    g[a] = Eigen::Vector3d((cx ? 1 : -1) * ny * nz, nx * (cy ? 1 : -1) * nz, nx * ny * (cz ? 1 : -1));
-  }
-  return g;
-}
 
 /// dx/dxi (tet: edge matrix; hex: Jacobian at the centre) of element e at positions x.
 Eigen::Matrix3d element_map(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x, std::size_t e) {
@@ -41,9 +29,9 @@ Eigen::Matrix3d element_map(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd
     for (int k = 0; k < 3; ++k) j.col(k) = x.col(n[k + 1]) - x.col(n[0]);
     return j;
   }
-  static const std::array<Eigen::Vector3d, 8> g = hex_gradients(0.5, 0.5, 0.5);
+  static const Eigen::Matrix<double, 8, 3> g = hex_shape_gradients(0.5, 0.5, 0.5);
   j.setZero();
-  for (std::size_t a = 0; a < 8; ++a) j += x.col(n[a]) * g[a].transpose();
+  for (Eigen::Index a = 0; a < 8; ++a) j += x.col(n[a]) * g.row(a);
   return j;
 }
 
