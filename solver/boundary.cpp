@@ -51,6 +51,7 @@ void Constraints::fix(Index node, std::uint8_t axes, const std::string& source) 
     }
     mask_[n] |= static_cast<std::uint8_t>(1U << c);
     fixed_[n] |= static_cast<std::uint8_t>(1U << c);
+    fixed_list_.emplace_back(node, c);
     ++fixed_dofs_;
   }
 }
@@ -69,17 +70,9 @@ void Constraints::control(Index node, int axis, const TimeCourse& course, bool v
 
 void Constraints::impose(Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& v, const Eigen::Matrix3Xd& x_ref,
                          const Eigen::Matrix3Xd& x_fixed, double t) const {
-  if (!fixed_.empty()) {
-    for (std::size_t n = 0; n < fixed_.size(); ++n) {
-      if (fixed_[n] == 0) continue;
-      const auto i = static_cast<Eigen::Index>(n);
-      for (int c = 0; c < 3; ++c) {
-        if ((fixed_[n] >> c) & 1U) {
-          x(c, i) = x_fixed(c, i);
-          v(c, i) = 0.0;
-        }
-      }
-    }
+  for (const auto& [node, c] : fixed_list_) {
+    x(c, node) = x_fixed(c, node);
+    v(c, node) = 0.0;
   }
   for (const AxisControl& k : controls_) {
     if (k.velocity) {
@@ -92,13 +85,7 @@ void Constraints::impose(Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& v, const Eigen::
 }
 
 void Constraints::constrain_acceleration(Eigen::Matrix3Xd& a, double t) const {
-  if (!fixed_.empty()) {
-    for (std::size_t n = 0; n < fixed_.size(); ++n) {
-      if (fixed_[n] == 0) continue;
-      for (int c = 0; c < 3; ++c)
-        if ((fixed_[n] >> c) & 1U) a(c, static_cast<Eigen::Index>(n)) = 0.0;
-    }
-  }
+  for (const auto& [node, c] : fixed_list_) a(c, node) = 0.0;
   for (const AxisControl& k : controls_) a(k.axis, k.node) = k.velocity ? k.course.derivative(t) : 0.0;
 }
 

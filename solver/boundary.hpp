@@ -68,6 +68,7 @@ class Constraints {
   std::vector<std::uint8_t> mask_;   // bit c: axis c constrained (fixed or controlled)
   std::vector<std::uint8_t> fixed_;  // bit c: axis c fixed (subset of mask_), per node, lazily sized
   std::vector<AxisControl> controls_;
+  std::vector<std::pair<Index, int>> fixed_list_;  // the fixed (node, axis) pairs, for the per-step loops
   std::size_t fixed_dofs_ = 0;
 };
 

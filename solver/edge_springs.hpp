@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "preprocess/mesh.hpp"
+#include "solver/soa_loops.hpp"
 #include "solver/stencil_term.hpp"
 
 namespace adamss::solver {
@@ -33,6 +34,18 @@ struct EdgeSpringKernel {
   [[nodiscard]] double energy(std::size_t i, const Mat3N<2>& x, const Mat3N<2>& v, double t) const;
   void forces(std::size_t i, const Mat3N<2>& x, const Mat3N<2>& v, double t, Mat3N<2>& f) const;
   void jacobian(std::size_t i, const Mat3N<2>& x, const Mat3N<2>& v, double t, MatJ<2>& dfdx, MatJ<2>& dfdv) const;
+
+  /// All springs at once through the vectorised structure-of-arrays loop (solver/soa_loops.hpp),
+  /// used by StencilTerm::add_forces; same forces as forces() per item to rounding. The loop is
+  /// built on the first call from edges / stiffness / rest_length, which must not change after.
+  void add_forces_bulk(const StateView& s, Eigen::Matrix3Xd& f) const { bulk_loop(s.x.cols()).add_forces(s.x, f); }
+  /// The loop add_forces_bulk uses (built on first use for `node_count` nodes).
+  [[nodiscard]] const SpringLoop& bulk_loop(std::int64_t node_count) const {
+    return loop_.get([&] { return SpringLoop(edges, stiffness, rest_length, node_count); });
+  }
+
+  /// Cache of add_forces_bulk (not shared by copies).
+  LazyLoop<SpringLoop> loop_;
 };
 
 /// Unique node pairs of the mesh's edges (sorted, deterministic); for hexahedra

@@ -39,6 +39,10 @@ struct GlobalFrictionKernel {
                 MatJ<1>& dfdv) const {
     dfdv.diagonal().array() -= mu[static_cast<Eigen::Index>(i)];
   }
+  /// All particles at once: f_i -= mu_i v_i (the same bits as forces() item by item).
+  void add_forces_bulk(const StateView& s, Eigen::Matrix3Xd& f) const {
+    f.array() -= s.v.array().rowwise() * mu.transpose().array();
+  }
 };
 
 /// Eq. (2.118) literally: mu (N s/m, >= 0, finite) on each of `node_count` particles.

@@ -125,6 +125,16 @@ struct HybmssVolumeKernel {
   [[nodiscard]] double energy(std::size_t i, const Mat3N<8>& x, const Mat3N<8>& v, double t) const;
   void forces(std::size_t i, const Mat3N<8>& x, const Mat3N<8>& v, double t, Mat3N<8>& f) const;
   void jacobian(std::size_t i, const Mat3N<8>& x, const Mat3N<8>& v, double t, MatJ<8>& dfdx, MatJ<8>& dfdv) const;
+
+  /// All cells at once through the vectorised structure-of-arrays loop (solver/soa_loops.hpp);
+  /// same forces as forces() per item to rounding. Built on the first call; the members must not
+  /// change after it.
+  void add_forces_bulk(const StateView& s, Eigen::Matrix3Xd& f) const {
+    loop_.get([&] { return HybmssVolumeLoop(cells, kappa, volume0, s.x.cols()); }).add_forces(s.x, f);
+  }
+
+  /// Cache of add_forces_bulk (not shared by copies).
+  LazyLoop<HybmssVolumeLoop> loop_;
 };
 
 /// The volume-correction kernel (kappa from params; built even when kappa = 0). Same errors

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "common/error.hpp"
+#include "solver/volume_check.hpp"
 
 namespace adamss::solver {
 
@@ -59,7 +60,7 @@ using Clock = std::chrono::steady_clock;
 
 /// First problem found in state s, or an empty string. Sets `element` for a flat element.
 std::string check_state(const Model& model, const State& s, const std::vector<double>& vref, double flat,
-                        std::optional<std::size_t>& element) {
+                        const SignedVolumeScreen& screen, std::optional<std::size_t>& element) {
   if (!s.x.allFinite() || !s.v.allFinite()) {
     for (Eigen::Index i = 0; i < s.x.cols(); ++i) {
       if (!s.x.col(i).allFinite() || !s.v.col(i).allFinite()) {
@@ -67,6 +68,7 @@ std::string check_state(const Model& model, const State& s, const std::vector<do
       }
     }
   }
+  if (!screen.any_flagged(s.x)) return {};
   const preprocess::Mesh& mesh = *model.mesh;
   for (std::size_t e = 0; e < vref.size(); ++e) {
     const double v = element_signed_volume_check(mesh, s.x, e);
@@ -126,6 +128,12 @@ RunOutcome run_simulation(Model& model, State& s, const RunSettings& set, Result
   const preprocess::Mesh& mesh = *model.mesh;
   std::vector<double> vref(mesh.element_count());
   for (std::size_t e = 0; e < vref.size(); ++e) vref[e] = element_signed_volume_check(mesh, model.x_ref, e);
+  // The vectorised screen flags an element a little early (margin 1e-6 |V_ref| for the rounding
+  // differences between the two evaluations); the exact check then decides.
+  std::vector<double> screen_threshold(vref.size());
+  for (std::size_t e = 0; e < vref.size(); ++e)
+    screen_threshold[e] = set.flat_fraction * vref[e] + 1e-6 * std::abs(vref[e]);
+  const SignedVolumeScreen screen(mesh, screen_threshold);
 
   RunOutcome out;
   State good;
@@ -305,7 +313,7 @@ RunOutcome run_simulation(Model& model, State& s, const RunSettings& set, Result
     }
     if (out.steps % set.check_every == 0) {
       std::optional<std::size_t> bad;
-      const std::string problem = check_state(model, s, vref, set.flat_fraction, bad);
+      const std::string problem = check_state(model, s, vref, set.flat_fraction, screen, bad);
       if (!problem.empty()) {
         out.bad_element = bad;
         std::ostringstream os;
@@ -318,8 +326,11 @@ RunOutcome run_simulation(Model& model, State& s, const RunSettings& set, Result
       good = s;
       good_step = out.steps;
     }
-    const double ke = kinetic_energy(model.mass, s.v);
-    if (s.t >= next_globals - t_eps) {
+    // The kinetic energy (a pass over all nodes) only when something reads it.
+    const bool globals_due = s.t >= next_globals - t_eps;
+    const bool tty_due = tty && std::chrono::duration<double>(Clock::now() - last_progress).count() > 0.5;
+    const double ke = (globals_due || tty_due || set.ke_threshold >= 0.0) ? kinetic_energy(model.mass, s.v) : 0.0;
+    if (globals_due) {
       row.step = out.steps;
       row.dt = rep.dt;
       row.kinetic_energy = ke;
@@ -339,7 +350,7 @@ RunOutcome run_simulation(Model& model, State& s, const RunSettings& set, Result
         while (next_export <= s.t + t_eps) next_export += set.export_interval;
       }
     }
-    if (ke >= set.ke_threshold) ke_exceeded = true;
+    if (set.ke_threshold >= 0.0 && ke >= set.ke_threshold) ke_exceeded = true;
     // The kinetic-energy stop is armed from ke_after on, and only once the motion has started
     // (the kinetic energy exceeded the threshold at least once): a scene starting at rest does
     // not stop after its first step.
@@ -348,7 +359,7 @@ RunOutcome run_simulation(Model& model, State& s, const RunSettings& set, Result
       out.reason = "kinetic_energy";
       break;
     }
-    if (tty && std::chrono::duration<double>(Clock::now() - last_progress).count() > 0.5) {
+    if (tty_due) {
       last_progress = Clock::now();
       const double frac = s.t / set.t_end;
       const double w = wall();

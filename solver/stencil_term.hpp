@@ -17,7 +17,10 @@
 //   void jacobian(std::size_t item, const Mat3N& x, const Mat3N& v, double t,
 //                 MatJ& dfdx, MatJ& dfdv) const;               // MatJ = 3N x 3N, local (a,b) block at (3a, 3b)
 // (energy/jacobian may be left undefined when the matching flag is false.)
-// Optional: void end_step(const StateView& s, double dt);   // state update after a step
+// Optional: void add_forces_bulk(const StateView& s, Eigen::Matrix3Xd& f) const;
+//                                                            // all items at once (a vectorised
+//                                                            // loop); add_forces then uses it
+//           void end_step(const StateView& s, double dt);   // state update after a step
 //           void save_state(StateArchive&) const; void load_state(const StateArchive&);
 //                                                            // that state, for checkpoints
 #include <algorithm>
@@ -85,6 +88,16 @@ class StencilTerm final : public ForceTerm {
   /// then summed per node in a fixed order (increasing item index) -- the result is the same
   /// bit for bit whatever the number of threads. Small terms run serially.
   void add_forces(const StateView& s, Eigen::Matrix3Xd& f) const override {
+    if constexpr (requires { kernel_.add_forces_bulk(s, f); }) {
+      if (kernel_.size() > 0) kernel_.add_forces_bulk(s, f);
+    } else {
+      add_forces_per_item(s, f);
+    }
+  }
+
+  /// The generic path: the kernel's forces() item by item (what add_forces does for kernels
+  /// without add_forces_bulk; tests compare the two).
+  void add_forces_per_item(const StateView& s, Eigen::Matrix3Xd& f) const {
     const std::size_t n = kernel_.size();
     if (n == 0) return;
     prepare_scatter();
