@@ -71,15 +71,15 @@ for p in p1 p2 p3; do
     echo "set logscale xy; set grid; set key outside right top"
     echo "set xlabel 'solver wall time (s)'; set ylabel 'relative error'"
     echo "set title '${title[$p]}' noenhanced"
+    echo "set key noenhanced; set format xy '%g'"
+    echo "set label 1 'filled circle: static, triangle: implicit, square: explicit' at graph 0.02, graph 0.04"
     printf "plot '%s/front_%s.dat' using 1:2 with steps lw 2 lc rgb 'black' title 'Pareto front'" "$results" "$p"
     i=0
     for m in $models; do
-      printf ", '%s/plot_%s.dat' index %d using 2:3:4 with points pt variable ps 1.5 lc %d title '%s'" "$results" "$p" "$i" "$((i + 1))" "$m"
+      printf ", '%s/plot_%s.dat' index %d using 2:3:4 with points pt variable ps 1.5 lc %d notitle, keyentry with points pt 7 ps 1.5 lc %d title '%s'" "$results" "$p" "$i" "$((i + 1))" "$((i + 1))" "$m"
       i=$((i + 1))
     done
     echo
-    echo "set label 1 'filled circle: static, triangle: implicit, square: explicit' at graph 0.02, graph 0.04"
-    echo "replot"
   } > "$results/plot_$p.gp"
   gnuplot "$results/plot_$p.gp" 2> /dev/null || echo "report.sh: gnuplot failed for $p" >&2
   # markdown
