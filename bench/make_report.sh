@@ -74,10 +74,16 @@ if [[ -f $kjson ]]; then
     /"ns_per_element":/ { v = $2; sub(/,/, "", v); ns = v }
     /"elements":/ { v = $2; sub(/,/, "", v); el = v }
     /"nodes":/ { v = $2; sub(/,/, "", v); nd = v }
+    /"real_time":/ { v = $2; sub(/,/, "", v); rt = v }
+    /"cpu_time":/ { v = $2; sub(/,/, "", v); ct = v }
     /"error_occurred":/ { err = 1 }
-    /^    }/ { if (n != "" && ns != "" && !err) printf "%s\t%s\t%s\t%s\n", n, el, nd, ns; n = ""; ns = ""; el = ""; nd = ""; err = 0 }
+    /^    }/ { if (n != "" && ns != "" && !err) printf "%s\t%s\t%s\t%s\t%s\t%s\n", n, el, nd, ns, rt, ct; n = ""; ns = ""; el = ""; nd = ""; rt = ""; ct = ""; err = 0 }
   ' "$kjson" > "$raw"
 fi
+# How busy the machine was: Google Benchmark's load average at the start of the kernel run, and the
+# median share of a core the 1-thread benchmarks got (CPU time / wall time; 1 = the core was ours).
+load_avg=$( [[ -f $kjson ]] && sed -n 's/.*"load_avg": *\[\(.*\)\].*/\1/p' "$kjson" | head -1 | sed 's/,/, /g' || true)
+core_share=$(awk -F'\t' '$1 ~ /threads:1\// && $5 > 0 {print $6 / $5}' "$raw" | sort -g | awk '{v[NR] = $1} END {if (NR) printf "%.0f", 100 * v[int((NR + 1) / 2)]; else print "?"}')
 # costs: "case/term": {"items_per_element": x, "stencil": n, "reads_v": b, "const_bytes": c, "flops": f, ...}
 costs_tsv=$res/.costs.tsv
 awk '
@@ -101,23 +107,24 @@ awk -F'\t' -v t1="$triad1" -v t2="$triad2" '
     split($1, p, "/"); mode = p[1]
     if (mode != "forces" && mode != "jacobian") next
     key = p[2] "/" p[3]; thr = p[5]; sub(/threads:/, "", thr)
-    el = $2; nd = $3; ns = $4
-    if (!(key in fl)) { printf "%s\t%s\t%s\t%s\t%s\t%.0f\t%.0f\t%.2f\t-\t-\t-\t-\t-\t-\n", mode, p[2], p[3], p[4], thr, el, nd, ns; next }
+    el = $2; nd = $3; ns = $4; cns = ($5 > 0 ? ns * $6 / $5 : 0)
+    if (!(key in fl)) { printf "%s\t%s\t%s\t%s\t%s\t%.0f\t%.0f\t%.2f\t-\t-\t-\t-\t-\t-\t%.2f\n", mode, p[2], p[3], p[4], thr, el, nd, ns, cns; next }
     npe = nd / el
     fpe = ipe[key] * fl[key]
     bpe = npe * (24 + 24 * rv[key] + 48) + ipe[key] * cb[key]
     ibpe = bpe + ipe[key] * st[key] * 56 + (rv[key] ? 0 : npe * 24)
     gf = fpe / ns; gb = bpe / ns
     tr = (thr == 1 ? t1 : t2)
-    printf "%s\t%s\t%s\t%s\t%s\t%.0f\t%.0f\t%.2f\t%.0f\t%.0f\t%.0f\t%.3f\t%.3f\t%.3f\n", mode, p[2], p[3], p[4], thr, el, nd, ns, fpe, bpe, ibpe, gf, gb, (tr > 0 ? gb / tr : 0)
+    printf "%s\t%s\t%s\t%s\t%s\t%.0f\t%.0f\t%.2f\t%.0f\t%.0f\t%.0f\t%.3f\t%.3f\t%.3f\t%.2f\n", mode, p[2], p[3], p[4], thr, el, nd, ns, fpe, bpe, ibpe, gf, gb, (tr > 0 ? gb / tr : 0), cns
   }' "$costs_tsv" "$raw" > "$table"
 
 # ---------------------------------------------------------------- roofline
 bw=${triad2:-0}
 if [[ -s $table ]] && awk -v b="$bw" 'BEGIN {exit !(b > 0)}'; then
-  big=$(awk -F'\t' '$1 == "forces" && $9 != "-" {print $4}' "$table" | sort -n | uniq | tail -1)
+  # every kernel is measured at 10^5 (the 10^6 runs cover only a few); the largest size otherwise (quick mode)
+  big=$(awk -F'\t' '$1 == "forces" && $9 != "-" {print $4}' "$table" | sort -n | uniq | awk '$1 <= 100000' | tail -1)
   for t in 1 2; do
-    awk -F'\t' -v n="$big" -v t="$t" '$1 == "forces" && $4 == n && $5 == t && $9 != "-" {printf "%g %g \"%s\"\n", $9 / $10, $12, $3}' "$table" > "$res/.roof$t.dat"
+    awk -F'\t' -v n="$big" -v t="$t" '$1 == "forces" && $4 == n && $5 == t && $9 != "-" {printf "%g %g \"%s\"\n", $9 / $10, $12, ($2 == $3 ? $3 : $2 ":" $3)}' "$table" > "$res/.roof$t.dat"
   done
   gnuplot <<GP
 set terminal pngcairo size 1000,700 font ",10" noenhanced
@@ -163,14 +170,21 @@ if [[ -s $steps ]]; then
         for (i = 1; i <= m; i++) { sst += (Y[k, i] - ybar) ^ 2; ssr += (Y[k, i] - a - b * X[k, i]) ^ 2 }
         nmin = nmax = X[k, 1]
         for (i = 1; i <= m; i++) { if (X[k, i] < nmin) nmin = X[k, i]; if (X[k, i] > nmax) nmax = X[k, i] }
-        printf "%s\t%.6g\t%.6g\t%.6f\t%d\t%.0f\t%.0f\n", k, a, b, 1 - ssr / sst, m, nmin, nmax
+        # log-log slope p of t ~ n^p (1 = linear; not dominated by the largest size like R^2 above)
+        lx = ly = lxx = lxy = 0; rmin = 1e300; rmax = 0
+        for (i = 1; i <= m; i++) {
+          u = log(X[k, i]); w = log(Y[k, i]); lx += u; ly += w; lxx += u * u; lxy += u * w
+          r = Y[k, i] / X[k, i] * 1e6; if (r < rmin) rmin = r; if (r > rmax) rmax = r
+        }
+        p = (m * lxy - lx * ly) / (m * lxx - lx * lx)
+        printf "%s\t%.6g\t%.6g\t%.6f\t%d\t%.0f\t%.0f\t%.4f\t%.1f\t%.1f\n", k, a, b, 1 - ssr / sst, m, nmin, nmax, p, rmin, rmax
       }
     }' "$steps" | sort > "$fits"
   {
     echo "{"
     echo "  \"model\": \"t_step_ms = a_ms + b_ms_per_element * n (least squares over the measured sizes)\","
     echo "  \"fits\": ["
-    awk -F'\t' '{printf "%s    {\"case\": \"%s\", \"threads\": %s, \"a_ms\": %s, \"b_ms_per_element\": %s, \"b_ns_per_element\": %.2f, \"r2\": %s, \"points\": %s, \"n_min\": %s, \"n_max\": %s}", (NR > 1 ? ",\n" : ""), $1, $2, $3, $4, $4 * 1e6, $5, $6, $7, $8} END {print ""}' "$fits"
+    awk -F'\t' '{printf "%s    {\"case\": \"%s\", \"threads\": %s, \"a_ms\": %s, \"b_ms_per_element\": %s, \"b_ns_per_element\": %.2f, \"r2\": %s, \"points\": %s, \"n_min\": %s, \"n_max\": %s, \"loglog_slope\": %s, \"ns_per_element_min\": %s, \"ns_per_element_max\": %s}", (NR > 1 ? ",\n" : ""), $1, $2, $3, $4, $4 * 1e6, $5, $6, $7, $8, $9, $10, $11} END {print ""}' "$fits"
     echo "  ],"
     echo "  \"points\": ["
     awk -F'\t' '{printf "%s    {\"case\": \"%s\", \"threads\": %s, \"elements\": %s, \"ms_per_step\": %s, \"ns_per_element\": %s}", (NR > 1 ? ",\n" : ""), $1, $2, $3, $4, $5} END {print ""}' "$steps"
@@ -178,27 +192,37 @@ if [[ -s $steps ]]; then
     echo "}"
   } > "$scal"
   plotcmd=""
+  plotns=""
   i=0
   colors=("#1f77b4" "#d62728" "#2ca02c" "#9467bd")
-  while IFS=$'\t' read -r c t a b r2 m lo hi; do
-    awk -F'\t' -v c="$c" -v t="$t" '$1 == c && $2 == t {print $3, $4}' "$steps" | sort -n > "$res/.s_${c}_$t.dat"
+  while IFS=$'\t' read -r c t a b r2 m lo hi p rmin rmax; do
+    awk -F'\t' -v c="$c" -v t="$t" '$1 == c && $2 == t {print $3, $4, $5}' "$steps" | sort -n > "$res/.s_${c}_$t.dat"
     col=${colors[$((i % 4))]}
     plotcmd+="\"$res/.s_${c}_$t.dat\" u 1:2 w p pt 7 lc rgb \"$col\" t \"$c, $t thr (R² = $(printf %.4f "$r2"), b = $(awk -v b="$b" 'BEGIN {printf "%.0f", b * 1e6}') ns/element)\", "
     plotcmd+="(x >= $lo && x <= $hi ? $a + $b * x : 1/0) w l lc rgb \"$col\" notitle, "
+    plotns+="\"$res/.s_${c}_$t.dat\" u 1:3 w lp pt 7 lc rgb \"$col\" t \"$c, $t thr (t ~ n^$(printf %.3f "$p"))\", "
     i=$((i + 1))
   done < "$fits"
   gnuplot <<GP
-set terminal pngcairo size 1000,700 font ",10" noenhanced
+set terminal pngcairo size 1400,600 font ",10" noenhanced
 set output "$res/scaling.png"
-set title "One symplectic-Euler step: wall time vs element count, with the least-squares line t = a + b n"
+set multiplot layout 1,2 title "One symplectic-Euler step of the whole model vs element count"
 set logscale xy
 set xlabel "elements"
 set ylabel "ms per step"
+set title "wall time per step and the least-squares line t = a + b n"
 set key top left
 set grid
 set samples 400
 set xrange [500:2e6]
 plot ${plotcmd%, }
+unset logscale y
+set yrange [0:*]
+set ylabel "ns per element-step"
+set title "cost per element (flat = linear scaling)"
+set key bottom right
+plot ${plotns%, }
+unset multiplot
 GP
 fi
 
@@ -221,6 +245,7 @@ fi
   echo "| peak as built | $peak_sse GFLOP/s = 8 flop/cycle/core: the flags below have no -march, so the code is SSE2 without FMA |"
   echo "| compiler | $cxx_version |"
   echo "| build | $build_type, CMAKE_CXX_FLAGS + CMAKE_CXX_FLAGS_RELEASE = \`$flags\` |"
+  echo "| load | load average ${load_avg:-?} (1, 5, 15 min) when the kernel benchmarks started; the 1-thread kernel runs got a median ${core_share} % of a core (CPU time / wall time) |"
   echo
   echo "## Memory bandwidth (bench/stream.cpp)"
   echo
@@ -245,21 +270,22 @@ fi
   echo "time, and \"of triad\" compares it with STREAM triad at the same thread count. The \"impl. B\""
   echo "column adds what the StencilTerm assembler moves on top (per-item force buffer, scatter table,"
   echo "gathered velocities). In the jacobian tables the flop and byte columns are left out (the counts"
-  echo "are for the forces only)."
+  echo "are for the forces only). \"(CPU)\" is the 1-thread time scaled by CPU time / wall time of the"
+  echo "benchmark thread: roughly what the kernel costs when the core is not shared (see \"load\" above)."
   echo
   if [[ -s $table ]]; then
     for mode in forces jacobian; do
       echo "### ${mode}"
       echo
-      echo "| case / term | elements | ns/el 1 thr | ns/el 2 thr | flop/el | B/el | impl. B/el | GFLOP/s (2 thr) | GB/s (2 thr) | of triad |"
-      echo "|---|---|---|---|---|---|---|---|---|---|"
+      echo "| case / term | elements | ns/el 1 thr | (CPU) | ns/el 2 thr | flop/el | B/el | impl. B/el | GFLOP/s (2 thr) | GB/s (2 thr) | of triad |"
+      echo "|---|---|---|---|---|---|---|---|---|---|---|"
       awk -F'\t' -v m="$mode" '
-        $1 == m { k = $2 " / " $3 SUBSEP $4; keys[k] = 1; el[k] = $6; ns[k, $5] = $8; fl[k] = $9; b[k] = $10; ib[k] = $11; gf[k, $5] = $12; gb[k, $5] = $13; fr[k, $5] = $14
+        $1 == m { k = $2 " / " $3 SUBSEP $4; keys[k] = 1; el[k] = $6; ns[k, $5] = $8; if ($5 == 1) cpu[k] = $15; fl[k] = $9; b[k] = $10; ib[k] = $11; gf[k, $5] = $12; gb[k, $5] = $13; fr[k, $5] = $14
           if (m == "jacobian") { fl[k] = b[k] = ib[k] = gf[k, $5] = gb[k, $5] = fr[k, $5] = "-" } }
         END {
           for (k in keys) {
             split(k, q, SUBSEP)
-            printf "%s\t%012d\t| %s | %.0f | %s | %s | %s | %s | %s | %s | %s | %s |\n", q[1], q[2], q[1], el[k], ns[k, 1], ns[k, 2], fl[k], b[k], ib[k], gf[k, 2], gb[k, 2], (fr[k, 2] == "-" ? "-" : sprintf("%.0f %%", 100 * fr[k, 2]))
+            printf "%s\t%012d\t| %s | %.0f | %s | %.0f | %s | %s | %s | %s | %s | %s | %s |\n", q[1], q[2], q[1], el[k], ns[k, 1], cpu[k], ns[k, 2], fl[k], b[k], ib[k], gf[k, 2], gb[k, 2], (fr[k, 2] == "-" ? "-" : sprintf("%.0f %%", 100 * fr[k, 2]))
           }
         }' "$table" | sort -t$'\t' -k1,1 -k2,2n | cut -f3
       echo
@@ -271,7 +297,7 @@ fi
   if [[ -f $res/roofline.png ]]; then
     echo "![roofline]($resrel/roofline.png)"
     echo
-    echo "Roofline: each point is one force term at the largest size measured for it ($big elements),"
+    echo "Roofline: each point is one force term at about $big elements (meshes beyond the 32 MB L3),"
     echo "arithmetic intensity = hand-counted flops / compulsory bytes, achieved GFLOP/s = flops / measured"
     echo "time. A point on the slanted line would be bandwidth-bound, one on a flat line compute-bound;"
     echo "the distance below both is what the assembler (gather, per-item buffer, per-node sum) and"
@@ -285,11 +311,13 @@ fi
     echo "One symplectic-Euler step of the whole model (force evaluation, a = f/m with constraints,"
     echo "update, end_step hooks; no output and no per-step flat-element check) at dt = critical/10."
     echo "Least-squares fit of the wall time per step t = a + b n over the measured sizes"
-    echo "(\`$resrel/scaling.json\`):"
+    echo "(\`$resrel/scaling.json\`). With sizes spread over three decades the plain R^2 is decided by the"
+    echo "largest meshes, so the table also gives the slope of log t against log n (1 = linear) and the"
+    echo "range of the cost per element-step; the right panel of the plot shows the latter."
     echo
-    echo "| case | threads | sizes | a (ms) | b (ns/element) | R^2 |"
-    echo "|---|---|---|---|---|---|"
-    awk -F'\t' '{printf "| %s | %s | %d points, %s .. %s | %.3f | %.1f | %.5f |\n", $1, $2, $6, $7, $8, $3, $4 * 1e6, $5}' "$fits"
+    echo "| case | threads | sizes | a (ms) | b (ns/element) | R^2 | log-log slope | ns/element min .. max |"
+    echo "|---|---|---|---|---|---|---|---|"
+    awk -F'\t' '{printf "| %s | %s | %d points, %s .. %s | %.3f | %.1f | %.5f | %.3f | %.0f .. %.0f |\n", $1, $2, $6, $7, $8, $3, $4 * 1e6, $5, $9, $10, $11}' "$fits"
     echo
     echo "| case | threads | elements | ms/step | ns/element |"
     echo "|---|---|---|---|---|"
