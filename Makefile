@@ -33,10 +33,24 @@ test: build
 heart: build
 	@cases/heart/run.sh $(BUILD_DIR)/app/adamss $(HEART_OUT)
 
-# Explicit step cost per force term (ns per element evaluation, 1 and 2 threads); see bench/.
-bench: build
-	@$(BUILD_DIR)/bench/bench_forces --benchmark_counters_tabular=true
-	@bench/hybmss_cube.sh $(BUILD_DIR)/app/adamss bench/results/hybmss_cube.json
+# Benchmarks (issue 9; bench/README.md), never part of `make test`: Release build of the bench
+# targets and the app, STREAM bandwidth, kernel + explicit-step Google Benchmarks, the HybMSS cube,
+# the speed/error Pareto runs when bench/pareto/run.sh exists, then bench/report.md with the plots.
+# BENCH_QUICK=1: small sizes and short timings, no Pareto part (a smoke run; use another
+# BENCH_RESULTS so the committed results are not overwritten).
+BENCH_RESULTS ?= bench/results
+BENCH_QUICK ?= 0
+export BENCH_QUICK
+bench: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target bench_forces stream adamss
+	@mkdir -p $(BENCH_RESULTS)
+	@$(BUILD_DIR)/bench/stream $(BENCH_RESULTS)/stream.json $(if $(filter 1,$(BENCH_QUICK)),40 3,80 10)
+	@$(BUILD_DIR)/bench/bench_forces --benchmark_counters_tabular=true \
+	  --benchmark_out=$(BENCH_RESULTS)/kernels.json --benchmark_out_format=json
+	@bench/hybmss_cube.sh $(BUILD_DIR)/app/adamss $(BENCH_RESULTS)/hybmss_cube.json
+	@if [ -f bench/pareto/run.sh ] && [ "$(BENCH_QUICK)" != 1 ]; then \
+	  bash bench/pareto/run.sh $(BUILD_DIR)/app/adamss $(BENCH_RESULTS); fi
+	@bench/make_report.sh $(BENCH_RESULTS) $(BUILD_DIR) $(if $(filter bench/results,$(BENCH_RESULTS)),bench/report.md,$(BENCH_RESULTS)/report.md)
 
 # libFuzzer on the NIfTI reader, the mesh.h5 reader and the scene parser (clang, ASan + UBSan, in
 # build-fuzz/), FUZZ_SECONDS per target; findings fail and leave a reproducer (fuzz/README.md).
