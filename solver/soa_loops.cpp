@@ -200,8 +200,9 @@ void spring_slots_avx512(const LayoutRun*, std::size_t, std::size_t, const std::
 
 /// a, b, c of eq. 5.14 along one coordinate from the 8 corner values (alpha, beta, gamma = +-1/4
 /// by the x, y, z bit of the VTK corner).
-inline void quarter_sums(double v0, double v1, double v2, double v3, double v4, double v5, double v6, double v7,
-                         double& a, double& b, double& c) {
+__attribute__((always_inline)) inline void quarter_sums(double v0, double v1, double v2, double v3, double v4,
+                                                        double v5, double v6, double v7, double& a, double& b,
+                                                        double& c) {
   a = 0.25 * ((v1 - v0) + (v2 - v3) + (v5 - v4) + (v6 - v7));
   b = 0.25 * ((v3 - v0) + (v2 - v1) + (v7 - v4) + (v6 - v5));
   c = 0.25 * ((v4 - v0) + (v5 - v1) + (v6 - v2) + (v7 - v3));
@@ -210,7 +211,8 @@ inline void quarter_sums(double v0, double v1, double v2, double v3, double v4, 
 /// The 8 corner forces along one coordinate from P = q (b x c)_d, Q = q (c x a)_d, R = q (a x b)_d:
 /// f_n = sign_x(n) P + sign_y(n) Q + sign_z(n) R; corners 0 (---), 1 (+--), 2 (++-), 3 (-+-),
 /// 4 (--+), 5 (+-+), 6 (+++), 7 (-++).
-inline void corner_forces(double P, double Q, double R, double* const* out, std::int64_t t) {
+__attribute__((always_inline)) inline void corner_forces(double P, double Q, double R, double* const* out,
+                                                         std::int64_t t) {
   out[0][t] = -P - Q - R;
   out[1][t] = P - Q - R;
   out[2][t] = P + Q - R;
@@ -224,9 +226,10 @@ inline void corner_forces(double P, double Q, double R, double* const* out, std:
 /// One run of HybMSS cells: coordinate d of node a of slot t at p[a] + d n + t (p[a] = &X[base + o_a],
 /// n = node count). Writes the 8 x 3 forces into out[(3a + d) * stride + t]. The coordinates are
 /// spelled out (no loop over d) so that the loop over slots is the only loop: gcc vectorises it.
-inline void hybmss_volume_run(const double* const* p, std::int64_t n, const double* __restrict scale,
-                              const double* __restrict vol0, std::int64_t len, double* __restrict out,
-                              std::int64_t stride) {
+__attribute__((always_inline)) inline void hybmss_volume_run(const double* const* p, std::int64_t n,
+                                                             const double* __restrict scale,
+                                                             const double* __restrict vol0, std::int64_t len,
+                                                             double* __restrict out, std::int64_t stride) {
   const double *x0 = p[0], *x1 = p[1], *x2 = p[2], *x3 = p[3], *x4 = p[4], *x5 = p[5], *x6 = p[6], *x7 = p[7];
   const double *y0 = x0 + n, *y1 = x1 + n, *y2 = x2 + n, *y3 = x3 + n, *y4 = x4 + n, *y5 = x5 + n, *y6 = x6 + n,
                *y7 = x7 + n;

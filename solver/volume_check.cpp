@@ -10,7 +10,8 @@ namespace adamss::solver {
 namespace {
 
 /// det(b - a, c - a, d - a) of one coordinate triple set (SoA: offsets 0, n, 2n).
-inline double det3(const double* a, const double* b, const double* c, const double* d, std::int64_t n, std::int64_t t) {
+__attribute__((always_inline)) inline double det3(const double* a, const double* b, const double* c, const double* d,
+                                                  std::int64_t n, std::int64_t t) {
   const double b0 = b[t] - a[t], b1 = b[n + t] - a[n + t], b2 = b[2 * n + t] - a[2 * n + t];
   const double c0 = c[t] - a[t], c1 = c[n + t] - a[n + t], c2 = c[2 * n + t] - a[2 * n + t];
   const double d0 = d[t] - a[t], d1 = d[n + t] - a[n + t], d2 = d[2 * n + t] - a[2 * n + t];
@@ -20,14 +21,15 @@ inline double det3(const double* a, const double* b, const double* c, const doub
 /// Signed parallelepiped volume of corner A (VTK order) of slot t, plus `bias` (0, or +inf for a
 /// collapsed corner, which then never sets the minimum).
 template <int A>
-inline double corner(const double* const* p, std::int64_t n, std::int64_t t, double bias) {
+__attribute__((always_inline)) inline double corner(const double* const* p, std::int64_t n, std::int64_t t,
+                                                    double bias) {
   constexpr auto nb = preprocess::kHexNeighbour[static_cast<std::size_t>(A)];
   constexpr int c = preprocess::kHexCornerCode[static_cast<std::size_t>(A)];
   constexpr double sign = ((c & 1) ? -1.0 : 1.0) * ((c & 2) ? -1.0 : 1.0) * ((c & 4) ? -1.0 : 1.0);
   return sign * det3(p[A], p[nb[0]], p[nb[1]], p[nb[2]], n, t) + bias;
 }
 
-inline double min2(double a, double b) {
+__attribute__((always_inline)) inline double min2(double a, double b) {
   return b < a ? b : a;
 }
 
