@@ -45,7 +45,9 @@ std::vector<std::array<Index, 2>> mesh_edges(const preprocess::Mesh& mesh, bool 
                                              const std::vector<std::size_t>* element_subset) {
   std::vector<std::array<Index, 2>> out;
   const bool tet = mesh.type == preprocess::ElementType::Tet4;
-  auto push = [&out](Index a, Index b) { out.push_back({std::min(a, b), std::max(a, b)}); };
+  auto push = [&out](Index a, Index b) {
+    if (a != b) out.push_back({std::min(a, b), std::max(a, b)});  // skip collapsed edges (degenerate hex)
+  };
   const std::size_t count = element_subset != nullptr ? element_subset->size() : mesh.element_count();
   for (std::size_t k = 0; k < count; ++k) {
     const std::size_t e = element_subset != nullptr ? (*element_subset)[k] : k;

@@ -105,7 +105,11 @@ EdgeSpringKernel make_hybmss_spring_kernel(const preprocess::Mesh& mesh, const H
                                            const std::vector<std::size_t>* element_subset) {
   validate_hybmss_params(params);
   std::map<std::array<Index, 2>, double> springs;  // sorted node pair -> summed stiffness
-  auto add = [&springs](Index a, Index b, double k) { springs[{std::min(a, b), std::max(a, b)}] += k; };
+  // A collapsed edge of a degenerate hexahedron (a wedge of the ellipsoid's apex ring: repeated
+  // node) joins a node to itself: no spring.
+  auto add = [&springs](Index a, Index b, double k) {
+    if (a != b) springs[{std::min(a, b), std::max(a, b)}] += k;
+  };
   for (const std::size_t e : selected_cells(mesh, element_subset)) {
     const double le = std::cbrt(reference_volume(mesh, e));
     const HybmssSpringConstants k =

@@ -185,3 +185,21 @@ TEST(SignedVolumeScreen, SkipsCollapsedCornersOfDegenerateHexahedraLikeTheExactC
   squashed.row(2) *= 0.0;  // every element flat
   EXPECT_TRUE(screen.any_flagged(squashed));
 }
+
+TEST(SoaLoops, HybmssOnDegenerateApexHexahedraHasNoSelfSpringsAndFiniteForces) {
+  // The Land ellipsoid's apex ring stores wedges as hexahedra with a repeated node; a collapsed
+  // edge must not become a zero-length spring (0/0 forces).
+  const preprocess::Mesh mesh = preprocess::make_land_ellipsoid({12, 6, 2});
+  const auto terms = solver::make_hybmss_terms(mesh, {10e3, 0.3, 1.0});
+  const auto& springs = dynamic_cast<const StencilTerm<solver::EdgeSpringKernel, 2>&>(*terms[0]);
+  for (const auto& e : springs.kernel().edges) ASSERT_NE(e[0], e[1]);
+  for (const double l : springs.kernel().rest_length) ASSERT_GT(l, 0.0);
+  const Eigen::Matrix3Xd x = perturbed(mesh, 0.002);
+  for (const auto& t : terms) {
+    Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.cols());
+    const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, x.cols());
+    t->add_forces({x, v, 0.0}, f);
+    EXPECT_TRUE(f.allFinite()) << t->name();
+  }
+  EXPECT_LT(max_rel_difference(springs, x), 1e-13);
+}
