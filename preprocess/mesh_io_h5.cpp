@@ -5,9 +5,9 @@
 // Every HDF5 handle lives in an RAII wrapper, HDF5's automatic error printing is switched off
 // while we work, and every failure surfaces as adamss::InputError naming the file and the
 // dataset or attribute.
-#include <algorithm>
 #include <hdf5.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -430,6 +430,18 @@ DatasetInfo open_dataset(const Ctx& ctx, hid_t file, const std::string& path) {
   info.dims.resize(static_cast<std::size_t>(rank));
   if (rank > 0 && H5Sget_simple_extent_dims(space.get(), info.dims.data(), nullptr) < 0)
     ctx.fail("dataset " + path + ": cannot query shape");
+  // A corrupted or hostile file can claim any shape, and the readers below allocate the claimed
+  // size before reading (a fuzzed mesh.h5 of 10 kB claimed enough to throw std::bad_alloc). The
+  // values must come from the file, and deflate, the only filter in practice, compresses at most
+  // ~1032:1, so a dataset claiming more than that (8 bytes per value in memory) is refused first.
+  double values = 1.0;
+  for (const hsize_t d : info.dims) values *= static_cast<double>(d);
+  hsize_t file_size = 0;
+  const Handle file_id(H5Iget_file_id(info.dataset.get()), H5Fclose);
+  if (!file_id.valid() || H5Fget_filesize(file_id.get(), &file_size) < 0) ctx.fail("cannot query the file size");
+  if (values * 8.0 > 1100.0 * static_cast<double>(file_size) + 1048576.0)
+    ctx.fail("dataset " + path + ": claims " + dims_string(info.dims) + " values, more than a file of " +
+             std::to_string(file_size) + " bytes can hold (corrupted?)");
   return info;
 }
 

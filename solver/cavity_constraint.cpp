@@ -1,5 +1,6 @@
 #include "solver/cavity_constraint.hpp"
 
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 
@@ -54,11 +55,12 @@ void CavityConstraintTerm::end_step(const StateView& s, double dt) {
 
 void CavityConstraintTerm::save_state(StateArchive& archive) const {
   archive.put("multiplier", p_);
+  archive.put("reference_volume", v0_);
   archive.put_int("has_circulation", circulation_ ? 1 : 0);
-  // HOOK (circulation state): when Circulation gains save_state(StateArchive&) / load_state, call
-  //   if (circulation_) circulation_->save_state(archive.child("circulation"));
-  // here and the matching load in load_state, and drop the refusal there. It must hold phase_,
-  // v_prev_, v_held_, beat_, the Windkessel's P_c, events_ and the beat metrics.
+  if (circulation_) {
+    StateArchive ca = archive.child("circulation");
+    circulation_->save_state(ca);
+  }
 }
 
 void CavityConstraintTerm::load_state(const StateArchive& archive) {
@@ -66,10 +68,16 @@ void CavityConstraintTerm::load_state(const StateArchive& archive) {
   if (had != (circulation_ != nullptr))
     throw InputError(archive.source() + ": " + name() + (had ? " had" : " had no") +
                      " circulation when the checkpoint was written (a different scene)");
-  if (circulation_)
-    throw InputError(archive.source() + ": " + name() +
-                     ": resuming a cavity coupled to a circulation is not supported yet (its phase and Windkessel "
-                     "state are not in the checkpoint); rerun the scene from the start");
+  // The same mesh gives the same reference volume to the last bit; anything else is another
+  // geometry with the same node and element counts.
+  const double v0 = archive.scalar("reference_volume");
+  if (!(std::abs(v0 - v0_) <= 1e-12 * v0_)) {
+    std::ostringstream os;
+    os << archive.source() << ": " << name() << " has a reference volume of " << v0 * 1e6
+       << " ml in the checkpoint and " << v0_ * 1e6 << " ml in the scene (a checkpoint of a different scene)";
+    throw InputError(os.str());
+  }
+  if (circulation_) circulation_->load_state(archive.child("circulation"));
   p_ = archive.scalar("multiplier");
 }
 

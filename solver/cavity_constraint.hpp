@@ -52,10 +52,10 @@ class CavityConstraintTerm final : public ForceTerm, public VolumeMonitor {
   /// Advances the circulation (if any) after an accepted step: valve events, Windkessel state.
   void end_step(const StateView& s, double dt) override;
   /// Checkpoint: the pressure multiplier P ("multiplier"), which the bordered Newton solve starts
-  /// from, so a restarted step begins where the uninterrupted one did. A circulation's state
-  /// (phase, held volume, Windkessel P_c, beat counters, events) is saved once Circulation has
-  /// save_state/load_state (hook in cavity_constraint.cpp); until then load_state refuses a
-  /// checkpoint of a cavity with a circulation, since the restart would not be exact.
+  /// from, so a restarted step begins where the uninterrupted one did, the reference volume V0
+  /// (a checkpoint of another geometry with the same counts is refused by name) and the
+  /// circulation's state ("circulation/...", Circulation::save_state). load_state refuses a
+  /// checkpoint written with a circulation for a scene without one and vice versa.
   void save_state(StateArchive& archive) const override;
   void load_state(const StateArchive& archive) override;
 

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <sstream>
 
 #include "common/error.hpp"
 
@@ -149,6 +151,98 @@ std::vector<std::vector<std::pair<std::string, double>>> Circulation::beat_metri
                    {"peak_pressure_Pa", b.peak}});
   }
   return out;
+}
+
+}  // namespace adamss::solver
+
+namespace adamss::solver {
+
+namespace {
+
+/// Valve event names in a fixed order: the checkpoint stores the index.
+const std::vector<std::string> kEventNames = {"mitral_closes", "aortic_opens", "aortic_closes", "mitral_opens"};
+
+/// The settings a checkpoint must agree with (name, value), in a fixed order.
+std::vector<std::pair<std::string, double>> settings_list(const CirculationSettings& s) {
+  const WindkesselParameters& w = s.windkessel;
+  return {{"contraction_onset", s.contraction_onset},
+          {"period", s.period},
+          {"windkessel.characteristic_impedance", w.characteristic_impedance},
+          {"windkessel.peripheral_resistance", w.peripheral_resistance},
+          {"windkessel.compliance", w.compliance},
+          {"windkessel.venous_pressure", w.venous_pressure},
+          {"windkessel.initial_pressure", w.initial_pressure}};
+}
+
+}  // namespace
+
+void Circulation::save_state(StateArchive& archive) const {
+  std::vector<double> settings;
+  for (const auto& kv : settings_list(set_)) settings.push_back(kv.second);
+  archive.put("settings", settings);
+  archive.put_ints("counters", {static_cast<std::int64_t>(phase_), beat_, completed_});
+  archive.put("values",
+              std::vector<double>{v_prev_, v_held_, edv_, edp_, esv_, esp_, edv_first_, peak_, drift_, beat_peak_});
+  StateArchive wk = archive.child("windkessel");
+  wk_.save_state(wk);
+  std::vector<double> et;
+  std::vector<std::int64_t> ek;
+  for (const auto& [t, name] : events_) {
+    et.push_back(t);
+    ek.push_back(std::find(kEventNames.begin(), kEventNames.end(), name) - kEventNames.begin());
+  }
+  archive.put("events/t", et);
+  archive.put_ints("events/kind", ek);
+  std::vector<double> beats;
+  for (const BeatRecord& b : beats_) beats.insert(beats.end(), {b.edv, b.edp, b.esv, b.esp, b.peak});
+  archive.put("beats", beats);
+}
+
+void Circulation::load_state(const StateArchive& archive) {
+  const std::string& src = archive.source();
+  const auto expected = settings_list(set_);
+  const auto& settings = archive.doubles("settings");
+  if (settings.size() != expected.size())
+    throw InputError(src + ": the circulation settings hold " + std::to_string(settings.size()) + " values, expected " +
+                     std::to_string(expected.size()));
+  for (std::size_t k = 0; k < expected.size(); ++k) {
+    if (settings[k] != expected[k].second) {
+      std::ostringstream os;
+      os << src << ": circulation." << expected[k].first << " is " << settings[k] << " in the checkpoint and "
+         << expected[k].second << " in the scene (a checkpoint of a different scene)";
+      throw InputError(os.str());
+    }
+  }
+  const auto& c = archive.integers("counters");
+  const auto& v = archive.doubles("values");
+  const auto& et = archive.doubles("events/t");
+  const auto& ek = archive.integers("events/kind");
+  const auto& b = archive.doubles("beats");
+  if (c.size() != 3 || c[0] < 0 || c[0] > 3 || c[1] < 0 || c[2] < 0 || v.size() != 10 || et.size() != ek.size() ||
+      b.size() % 5 != 0 || b.size() / 5 != static_cast<std::size_t>(c[2]))
+    throw InputError(src + ": the circulation state is malformed (counters, values, events or beats)");
+  phase_ = static_cast<CardiacPhase>(c[0]);
+  beat_ = static_cast<int>(c[1]);
+  completed_ = static_cast<int>(c[2]);
+  v_prev_ = v[0];
+  v_held_ = v[1];
+  edv_ = v[2];
+  edp_ = v[3];
+  esv_ = v[4];
+  esp_ = v[5];
+  edv_first_ = v[6];
+  peak_ = v[7];
+  drift_ = v[8];
+  beat_peak_ = v[9];
+  wk_.load_state(archive.child("windkessel"));
+  events_.clear();
+  for (std::size_t k = 0; k < et.size(); ++k) {
+    if (ek[k] < 0 || ek[k] >= static_cast<std::int64_t>(kEventNames.size()))
+      throw InputError(src + ": the circulation's valve event " + std::to_string(k) + " has an unknown kind");
+    events_.emplace_back(et[k], kEventNames[static_cast<std::size_t>(ek[k])]);
+  }
+  beats_.clear();
+  for (std::size_t k = 0; k < b.size(); k += 5) beats_.push_back({b[k], b[k + 1], b[k + 2], b[k + 3], b[k + 4]});
 }
 
 }  // namespace adamss::solver

@@ -103,6 +103,15 @@ class Circulation {
   /// ejection_fraction, peak_pressure_Pa).
   [[nodiscard]] std::vector<std::vector<std::pair<std::string, double>>> beat_metrics() const;
 
+  /// Checkpoint: everything that evolves between accepted steps (phase, beat counters, previous
+  /// and held volumes, the Windkessel's P_c, the valve events, the running extrema and every
+  /// completed beat), stored exactly, so a resumed run switches valves at the same steps as the
+  /// uninterrupted one. The settings are stored too and load_state refuses (InputError naming the
+  /// checkpoint and the setting) a checkpoint whose onset, period or Windkessel parameters differ
+  /// from this scene's, or whose values are out of range.
+  void save_state(StateArchive& archive) const;
+  void load_state(const StateArchive& archive);
+
  private:
   CirculationSettings set_;
   Windkessel wk_;

@@ -18,6 +18,8 @@
 // which backward Euler approaches to first order in h (tests/solver/test_windkessel.cpp).
 #include <string>
 
+#include "solver/state_archive.hpp"
+
 namespace adamss::solver {
 
 struct WindkesselParameters {
@@ -51,6 +53,10 @@ class Windkessel {
   [[nodiscard]] double aortic_pressure(double h, double q) const;
   /// Accepts a step: P_c <- P_c+ for outflow q over h.
   void advance(double h, double q);
+  /// Checkpoint: P_c ("compliance_pressure"), the only state between steps; the parameters come
+  /// from the scene (the owner checks them, see Circulation::load_state).
+  void save_state(StateArchive& archive) const { archive.put("compliance_pressure", pc_); }
+  void load_state(const StateArchive& archive) { pc_ = archive.scalar("compliance_pressure"); }
 
  private:
   WindkesselParameters p_;

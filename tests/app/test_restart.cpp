@@ -3,10 +3,12 @@
 // same results as the uninterrupted run, bit for bit: every frame file byte for byte, series.pvd,
 // globals.csv (without the wall-clock column) and summary.json (without the wall-clock keys).
 // Scenes: ABM3 with error bounds that force step rejections and adaptive volume springs; static
-// with its secant predictor; backward_euler_newton; the isovolumic LV (cavity multiplier).
+// with its secant predictor; backward_euler_newton; the isovolumic LV (cavity multiplier); a
+// small LV beat with a circulation (valve phases, Windkessel, per-beat records).
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -261,16 +263,111 @@ TEST(Restart, SigtermWritesAResumableCheckpoint) {
   EXPECT_FALSE(fs::exists(dir / "out" / "summary.json.tmp"));
 }
 
-TEST(Restart, ACirculationIsRefusedUntilItsStateIsCheckpointed) {
-  // Known limitation: Circulation (phase, held volume, Windkessel P_c, beat metrics) has no
-  // save_state yet, so a resume could not be exact; it is refused by name, outputs untouched.
+namespace {
+
+/// A small circulation scene (the Land ellipsoid, 6 x 3 x 1 divisions, tets; static, bordered
+/// Newton with the cavity pressure as unknown): filling, then a twitch closes the mitral valve,
+/// opens the aortic valve into a Windkessel, closes it again and refills, all in t_end.
+std::string circulation_scene(const std::string& windkessel_compliance = "5.6e-10") {
+  return R"(
+name: restart_circulation
+mesh: {ellipsoid: land, divisions: [6, 3, 1], topology: tet}
+materials:
+  - name: m
+    labels: [1]
+    density: 1000 kg/m^3
+    terms:
+      - virtual_hexahedron: {law: hunter_canine}
+      - volume: {p: 100 kPa}
+      - active_tension: {form: stress, tension: {twitch: {peak: 60 kPa, onset: 10 ms, rise: 30 ms, decay: 50 ms}}}
+loads:
+  pressure:
+    - name: lv
+      surface: {cavity: lv}
+      circulation:
+        atrial_pressure: {ramp: {to: 1 kPa, duration: 10 ms}}
+        contraction_onset: 10 ms
+        windkessel: {characteristic_impedance: 1.33e8, peripheral_resistance: 2.67e9, compliance: )" +
+         windkessel_compliance + R"(, initial_pressure: 4 kPa}
+boundary:
+  - select: {tag: base}
+    fix: xyz
+integrator: {type: static, dt: 2 ms, dt_max: 4 ms, dt_min: 1 us, newton_rtol: 1e-8, max_newton: 8}
+run: {t_end: 150 ms}
+output: {frame_interval: 20 ms}
+)";
+}
+
+/// The step of the globals.csv row at time t (s); the csv holds 10 significant digits.
+int step_at(const fs::path& csv, double t) {
+  const auto ts = column(csv, "t"), steps = column(csv, "step");
+  for (std::size_t k = 0; k < ts.size(); ++k)
+    if (std::abs(std::stod(ts[k]) - t) <= 1e-8 * std::abs(t)) return std::stoi(steps[k]);
+  return -1;
+}
+
+}  // namespace
+
+TEST(Restart, CirculationBeatIsBitwiseIdentical) {
+  // Stops: the first step; the steps that closed the mitral valve, opened and closed the aortic
+  // valve (checkpoint right after each phase change) and the ones just before them; a step whose
+  // first attempt failed and was retried at half the step (and the one before it), if any; the
+  // middle and the last but one (check_restarts). Everything a resume must restore: phase,
+  // held volume, Windkessel P_c, valve events, per-beat records, the multiplier, the static
+  // predictor, the adaptive dt.
   const auto dir = scratch_dir("restart_circulation");
-  const std::string scene = std::string(ADAMSS_SOURCE_DIR) + "/cases/heart/lv_beat_quick.yaml";
-  auto r = run_adamss("run " + scene + " -o " + (dir / "out").string() + cache_arg(dir) + " -q --stop-after-steps 1");
+  const auto scene = write_scene(dir, circulation_scene());
+  const auto full = dir / "full";
+  auto r = run_adamss("run " + scene.string() + " -o " + full.string() + cache_arg(dir) + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto j = summary_without_wall(full);
+  const auto& lv = j["cavities"]["lv"];
+  ASSERT_TRUE(lv.contains("per_beat")) << "the scene must complete a beat: " << lv.dump();
+  ASSERT_EQ(lv["per_beat"].size(), 1u);
+  std::vector<int> stops = {1};
+  for (const char* event : {"mitral_closes_t_s", "aortic_opens_t_s", "aortic_closes_t_s", "mitral_opens_t_s"}) {
+    ASSERT_TRUE(lv.contains(event)) << event << " missing: " << lv.dump();
+    const int k = step_at(full / "globals.csv", lv[event].get<double>());
+    ASSERT_GT(k, 1) << event;
+    for (const int s : {k - 1, k})
+      if (std::find(stops.begin(), stops.end(), s) == stops.end()) stops.push_back(s);
+  }
+  const auto rejected = column(full / "globals.csv", "rejected_steps");
+  const auto step = column(full / "globals.csv", "step");
+  for (std::size_t k = 1; k < rejected.size(); ++k)
+    if (std::stoi(rejected[k]) > 0) {
+      for (const int s : {std::stoi(step[k]) - 1, std::stoi(step[k])})
+        if (s > 0 && std::find(stops.begin(), stops.end(), s) == stops.end()) stops.push_back(s);
+      break;
+    }
+  check_restarts(dir, scene.string(), stops);
+}
+
+TEST(Restart, ACirculationCheckpointOfAnotherSceneIsRefused) {
+  const auto dir = scratch_dir("restart_circulation_wrong");
+  const auto scene = write_scene(dir, circulation_scene());
+  auto r = run_adamss("run " + scene.string() + " -o " + (dir / "out").string() + cache_arg(dir) +
+                      " -q --stop-after-steps 3");
   ASSERT_EQ(r.exit_code, 130) << r.output;
   const std::string before = read_file(dir / "out" / "globals.csv");
-  r = run_adamss("run " + scene + cache_arg(dir) + " -q --resume " + (dir / "out" / "checkpoint.h5").string());
+  const std::string checkpoint = (dir / "out" / "checkpoint.h5").string();
+  // Another Windkessel: named.
+  const fs::path other = dir / "other.yaml";
+  std::ofstream(other) << circulation_scene("1.1e-9");
+  r = run_adamss("run " + other.string() + cache_arg(dir) + " -q --resume " + checkpoint);
   EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_NE(r.output.find("circulation"), std::string::npos) << r.output;
-  EXPECT_EQ(read_file(dir / "out" / "globals.csv"), before);
+  EXPECT_NE(r.output.find("checkpoint.h5"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("circulation.windkessel.compliance"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("different scene"), std::string::npos) << r.output;
+  // The same mesh and terms with a held volume instead of the circulation.
+  std::string held = circulation_scene();
+  const auto from = held.find("      circulation:"), to = held.find("boundary:");
+  held.replace(from, to - from, "      volume_ratio: 1\n");
+  const fs::path held_file = dir / "held.yaml";
+  std::ofstream(held_file) << held;
+  r = run_adamss("run " + held_file.string() + cache_arg(dir) + " -q --resume " + checkpoint);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("had circulation"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("different scene"), std::string::npos) << r.output;
+  EXPECT_EQ(read_file(dir / "out" / "globals.csv"), before) << "a refused resume must not touch the outputs";
 }

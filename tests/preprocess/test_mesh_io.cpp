@@ -554,3 +554,20 @@ TEST_F(MeshIo, WriterRejectsInconsistentMeshes) {
 }
 
 }  // namespace
+
+// Regression (fuzz/known/mesh-h5-huge-dataset-bad-alloc.h5, found by fuzz_mesh_h5): a 10 kB file
+// whose dataset claims more values than any file of that size can hold was allocated before
+// reading and ended in std::bad_alloc; it is an InputError naming the file and the dataset.
+TEST(MeshIoHostile, DatasetClaimingMoreThanTheFileHoldsIsAnInputError) {
+  const std::filesystem::path file =
+      std::filesystem::path(ADAMSS_SOURCE_DIR) / "fuzz/known/mesh-h5-huge-dataset-bad-alloc.h5";
+  ASSERT_TRUE(std::filesystem::exists(file));
+  try {
+    (void)adamss::preprocess::read_mesh_h5(file);
+    FAIL() << "the corrupted file was accepted";
+  } catch (const adamss::InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("mesh-h5-huge-dataset-bad-alloc.h5"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("more than a file of"), std::string::npos) << msg;
+  }
+}

@@ -2,12 +2,15 @@
 // solver in each phase, and a synthetic beat driven through end_step.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <string>
 
 #include "common/error.hpp"
 #include "solver/circulation.hpp"
+#include "solver/state_archive.hpp"
 
 using namespace adamss;
 using solver::CardiacPhase;
@@ -224,4 +227,102 @@ TEST(Circulation, SecondBeatAfterOnePeriod) {
   EXPECT_NEAR(b2.at("ejection_fraction"), c.beats()[1].ejection_fraction(), 1e-15);
   EXPECT_NEAR(b2.at("stroke_volume_m3"), 40 * 1.05e-6, 1e-15);
   EXPECT_DOUBLE_EQ(m.at("peak_pressure_Pa"), c.beats()[1].peak);
+}
+
+namespace {
+/// End-of-step inputs (t, V, P) of two synthetic beats (h = 1 ms, onsets 0.1 s and 0.6 s):
+/// filling, mitral closure, aortic opening, 40 ejection steps, aortic closure, mitral opening.
+std::vector<std::array<double, 3>> two_beats(double v0) {
+  std::vector<std::array<double, 3>> in;
+  const double h = 1e-3;
+  double t = 0.0, v = v0;
+  for (int beat = 0; beat < 2; ++beat) {
+    const double onset = 0.1 + 0.5 * beat;
+    while (t < onset - 1e-12) in.push_back({t += h, v += 1e-9, 1000.0});
+    in.push_back({t += h, v -= 1e-12, 1000.0});
+    in.push_back({t += h, v, 20000.0});
+    for (int i = 0; i < 40; ++i) in.push_back({t += h, v -= (1.0 + 0.05 * beat) * 1e-6, 15000.0 + i});
+    in.push_back({t += h, v, 12000.0});
+    in.push_back({t += h, v, 500.0});
+  }
+  return in;
+}
+
+solver::CirculationSettings two_beat_settings() {
+  solver::CirculationSettings cs;
+  cs.atrial_pressure = solver::TimeCourse::constant(1000.0);
+  cs.contraction_onset = 0.1;
+  cs.period = 0.5;
+  cs.windkessel.initial_pressure = 10000.0;
+  return cs;
+}
+}  // namespace
+
+// Checkpoint/restart: a circulation saved after any step k and loaded into a fresh one continues
+// exactly like the uninterrupted one (conditions, Windkessel pressure, events, per-beat records
+// and metrics compared with ==), once through an HDF5 file.
+TEST(Circulation, SaveLoadContinuesBitForBit) {
+  const double v0 = 100e-6, h = 1e-3;
+  const auto in = two_beats(v0);
+  solver::Circulation full(two_beat_settings(), v0);
+  for (const auto& [t, v, p] : in) full.end_step(t, h, v, p);
+  ASSERT_EQ(full.beats().size(), 2u);
+  ASSERT_EQ(full.events().size(), 8u);
+  const auto file = std::filesystem::path(testing::TempDir()) / "circulation_checkpoint.h5";
+  for (std::size_t k = 0; k <= in.size(); ++k) {
+    solver::Circulation first(two_beat_settings(), v0);
+    for (std::size_t i = 0; i < k; ++i) first.end_step(in[i][0], h, in[i][1], in[i][2]);
+    solver::StateArchive a;
+    solver::StateArchive c = a.child("circulation");
+    first.save_state(c);
+    solver::Circulation resumed(two_beat_settings(), v0);
+    if (k == 120) {  // mid-ejection of the first beat, through the file
+      a.write_hdf5(file);
+      resumed.load_state(solver::StateArchive::read_hdf5(file).child("circulation"));
+    } else {
+      resumed.load_state(c);
+    }
+    SCOPED_TRACE("saved after step " + std::to_string(k));
+    EXPECT_EQ(resumed.phase(), first.phase());
+    for (std::size_t i = k; i < in.size(); ++i) {  // the condition of every later step, then the step
+      const auto ca = first.condition(in[i][0], h), cb = resumed.condition(in[i][0], h);
+      ASSERT_EQ(cb.pressure_given, ca.pressure_given) << i;
+      ASSERT_EQ(cb.pressure, ca.pressure) << i;
+      ASSERT_EQ(cb.volume, ca.volume) << i;
+      ASSERT_EQ(cb.dvolume_dpressure, ca.dvolume_dpressure) << i;
+      first.end_step(in[i][0], h, in[i][1], in[i][2]);
+      resumed.end_step(in[i][0], h, in[i][1], in[i][2]);
+    }
+    EXPECT_EQ(resumed.phase(), full.phase());
+    EXPECT_EQ(resumed.windkessel().compliance_pressure(), full.windkessel().compliance_pressure());
+    EXPECT_EQ(resumed.events(), full.events());
+    EXPECT_EQ(resumed.metrics(), full.metrics());
+    EXPECT_EQ(resumed.beat_metrics(), full.beat_metrics());
+    const auto cf = full.condition(1.0, h), cr = resumed.condition(1.0, h);
+    EXPECT_EQ(cr.pressure_given, cf.pressure_given);
+    EXPECT_EQ(cr.volume, cf.volume);
+    EXPECT_EQ(cr.dvolume_dpressure, cf.dvolume_dpressure);
+  }
+}
+
+// A checkpoint of a circulation with other settings is refused, naming the setting.
+TEST(Circulation, LoadRefusesOtherSettingsByName) {
+  solver::Circulation a(two_beat_settings(), 100e-6);
+  solver::StateArchive ar;
+  a.save_state(ar);
+  auto cs = two_beat_settings();
+  cs.windkessel.compliance *= 2.0;
+  solver::Circulation b(cs, 100e-6);
+  try {
+    b.load_state(ar);
+    FAIL() << "a checkpoint with another compliance was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("circulation.windkessel.compliance"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("different scene"), std::string::npos) << e.what();
+  }
+  // Malformed state (a phase index out of range).
+  solver::StateArchive bad;
+  a.save_state(bad);
+  bad.put_ints("counters", {7, 0, 0});
+  EXPECT_THROW(a.load_state(bad), InputError);
 }
