@@ -133,6 +133,18 @@ ADAMSS_AVX512 inline __mmask8 tail_mask(std::int64_t left) {
   return left >= 8 ? static_cast<__mmask8>(0xFF) : static_cast<__mmask8>((1U << left) - 1U);
 }
 
+/// Slots s .. s + 7 (lanes in m) of one run: d = x_j - x_i read from the node arrays at i, j (SoA,
+/// coordinate stride n), k and L at s; f = force on node i (spring8). The one body of both the
+/// fused and the slot loops, so the two paths round alike.
+ADAMSS_AVX512 inline void spring_block(const double* pos, std::int64_t n, std::int64_t i, std::int64_t j,
+                                       const double* k, const double* rest, std::int64_t s, __mmask8 m,
+                                       __m512d (&f)[3]) {
+  __m512d d[3];
+  for (int c = 0; c < 3; ++c)
+    d[c] = _mm512_sub_pd(_mm512_maskz_loadu_pd(m, pos + c * n + j), _mm512_maskz_loadu_pd(m, pos + c * n + i));
+  spring8(d[0], d[1], d[2], _mm512_maskz_loadu_pd(m, k + s), _mm512_maskz_loadu_pd(m, rest + s), f[0], f[1], f[2]);
+}
+
 /// One thread, all runs: forces straight into acc (SoA), per 8 slots first acc_j -= f then
 /// acc_i += f -- per node, the j-side contribution of a run before its i-side one, the order of
 /// scatter_runs with order {1, 0}, so the sums equal the multi-threaded path's bit for bit.
@@ -145,14 +157,8 @@ ADAMSS_AVX512 void spring_fused_avx512(const LayoutRun* runs, std::size_t nruns,
     const std::int64_t b = run.begin, len = run.length;
     for (std::int64_t t = 0; t < len; t += 8) {
       const __mmask8 m = tail_mask(len - t);
-      const __m512d dx = _mm512_sub_pd(_mm512_maskz_loadu_pd(m, pos + j0 + t), _mm512_maskz_loadu_pd(m, pos + i0 + t));
-      const __m512d dy =
-          _mm512_sub_pd(_mm512_maskz_loadu_pd(m, pos + n + j0 + t), _mm512_maskz_loadu_pd(m, pos + n + i0 + t));
-      const __m512d dz =
-          _mm512_sub_pd(_mm512_maskz_loadu_pd(m, pos + 2 * n + j0 + t), _mm512_maskz_loadu_pd(m, pos + 2 * n + i0 + t));
       __m512d f[3];
-      spring8(dx, dy, dz, _mm512_maskz_loadu_pd(m, k + b + t), _mm512_maskz_loadu_pd(m, rest + b + t), f[0], f[1],
-              f[2]);
+      spring_block(pos, n, i0 + t, j0 + t, k, rest, b + t, m, f);
       for (int c = 0; c < 3; ++c) {
         double* aj = acc + c * n + j0 + t;
         _mm512_mask_storeu_pd(aj, m, _mm512_sub_pd(_mm512_maskz_loadu_pd(m, aj), f[c]));
@@ -175,16 +181,11 @@ ADAMSS_AVX512 void spring_slots_avx512(const LayoutRun* runs, std::size_t r0, st
     const std::int64_t b = run.begin, len = run.length;
     for (std::int64_t t = 0; t < len; t += 8) {
       const __mmask8 m = tail_mask(len - t);
-      const __m512d dx = _mm512_sub_pd(_mm512_maskz_loadu_pd(m, pos + j0 + t), _mm512_maskz_loadu_pd(m, pos + i0 + t));
-      const __m512d dy =
-          _mm512_sub_pd(_mm512_maskz_loadu_pd(m, pos + n + j0 + t), _mm512_maskz_loadu_pd(m, pos + n + i0 + t));
-      const __m512d dz =
-          _mm512_sub_pd(_mm512_maskz_loadu_pd(m, pos + 2 * n + j0 + t), _mm512_maskz_loadu_pd(m, pos + 2 * n + i0 + t));
-      __m512d fx, fy, fz;
-      spring8(dx, dy, dz, _mm512_maskz_loadu_pd(m, k + b + t), _mm512_maskz_loadu_pd(m, rest + b + t), fx, fy, fz);
-      _mm512_mask_storeu_pd(tx + b + t, m, fx);
-      _mm512_mask_storeu_pd(ty + b + t, m, fy);
-      _mm512_mask_storeu_pd(tz + b + t, m, fz);
+      __m512d f[3];
+      spring_block(pos, n, i0 + t, j0 + t, k, rest, b + t, m, f);
+      _mm512_mask_storeu_pd(tx + b + t, m, f[0]);
+      _mm512_mask_storeu_pd(ty + b + t, m, f[1]);
+      _mm512_mask_storeu_pd(tz + b + t, m, f[2]);
     }
   }
 }
@@ -274,6 +275,16 @@ void hybmss_volume_runs(const LayoutRun* runs, std::size_t r0, std::size_t r1, c
   }
 }
 
+/// Checks that x and f have the layout's node count and sizes the node work arrays (3 n each).
+void prepare_node_arrays(std::int64_t n, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& f, std::vector<double>& pos,
+                         std::vector<double>& acc) {
+  if (x.cols() != n || f.cols() != n)
+    throw std::invalid_argument("soa loop: state has " + std::to_string(x.cols()) + " nodes, the layout " +
+                                std::to_string(n));
+  pos.resize(static_cast<std::size_t>(3 * n));
+  acc.resize(static_cast<std::size_t>(3 * n));
+}
+
 /// The three phases of an evaluation (see the header): positions to node arrays, kernel(r0, r1)
 /// over this thread's block of runs, the ordered scatter of slot arrays `slot` (3 N pointers, with
 /// sign[a]) into this thread's node range, then f += acc there.
@@ -282,11 +293,7 @@ void evaluate(const RunLayout<N>& layout, const Eigen::Matrix3Xd& x, Eigen::Matr
               std::vector<double>& acc, const int* order, const double* const* slot, const double* sign,
               Kernel&& kernel) {
   const std::int64_t n = layout.node_count;
-  if (x.cols() != n || f.cols() != n)
-    throw std::invalid_argument("soa loop: state has " + std::to_string(x.cols()) + " nodes, the layout " +
-                                std::to_string(n));
-  pos.resize(static_cast<std::size_t>(3 * n));
-  acc.resize(static_cast<std::size_t>(3 * n));
+  prepare_node_arrays(n, x, f, pos, acc);
   const bool par = layout.slots() * N >= kParallelWork && omp_get_max_threads() > 1;
 #pragma omp parallel if (par)
   {
@@ -328,11 +335,7 @@ void SpringLoop::add_forces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f) cons
   const bool par = layout_.slots() * 2 >= kParallelWork && omp_get_max_threads() > 1;
   if (avx512 && !par) {
     // One thread: the fused loop (no slot arrays), same order as the scatter below.
-    if (x.cols() != n || f.cols() != n)
-      throw std::invalid_argument("soa loop: state has " + std::to_string(x.cols()) + " nodes, the layout " +
-                                  std::to_string(n));
-    pos_.resize(static_cast<std::size_t>(3 * n));
-    acc_.resize(static_cast<std::size_t>(3 * n));
+    prepare_node_arrays(n, x, f, pos_, acc_);
     load_positions(x, 0, n, n, pos_.data(), acc_.data());
     spring_fused_avx512(layout_.runs.data(), layout_.runs.size(), layout_.offsets.data(), pos_.data(), n, k_.data(),
                         rest_.data(), acc_.data());
