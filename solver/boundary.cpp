@@ -65,7 +65,10 @@ void Constraints::control(Index node, int axis, const TimeCourse& course, bool v
                      " already has a boundary condition");
   }
   mask_[n] |= static_cast<std::uint8_t>(1U << axis);
-  controls_.push_back({node, axis, course, velocity});
+  const std::uint32_t id = controls_.empty() ? 0U
+                           : controls_.back().course == course ? controls_.back().course_id
+                                                                : controls_.back().course_id + 1U;
+  controls_.push_back({node, axis, course, velocity, id});
 }
 
 void Constraints::impose(Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& v, const Eigen::Matrix3Xd& x_ref,
@@ -74,19 +77,34 @@ void Constraints::impose(Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& v, const Eigen::
     x(c, node) = x_fixed(c, node);
     v(c, node) = 0.0;
   }
+  const AxisControl* last = nullptr;
+  double value = 0.0, rate = 0.0;
   for (const AxisControl& k : controls_) {
+    if (last == nullptr || k.course_id != last->course_id) {
+      value = k.course(t);
+      rate = k.course.derivative(t);
+      last = &k;
+    }
     if (k.velocity) {
-      v(k.axis, k.node) = k.course(t);
+      v(k.axis, k.node) = value;
     } else {
-      x(k.axis, k.node) = x_ref(k.axis, k.node) + k.course(t);
-      v(k.axis, k.node) = k.course.derivative(t);
+      x(k.axis, k.node) = x_ref(k.axis, k.node) + value;
+      v(k.axis, k.node) = rate;
     }
   }
 }
 
 void Constraints::constrain_acceleration(Eigen::Matrix3Xd& a, double t) const {
   for (const auto& [node, c] : fixed_list_) a(c, node) = 0.0;
-  for (const AxisControl& k : controls_) a(k.axis, k.node) = k.velocity ? k.course.derivative(t) : 0.0;
+  const AxisControl* last = nullptr;
+  double rate = 0.0;
+  for (const AxisControl& k : controls_) {
+    if (last == nullptr || k.course_id != last->course_id) {
+      rate = k.course.derivative(t);
+      last = &k;
+    }
+    a(k.axis, k.node) = k.velocity ? rate : 0.0;
+  }
 }
 
 std::vector<Index> select_nodes(const Eigen::Matrix3Xd& x_ref, const Region& region, const std::string& what) {

@@ -34,6 +34,9 @@ struct AxisControl {
   int axis = 0;  ///< 0, 1, 2
   TimeCourse course;
   bool velocity = false;  ///< false: displacement u(t) (m); true: velocity w(t) (m/s)
+  /// Equal for consecutive controls with equal courses (one boundary condition's nodes): the
+  /// per-step loops evaluate each course once per run of equal ids.
+  std::uint32_t course_id = 0;
 };
 
 class Constraints {

@@ -41,7 +41,17 @@ struct GlobalFrictionKernel {
   }
   /// All particles at once: f_i -= mu_i v_i (the same bits as forces() item by item).
   void add_forces_bulk(const StateView& s, Eigen::Matrix3Xd& f) const {
-    f.array() -= s.v.array().rowwise() * mu.transpose().array();
+    // A flat loop over the 3 n coordinates: gcc vectorises it; Eigen's row-wise broadcast over
+    // 3-row columns it does not.
+    const double* v = s.v.data();
+    double* out = f.data();
+    const double* m = mu.data();
+    const Eigen::Index n = mu.size();
+    for (Eigen::Index i = 0; i < n; ++i) {
+      out[3 * i] -= m[i] * v[3 * i];
+      out[3 * i + 1] -= m[i] * v[3 * i + 1];
+      out[3 * i + 2] -= m[i] * v[3 * i + 2];
+    }
   }
 };
 

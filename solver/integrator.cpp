@@ -33,7 +33,16 @@ void System::forces(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, double
 
 void System::accelerations(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, double t, Eigen::Matrix3Xd& a) {
   forces(x, v, t, f_);
-  a = f_.array().rowwise() * inv_mass_.transpose().array();
+  a.resize(3, f_.cols());
+  // a = f / m node by node, as a flat loop (vectorised; Eigen's row-wise broadcast is not).
+  const double* f = f_.data();
+  const double* w = inv_mass_.data();
+  double* out = a.data();
+  for (Eigen::Index i = 0; i < f_.cols(); ++i) {
+    out[3 * i] = f[3 * i] * w[i];
+    out[3 * i + 1] = f[3 * i + 1] * w[i];
+    out[3 * i + 2] = f[3 * i + 2] * w[i];
+  }
   model_.constraints.constrain_acceleration(a, t);
 }
 

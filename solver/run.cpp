@@ -59,8 +59,11 @@ std::int64_t integrator_code(const std::string& name) {
 using Clock = std::chrono::steady_clock;
 
 /// First problem found in state s, or an empty string. Sets `element` for a flat element.
+/// The gate skips the screen (and the finiteness scan) while it holds: no node has moved far
+/// enough since the last screen to flag an element, and x, v are finite.
 std::string check_state(const Model& model, const State& s, const std::vector<double>& vref, double flat,
-                        const SignedVolumeScreen& screen, std::optional<std::size_t>& element) {
+                        const SignedVolumeScreen& screen, MotionGate& gate, std::optional<std::size_t>& element) {
+  if (gate.quiet(s.x, s.v)) return {};
   if (!s.x.allFinite() || !s.v.allFinite()) {
     for (Eigen::Index i = 0; i < s.x.cols(); ++i) {
       if (!s.x.col(i).allFinite() || !s.v.col(i).allFinite()) {
@@ -68,7 +71,12 @@ std::string check_state(const Model& model, const State& s, const std::vector<do
       }
     }
   }
-  if (!screen.any_flagged(s.x)) return {};
+  double slack = 0.0;
+  if (!screen.any_flagged(s.x, slack)) {
+    gate.arm(s.x, slack);
+    return {};
+  }
+  gate.disarm();
   const preprocess::Mesh& mesh = *model.mesh;
   for (std::size_t e = 0; e < vref.size(); ++e) {
     const double v = element_signed_volume_check(mesh, s.x, e);
@@ -134,6 +142,7 @@ RunOutcome run_simulation(Model& model, State& s, const RunSettings& set, Result
   for (std::size_t e = 0; e < vref.size(); ++e)
     screen_threshold[e] = set.flat_fraction * vref[e] + 1e-6 * std::abs(vref[e]);
   const SignedVolumeScreen screen(mesh, screen_threshold);
+  MotionGate gate;
 
   RunOutcome out;
   State good;
@@ -313,7 +322,7 @@ RunOutcome run_simulation(Model& model, State& s, const RunSettings& set, Result
     }
     if (out.steps % set.check_every == 0) {
       std::optional<std::size_t> bad;
-      const std::string problem = check_state(model, s, vref, set.flat_fraction, screen, bad);
+      const std::string problem = check_state(model, s, vref, set.flat_fraction, screen, gate, bad);
       if (!problem.empty()) {
         out.bad_element = bad;
         std::ostringstream os;

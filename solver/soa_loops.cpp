@@ -1,14 +1,14 @@
 #include "solver/soa_loops.hpp"
 
 #include <omp.h>
-#if defined(__x86_64__)
-#include <immintrin.h>
-#endif
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+
+#include "solver/simd.hpp"
+#include "solver/soa_copy.hpp"
 
 namespace adamss::solver {
 namespace {
@@ -26,31 +26,19 @@ void node_range(std::int64_t n, int tid, int nt, std::int64_t& lo, std::int64_t&
 /// pos (SoA: X | Y | Z) <- x on nodes [lo, hi); acc <- 0 there.
 void load_positions(const Eigen::Matrix3Xd& x, std::int64_t lo, std::int64_t hi, std::int64_t n, double* pos,
                     double* acc) {
-  const double* src = x.data();
-  for (std::int64_t i = lo; i < hi; ++i) {
-    pos[i] = src[3 * i];
-    pos[n + i] = src[3 * i + 1];
-    pos[2 * n + i] = src[3 * i + 2];
-    acc[i] = 0.0;
-    acc[n + i] = 0.0;
-    acc[2 * n + i] = 0.0;
-  }
+  aos_to_soa(x.data(), n, lo, hi, pos);
+  for (int c = 0; c < 3; ++c) std::fill(acc + c * n + lo, acc + c * n + hi, 0.0);
 }
 
 /// f += acc on nodes [lo, hi).
 void store_forces(const double* acc, std::int64_t lo, std::int64_t hi, std::int64_t n, Eigen::Matrix3Xd& f) {
-  double* dst = f.data();
-  for (std::int64_t i = lo; i < hi; ++i) {
-    dst[3 * i] += acc[i];
-    dst[3 * i + 1] += acc[n + i];
-    dst[3 * i + 2] += acc[2 * n + i];
-  }
+  soa_add_to_aos(acc, n, lo, hi, f.data());
 }
 
-/// Slot forces c d (force on node i) of the runs [r0, r1): d = x_j - x_i, c = k (l - L) / l.
+/// Slot forces c d (force on node i) of the runs [r0, r1): d = x_j - x_i, c = k - kL / l.
 ADAMSS_SIMD_CLONES
 void spring_runs(const LayoutRun* runs, std::size_t r0, std::size_t r1, const std::int64_t* offsets, const double* pos,
-                 std::int64_t n, const double* __restrict k, const double* __restrict rest, double* __restrict tx,
+                 std::int64_t n, const double* __restrict k, const double* __restrict kl, double* __restrict tx,
                  double* __restrict ty, double* __restrict tz) {
   for (std::size_t r = r0; r < r1; ++r) {
     const LayoutRun& run = runs[r];
@@ -64,8 +52,9 @@ void spring_runs(const LayoutRun* runs, std::size_t r0, std::size_t r1, const st
       const double dy = yj[t] - yi[t];
       const double dz = zj[t] - zi[t];
       const double l = std::sqrt(dx * dx + dy * dy + dz * dz);
-      // Ghost slots (k = 0) give exactly 0 even if their nodes coincide (l = 0).
-      const double c = k[b + t] != 0.0 ? k[b + t] * (l - rest[b + t]) / l : 0.0;
+      // c = k (l - L) / l = k - kL / l; ghost slots (k = 0) give exactly 0 even if their nodes
+      // coincide (l = 0).
+      const double c = k[b + t] != 0.0 ? k[b + t] - kl[b + t] / l : 0.0;
       tx[b + t] = c * dx;
       ty[b + t] = c * dy;
       tz[b + t] = c * dz;
@@ -99,31 +88,27 @@ void scatter_runs(const LayoutRun* runs, std::size_t nruns, const std::int64_t* 
   }
 }
 
-#if defined(__GNUC__) && defined(__x86_64__) && !defined(ADAMSS_NO_CLONES)
-#define ADAMSS_AVX512_SPRINGS 1
-#define ADAMSS_AVX512 __attribute__((target("avx512f,fma")))
-
-bool spring_avx512_available() {
-  static const bool ok = __builtin_cpu_supports("avx512f") != 0;
-  return ok;
-}
-
-/// Spring force on node i for 8 springs: c d with c = k (l - L) / l = k (1 - L / l).
-/// 1 / l comes from the 14-bit estimate vrsqrt14pd refined by two Newton steps
-/// y <- y (3/2 - s y^2 / 2) (relative error 2^-14 -> ~4e-9 -> ~1e-16 plus rounding: about 2 ulp,
-/// so c differs from the correctly rounded (l - L)/l by ~1e-16 k absolute; the tests bound the
-/// force difference at 1e-13 of the largest force). One vector sqrt and one divide would cost
-/// ~4x more on this CPU. Lanes with k = 0 (ghosts, masked tails) give exactly 0.
-ADAMSS_AVX512 inline void spring8(__m512d dx, __m512d dy, __m512d dz, __m512d k, __m512d rest, __m512d& fx, __m512d& fy,
+#if ADAMSS_HAVE_AVX512
+/// Spring force on node i for 8 springs: c d with c = k (l - L) / l = k - (k L) / l, from the
+/// per-slot constants k and kL = k L.
+/// 1 / l: the 14-bit estimate y0 = vrsqrt14pd(s), s = l^2, then one fourth-order step of the
+/// series (1 - e)^(-1/2) = 1 + e/2 + 3e^2/8 + 5e^3/16 + 35e^4/128 + ... with e = 1 - s y0^2:
+/// y = y0 + y0 e (1/2 + e (3/8 + e 5/16)). |e| <= 2^-13, so the dropped terms are below
+/// 0.3 2^-52 and y is within about 1.5 ulp of 1/l (one rounding in e, one in the last FMA).
+/// 6 operations, against 7 for two Newton steps and ~4x that for a vector sqrt and divide on
+/// this CPU. The cancellation in k - kL y when l ~ L costs what k (l - L) / l loses too:
+/// ~1e-16 k absolute, and the tests bound the force difference to the per-item kernel at 1e-13
+/// of the largest force. Lanes with k = 0 (ghosts, masked tails) give exactly 0 (masked FMA).
+ADAMSS_AVX512 inline void spring8(__m512d dx, __m512d dy, __m512d dz, __m512d k, __m512d kl, __m512d& fx, __m512d& fy,
                                   __m512d& fz) {
   const __m512d s = _mm512_fmadd_pd(dz, dz, _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx)));
-  const __m512d hs = _mm512_mul_pd(_mm512_set1_pd(0.5), s);
-  const __m512d three_halves = _mm512_set1_pd(1.5);
-  __m512d y = _mm512_maskz_rsqrt14_pd(static_cast<__mmask8>(0xFF), s);  // (maskz: no undefined source)
-  y = _mm512_mul_pd(y, _mm512_fnmadd_pd(_mm512_mul_pd(hs, y), y, three_halves));
-  y = _mm512_mul_pd(y, _mm512_fnmadd_pd(_mm512_mul_pd(hs, y), y, three_halves));
+  const __m512d y0 = _mm512_maskz_rsqrt14_pd(static_cast<__mmask8>(0xFF), s);  // (maskz: no undefined source)
+  const __m512d e = _mm512_fnmadd_pd(_mm512_mul_pd(s, y0), y0, _mm512_set1_pd(1.0));
+  __m512d p = _mm512_fmadd_pd(e, _mm512_set1_pd(0.3125), _mm512_set1_pd(0.375));
+  p = _mm512_fmadd_pd(p, e, _mm512_set1_pd(0.5));
+  const __m512d y = _mm512_fmadd_pd(_mm512_mul_pd(y0, e), p, y0);
   const __mmask8 live = _mm512_cmp_pd_mask(k, _mm512_setzero_pd(), _CMP_NEQ_UQ);
-  const __m512d c = _mm512_maskz_mul_pd(live, k, _mm512_fnmadd_pd(rest, y, _mm512_set1_pd(1.0)));
+  const __m512d c = _mm512_maskz_fnmadd_pd(live, kl, y, k);
   fx = _mm512_mul_pd(c, dx);
   fy = _mm512_mul_pd(c, dy);
   fz = _mm512_mul_pd(c, dz);
@@ -134,31 +119,70 @@ ADAMSS_AVX512 inline __mmask8 tail_mask(std::int64_t left) {
 }
 
 /// Slots s .. s + 7 (lanes in m) of one run: d = x_j - x_i read from the node arrays at i, j (SoA,
-/// coordinate stride n), k and L at s; f = force on node i (spring8). The one body of both the
+/// coordinate stride n), k and kL at s; f = force on node i (spring8). The one body of both the
 /// fused and the slot loops, so the two paths round alike.
 ADAMSS_AVX512 inline void spring_block(const double* pos, std::int64_t n, std::int64_t i, std::int64_t j,
-                                       const double* k, const double* rest, std::int64_t s, __mmask8 m,
+                                       const double* k, const double* kl, std::int64_t s, __mmask8 m,
                                        __m512d (&f)[3]) {
   __m512d d[3];
   for (int c = 0; c < 3; ++c)
     d[c] = _mm512_sub_pd(_mm512_maskz_loadu_pd(m, pos + c * n + j), _mm512_maskz_loadu_pd(m, pos + c * n + i));
-  spring8(d[0], d[1], d[2], _mm512_maskz_loadu_pd(m, k + s), _mm512_maskz_loadu_pd(m, rest + s), f[0], f[1], f[2]);
+  spring8(d[0], d[1], d[2], _mm512_maskz_loadu_pd(m, k + s), _mm512_maskz_loadu_pd(m, kl + s), f[0], f[1], f[2]);
+}
+
+/// One run whose node offset o = o_1 is in (0, 16): each node's two contributions of the run
+/// (as node j of spring m - o, then as node i of spring m) in ONE read-modify-write per block
+/// of 8 nodes, acc = (acc - g) + f, where g (the forces of springs m - o) is assembled from the
+/// forces of the previous one or two blocks kept in registers (vpermt2pd). The two-sided loop
+/// below would instead store the j side and, one block later, load an overlapping but shifted
+/// range for the i side, which the CPU cannot forward from the store buffer: each block then
+/// waits for the previous one's stores to retire. Same operations per node in the same order as
+/// the two-sided loop and as scatter_runs (j side, then i side), so the same bits.
+ADAMSS_AVX512 void spring_run_near(const LayoutRun& run, std::int64_t o, const double* pos, std::int64_t n,
+                                   const double* k, const double* kl, double* acc) {
+  const std::int64_t i0 = run.base, j0 = run.base + o;
+  const std::int64_t b = run.begin, len = run.length;
+  const std::int64_t r = o % 8;
+  const bool from_current = o < 8;  // g's newer half: the current block (o < 8) or the previous one
+  const __m512i idx = _mm512_add_epi64(_mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7), _mm512_set1_epi64(8 - r));
+  __m512d f1[3], f2[3];  // forces of the previous block and the one before
+  for (int c = 0; c < 3; ++c) f1[c] = f2[c] = _mm512_setzero_pd();
+  for (std::int64_t t = 0; t < len + o; t += 8) {
+    __m512d f[3] = {_mm512_setzero_pd(), _mm512_setzero_pd(), _mm512_setzero_pd()};
+    const __mmask8 mi = t < len ? tail_mask(len - t) : static_cast<__mmask8>(0);
+    if (t < len) spring_block(pos, n, i0 + t, j0 + t, k, kl, b + t, mi, f);
+    const __mmask8 mj = tail_mask(len + o - t);
+    for (int c = 0; c < 3; ++c) {
+      const __m512d g = from_current ? _mm512_permutex2var_pd(f1[c], idx, f[c]) : _mm512_permutex2var_pd(f2[c], idx, f1[c]);
+      double* a = acc + c * n + i0 + t;
+      const __m512d v = _mm512_sub_pd(_mm512_maskz_loadu_pd(mj, a), g);
+      _mm512_mask_storeu_pd(a, mj, _mm512_mask_add_pd(v, mi, v, f[c]));
+      f2[c] = f1[c];
+      f1[c] = f[c];
+    }
+  }
 }
 
 /// One thread, all runs: forces straight into acc (SoA), per 8 slots first acc_j -= f then
 /// acc_i += f -- per node, the j-side contribution of a run before its i-side one, the order of
 /// scatter_runs with order {1, 0}, so the sums equal the multi-threaded path's bit for bit.
+/// Runs with a node offset in (0, 16) take spring_run_near.
 ADAMSS_AVX512 void spring_fused_avx512(const LayoutRun* runs, std::size_t nruns, const std::int64_t* offsets,
-                                       const double* pos, std::int64_t n, const double* k, const double* rest,
+                                       const double* pos, std::int64_t n, const double* k, const double* kl,
                                        double* acc) {
   for (std::size_t r = 0; r < nruns; ++r) {
     const LayoutRun& run = runs[r];
-    const std::int64_t i0 = run.base, j0 = run.base + offsets[2 * run.pattern + 1];
+    const std::int64_t o = offsets[2 * run.pattern + 1];
+    if (o > 0 && o < 16) {
+      spring_run_near(run, o, pos, n, k, kl, acc);
+      continue;
+    }
+    const std::int64_t i0 = run.base, j0 = run.base + o;
     const std::int64_t b = run.begin, len = run.length;
     for (std::int64_t t = 0; t < len; t += 8) {
       const __mmask8 m = tail_mask(len - t);
       __m512d f[3];
-      spring_block(pos, n, i0 + t, j0 + t, k, rest, b + t, m, f);
+      spring_block(pos, n, i0 + t, j0 + t, k, kl, b + t, m, f);
       for (int c = 0; c < 3; ++c) {
         double* aj = acc + c * n + j0 + t;
         _mm512_mask_storeu_pd(aj, m, _mm512_sub_pd(_mm512_maskz_loadu_pd(m, aj), f[c]));
@@ -174,7 +198,7 @@ ADAMSS_AVX512 void spring_fused_avx512(const LayoutRun* runs, std::size_t nruns,
 /// Runs [r0, r1) into slot arrays (force on node i), the same arithmetic as the fused loop.
 ADAMSS_AVX512 void spring_slots_avx512(const LayoutRun* runs, std::size_t r0, std::size_t r1,
                                        const std::int64_t* offsets, const double* pos, std::int64_t n, const double* k,
-                                       const double* rest, double* tx, double* ty, double* tz) {
+                                       const double* kl, double* tx, double* ty, double* tz) {
   for (std::size_t r = r0; r < r1; ++r) {
     const LayoutRun& run = runs[r];
     const std::int64_t i0 = run.base, j0 = run.base + offsets[2 * run.pattern + 1];
@@ -182,7 +206,7 @@ ADAMSS_AVX512 void spring_slots_avx512(const LayoutRun* runs, std::size_t r0, st
     for (std::int64_t t = 0; t < len; t += 8) {
       const __mmask8 m = tail_mask(len - t);
       __m512d f[3];
-      spring_block(pos, n, i0 + t, j0 + t, k, rest, b + t, m, f);
+      spring_block(pos, n, i0 + t, j0 + t, k, kl, b + t, m, f);
       _mm512_mask_storeu_pd(tx + b + t, m, f[0]);
       _mm512_mask_storeu_pd(ty + b + t, m, f[1]);
       _mm512_mask_storeu_pd(tz + b + t, m, f[2]);
@@ -190,9 +214,6 @@ ADAMSS_AVX512 void spring_slots_avx512(const LayoutRun* runs, std::size_t r0, st
   }
 }
 #else
-bool spring_avx512_available() {
-  return false;
-}
 void spring_fused_avx512(const LayoutRun*, std::size_t, const std::int64_t*, const double*, std::int64_t, const double*,
                          const double*, double*) {}
 void spring_slots_avx512(const LayoutRun*, std::size_t, std::size_t, const std::int64_t*, const double*, std::int64_t,
@@ -319,26 +340,26 @@ SpringLoop::SpringLoop(const std::vector<std::array<preprocess::Index, 2>>& edge
   if (stiffness.size() != edges.size() || rest_length.size() != edges.size())
     throw std::invalid_argument("SpringLoop: stiffness / rest length arrays do not match the springs");
   k_.assign(layout_.slots(), 0.0);
-  rest_.assign(layout_.slots(), 0.0);
+  kl_.assign(layout_.slots(), 0.0);
   for (std::size_t s = 0; s < layout_.slots(); ++s) {
     const std::int64_t i = layout_.item_of_slot[s];
     if (i < 0) continue;
     k_[s] = stiffness[static_cast<std::size_t>(i)];
-    rest_[s] = rest_length[static_cast<std::size_t>(i)];
+    kl_[s] = stiffness[static_cast<std::size_t>(i)] * rest_length[static_cast<std::size_t>(i)];
   }
 }
 
 void SpringLoop::add_forces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f) const {
   const std::int64_t n = layout_.node_count;
   const std::size_t ns = layout_.slots();
-  const bool avx512 = spring_avx512_available();
+  const bool avx512 = avx512_available();
   const bool par = layout_.slots() * 2 >= kParallelWork && omp_get_max_threads() > 1;
   if (avx512 && !par) {
     // One thread: the fused loop (no slot arrays), same order as the scatter below.
     prepare_node_arrays(n, x, f, pos_, acc_);
     load_positions(x, 0, n, n, pos_.data(), acc_.data());
     spring_fused_avx512(layout_.runs.data(), layout_.runs.size(), layout_.offsets.data(), pos_.data(), n, k_.data(),
-                        rest_.data(), acc_.data());
+                        kl_.data(), acc_.data());
     store_forces(acc_.data(), 0, n, n, f);
     return;
   }
@@ -351,10 +372,10 @@ void SpringLoop::add_forces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f) cons
   const int order[2] = {1, 0};         // per run: the j side first (the fused loop's order)
   evaluate<2>(layout_, x, f, pos_, acc_, order, slots, sign, [&](std::size_t r0, std::size_t r1) {
     if (avx512)
-      spring_slots_avx512(layout_.runs.data(), r0, r1, layout_.offsets.data(), pos_.data(), n, k_.data(), rest_.data(),
+      spring_slots_avx512(layout_.runs.data(), r0, r1, layout_.offsets.data(), pos_.data(), n, k_.data(), kl_.data(),
                           tx, ty, tz);
     else
-      spring_runs(layout_.runs.data(), r0, r1, layout_.offsets.data(), pos_.data(), n, k_.data(), rest_.data(), tx, ty,
+      spring_runs(layout_.runs.data(), r0, r1, layout_.offsets.data(), pos_.data(), n, k_.data(), kl_.data(), tx, ty,
                   tz);
   });
 }

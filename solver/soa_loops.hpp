@@ -15,10 +15,11 @@
 // are bitwise repeatable for a given binary and machine.
 //
 // Springs (per slot: nodes i = b + t, j = b + o_1 + t, stiffness k, rest length L; eq. of
-// solver/edge_springs.hpp):   d = x_j - x_i,  l = |d|,  c = k (l - L) / l,
-//   f_i += c d,  f_j -= c d   (ghost slots: k = 0 and c = 0 exactly).
-// Cost per slot: 6 loads of node coordinates (cached), 2 of constants, 3 stores; 3 sub, 3 mul,
-// 2 add, sqrt, div, sub, 2 mul, 3 mul = 17 flops; the scatter reads 3 and writes 6 doubles.
+// solver/edge_springs.hpp):   d = x_j - x_i,  l = |d|,  c = k (l - L) / l = k - (k L) / l,
+//   f_i += c d,  f_j -= c d   (ghost slots: k = 0 and c = 0 exactly). The slot stores k and kL.
+// Cost per slot (AVX-512 path): 6 loads of node coordinates (cached), 2 of constants; 3 sub,
+// 3 for l^2, rsqrt estimate + 6 for its refinement, 1 FMA for c, 3 mul = 19 operations; the
+// fused one-thread loop then reads and writes 6 node doubles (f_j -= c d, f_i += c d).
 //
 // HybMSS volume (per slot: 8 cell nodes, s = kappa / V_c, V_c; eqs. 5.13-5.15):
 //   a = sum alpha_n x_n, b = sum beta_n x_n, c = sum gamma_n x_n (quarter sums, eq. 5.14),
@@ -50,7 +51,7 @@ class SpringLoop {
  private:
   RunLayout<2> layout_;
   std::size_t springs_ = 0;
-  std::vector<double> k_, rest_;                  // per slot
+  std::vector<double> k_, kl_;                    // per slot: k, k L
   mutable std::vector<double> pos_, slot_, acc_;  // 3 n, 3 slots, 3 n (work space)
 };
 

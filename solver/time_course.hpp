@@ -41,6 +41,8 @@ struct TimeCourse {
   [[nodiscard]] double twitch_time(double t) const;
   /// Human-readable description ("ramp 0 -> 2000 over [0, 0.1] s").
   [[nodiscard]] std::string describe() const;
+  /// Same kind and parameters (member by member).
+  [[nodiscard]] bool operator==(const TimeCourse& other) const = default;
 
   [[nodiscard]] static TimeCourse constant(double c);
   [[nodiscard]] static TimeCourse ramp(double from, double to, double start, double duration);

@@ -1,10 +1,12 @@
 #include "solver/volume_check.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
 #include "preprocess/element_faces.hpp"
+#include "solver/soa_copy.hpp"
 
 namespace adamss::solver {
 namespace {
@@ -33,30 +35,72 @@ __attribute__((always_inline)) inline double min2(double a, double b) {
   return b < a ? b : a;
 }
 
-/// Number of slots of one hexahedron run whose corner minimum is not above the threshold.
-/// (The 8 corners are unrolled so that the loop over slots has no control flow: gcc vectorises it.)
+__attribute__((always_inline)) inline double max2(double a, double b) {
+  return b > a ? b : a;
+}
+
+/// |x_b - x_a|^2 (SoA, coordinate stride n).
+__attribute__((always_inline)) inline double dist2(const double* a, const double* b, std::int64_t n, std::int64_t t) {
+  const double d0 = b[t] - a[t], d1 = b[n + t] - a[n + t], d2 = b[2 * n + t] - a[2 * n + t];
+  return d0 * d0 + d1 * d1 + d2 * d2;
+}
+
+/// The slack of one slot (see SignedVolumeScreen::any_flagged): check value v, threshold thr,
+/// largest squared length L^2 of the edges its determinants use, `scale` = 1 (hexahedron corner
+/// parallelepipeds) or 6 (tetrahedra, whose value is det / 6). -1 when v is not above thr (or is
+/// NaN); +inf for a ghost slot (thr = -inf).
+__attribute__((always_inline)) inline double slot_slack(double v, double thr, double l2, double scale) {
+  const double slack = std::min(0.5 * std::sqrt(l2), scale * (v - thr) / (14.0 * l2));
+  return thr == -std::numeric_limits<double>::infinity() ? std::numeric_limits<double>::infinity()
+                                                         : ((v > thr) ? slack : -1.0);
+}
+
+/// Slack of every slot of one hexahedron run into out[0, len) (slot_slack with scale 1).
+/// (The 8 corners and 12 edges are unrolled so that the loop over slots has no control flow:
+/// gcc vectorises it.)
 ADAMSS_SIMD_CLONES
-std::int64_t hex_run(const double* const* pp, std::int64_t n, const double* bias, const double* __restrict thr,
-                     std::int64_t len) {
+void hex_run(const double* const* pp, std::int64_t n, const double* bias, const double* __restrict thr,
+             std::int64_t len, double* __restrict out) {
   const double* const p[8] = {pp[0], pp[1], pp[2], pp[3], pp[4], pp[5], pp[6], pp[7]};
   const double b0 = bias[0], b1 = bias[1], b2 = bias[2], b3 = bias[3], b4 = bias[4], b5 = bias[5], b6 = bias[6],
                b7 = bias[7];
-  std::int64_t flagged = 0;
   for (std::int64_t t = 0; t < len; ++t) {
     const double v = min2(min2(min2(corner<0>(p, n, t, b0), corner<1>(p, n, t, b1)),
                                min2(corner<2>(p, n, t, b2), corner<3>(p, n, t, b3))),
                           min2(min2(corner<4>(p, n, t, b4), corner<5>(p, n, t, b5)),
                                min2(corner<6>(p, n, t, b6), corner<7>(p, n, t, b7))));
-    flagged += (v > thr[t]) ? 0 : 1;
+    // The 12 edges (VTK order): every corner's three edge vectors are among them.
+    const double l2 = max2(
+        max2(max2(max2(dist2(p[0], p[1], n, t), dist2(p[1], p[2], n, t)),
+                  max2(dist2(p[2], p[3], n, t), dist2(p[3], p[0], n, t))),
+             max2(max2(dist2(p[4], p[5], n, t), dist2(p[5], p[6], n, t)),
+                  max2(dist2(p[6], p[7], n, t), dist2(p[7], p[4], n, t)))),
+        max2(max2(dist2(p[0], p[4], n, t), dist2(p[1], p[5], n, t)),
+             max2(dist2(p[2], p[6], n, t), dist2(p[3], p[7], n, t))));
+    out[t] = slot_slack(v, thr[t], l2, 1.0);
   }
-  return flagged;
 }
 
+/// Slack of every slot of one tetrahedron run (value det / 6; the determinant's edges are those
+/// from node 0).
 ADAMSS_SIMD_CLONES
-std::int64_t tet_run(const double* const* p, std::int64_t n, const double* __restrict thr, std::int64_t len) {
-  std::int64_t flagged = 0;
-  for (std::int64_t t = 0; t < len; ++t) flagged += (det3(p[0], p[1], p[2], p[3], n, t) / 6.0 > thr[t]) ? 0 : 1;
-  return flagged;
+void tet_run(const double* const* p, std::int64_t n, const double* __restrict thr, std::int64_t len,
+             double* __restrict out) {
+  for (std::int64_t t = 0; t < len; ++t) {
+    const double v = det3(p[0], p[1], p[2], p[3], n, t) / 6.0;
+    const double l2 = max2(max2(dist2(p[0], p[1], n, t), dist2(p[0], p[2], n, t)), dist2(p[0], p[3], n, t));
+    out[t] = slot_slack(v, thr[t], l2, 6.0);
+  }
+}
+
+/// Minimum of out[0, len); -1 as soon as a slot is flagged (not > 0).
+double run_minimum(const double* out, std::int64_t len) {
+  double m = std::numeric_limits<double>::infinity();
+  for (std::int64_t t = 0; t < len; ++t) {
+    if (!(out[t] > 0.0)) return -1.0;
+    m = std::min(m, out[t]);
+  }
+  return m;
 }
 
 template <int N>
@@ -73,6 +117,17 @@ std::vector<double> slot_thresholds(const RunLayout<N>& layout, const std::vecto
   for (std::size_t s = 0; s < out.size(); ++s)
     if (layout.item_of_slot[s] >= 0) out[s] = threshold[static_cast<std::size_t>(layout.item_of_slot[s])];
   return out;
+}
+
+/// True if |x[i] - x0[i]| <= limit and |v[i]| is finite for all i < size (false on NaN).
+ADAMSS_SIMD_CLONES
+bool within(const double* __restrict x, const double* __restrict x0, const double* __restrict v, std::int64_t size,
+            double limit) {
+  constexpr double kMax = std::numeric_limits<double>::max();
+  unsigned bad = 0;
+  for (std::int64_t i = 0; i < size; ++i)
+    bad |= static_cast<unsigned>(!(std::abs(x[i] - x0[i]) <= limit)) | static_cast<unsigned>(!(std::abs(v[i]) <= kMax));
+  return bad == 0;
 }
 
 }  // namespace
@@ -107,14 +162,17 @@ SignedVolumeScreen::SignedVolumeScreen(const preprocess::Mesh& mesh, const std::
 }
 
 bool SignedVolumeScreen::any_flagged(const Eigen::Matrix3Xd& x) const {
+  double slack = 0.0;
+  return any_flagged(x, slack);
+}
+
+bool SignedVolumeScreen::any_flagged(const Eigen::Matrix3Xd& x, double& slack) const {
+  slack = 0.0;
   const std::int64_t n = x.cols();
   pos_.resize(static_cast<std::size_t>(3 * n));
-  const double* src = x.data();
-  for (std::int64_t i = 0; i < n; ++i) {
-    pos_[static_cast<std::size_t>(i)] = src[3 * i];
-    pos_[static_cast<std::size_t>(n + i)] = src[3 * i + 1];
-    pos_[static_cast<std::size_t>(2 * n + i)] = src[3 * i + 2];
-  }
+  aos_to_soa(x.data(), n, 0, n, pos_.data());
+  out_.resize(threshold_.size());
+  double least = std::numeric_limits<double>::infinity();
   if (hex_) {
     const double* p[8];
     for (const auto& run : hex_layout_.runs) {
@@ -126,7 +184,10 @@ bool SignedVolumeScreen::any_flagged(const Eigen::Matrix3Xd& x) const {
       if (mask == 0U) return true;
       double bias[8];
       for (int a = 0; a < 8; ++a) bias[a] = ((mask >> a) & 1U) != 0U ? 0.0 : std::numeric_limits<double>::infinity();
-      if (hex_run(p, n, bias, threshold_.data() + run.begin, run.length) > 0) return true;
+      double* out = out_.data() + run.begin;
+      hex_run(p, n, bias, threshold_.data() + run.begin, run.length, out);
+      least = std::min(least, run_minimum(out, run.length));
+      if (!(least > 0.0)) return true;
     }
   } else {
     const double* p[4];
@@ -134,10 +195,29 @@ bool SignedVolumeScreen::any_flagged(const Eigen::Matrix3Xd& x) const {
       for (int a = 0; a < 4; ++a)
         p[a] = pos_.data() + run.base +
                tet_layout_.offsets[4 * static_cast<std::size_t>(run.pattern) + static_cast<std::size_t>(a)];
-      if (tet_run(p, n, threshold_.data() + run.begin, run.length) > 0) return true;
+      double* out = out_.data() + run.begin;
+      tet_run(p, n, threshold_.data() + run.begin, run.length, out);
+      least = std::min(least, run_minimum(out, run.length));
+      if (!(least > 0.0)) return true;
     }
   }
+  // Half the bound: room for the rounding of the values it was computed from.
+  slack = 0.5 * least;
   return false;
+}
+
+bool MotionGate::quiet(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v) const {
+  if (!(limit_ > 0.0) || x.size() != x0_.size() || v.size() != x.size()) return false;
+  return within(x.data(), x0_.data(), v.data(), x.size(), limit_);
+}
+
+void MotionGate::arm(const Eigen::Matrix3Xd& x, double slack) {
+  x0_ = x;
+  limit_ = slack / std::sqrt(3.0);
+}
+
+void MotionGate::disarm() {
+  limit_ = -1.0;
 }
 
 }  // namespace adamss::solver
