@@ -12,7 +12,10 @@ GlobalFrictionKernel make_global_friction_kernel(std::size_t node_count, double 
     throw InputError("global_friction.mu: must be a finite number >= 0 (N s/m per particle), got " +
                      std::to_string(mu));
   }
-  return GlobalFrictionKernel{Eigen::VectorXd::Constant(static_cast<Eigen::Index>(node_count), mu)};
+  GlobalFrictionKernel k;
+  k.mu = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(node_count), mu);
+  k.mu3 = per_coordinate(k.mu);
+  return k;
 }
 
 GlobalFrictionKernel make_mass_proportional_friction_kernel(const Eigen::VectorXd& masses, double rate) {
@@ -25,7 +28,10 @@ GlobalFrictionKernel make_mass_proportional_friction_kernel(const Eigen::VectorX
                        std::to_string(masses[i]));
     }
   }
-  return GlobalFrictionKernel{rate * masses};
+  GlobalFrictionKernel k;
+  k.mu = rate * masses;
+  k.mu3 = per_coordinate(k.mu);
+  return k;
 }
 
 std::unique_ptr<ForceTerm> make_global_friction_term(std::size_t node_count, double mu) {

@@ -19,6 +19,7 @@
 #include <memory>
 #include <string>
 
+#include "solver/node_loops.hpp"
 #include "solver/stencil_term.hpp"
 
 namespace adamss::solver {
@@ -41,18 +42,13 @@ struct GlobalFrictionKernel {
   }
   /// All particles at once: f_i -= mu_i v_i (the same bits as forces() item by item).
   void add_forces_bulk(const StateView& s, Eigen::Matrix3Xd& f) const {
-    // A flat loop over the 3 n coordinates: gcc vectorises it; Eigen's row-wise broadcast over
-    // 3-row columns it does not.
-    const double* v = s.v.data();
-    double* out = f.data();
-    const double* m = mu.data();
-    const Eigen::Index n = mu.size();
-    for (Eigen::Index i = 0; i < n; ++i) {
-      out[3 * i] -= m[i] * v[3 * i];
-      out[3 * i + 1] -= m[i] * v[3 * i + 1];
-      out[3 * i + 2] -= m[i] * v[3 * i + 2];
+    if (mu3.size() == 3 * mu.size()) {
+      sub_product(f.data(), mu3.data(), s.v.data(), f.size());  // a vectorised flat loop
+    } else {
+      f.array() -= s.v.array().rowwise() * mu.transpose().array();
     }
   }
+  Eigen::VectorXd mu3;  ///< mu per coordinate (node_loops.hpp), set by the make_ functions
 };
 
 /// Eq. (2.118) literally: mu (N s/m, >= 0, finite) on each of `node_count` particles.

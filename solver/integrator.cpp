@@ -6,6 +6,7 @@
 #include "solver/abm3.hpp"
 #include "solver/cavity_constraint.hpp"
 #include "solver/implicit.hpp"
+#include "solver/node_loops.hpp"
 
 namespace adamss::solver {
 
@@ -20,6 +21,7 @@ System::System(Model& model) : model_(model) {
     }
     inv_mass_[i] = 1.0 / model.mass[i];
   }
+  inv_mass3_ = per_coordinate(inv_mass_);
   f_.setZero(3, n);
   x_fixed_ = model.x_ref;
 }
@@ -34,16 +36,13 @@ void System::forces(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, double
 void System::accelerations(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, double t, Eigen::Matrix3Xd& a) {
   forces(x, v, t, f_);
   a.resize(3, f_.cols());
-  // a = f / m node by node, as a flat loop (vectorised; Eigen's row-wise broadcast is not).
-  const double* f = f_.data();
-  const double* w = inv_mass_.data();
-  double* out = a.data();
-  for (Eigen::Index i = 0; i < f_.cols(); ++i) {
-    out[3 * i] = f[3 * i] * w[i];
-    out[3 * i + 1] = f[3 * i + 1] * w[i];
-    out[3 * i + 2] = f[3 * i + 2] * w[i];
-  }
+  scale(a.data(), f_.data(), inv_mass3_.data(), f_.size());
   model_.constraints.constrain_acceleration(a, t);
+}
+
+void System::kick(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& v, double t, double h) {
+  forces(x, v, t, f_);
+  solver::kick(v.data(), h, f_.data(), inv_mass3_.data(), v.size());
 }
 
 void System::impose(State& s) const {
@@ -75,18 +74,18 @@ class SymplecticEuler final : public Integrator {
   explicit SymplecticEuler(System& sys) : sys_(sys) {}
   [[nodiscard]] std::string name() const override { return "symplectic_euler"; }
   StepReport step(State& s, double h) override {
-    sys_.accelerations(s.x, s.v, s.t, a_);
-    s.v += h * a_;
+    // v += h a with a = f / m; the constrained velocities are then set by impose (so the
+    // accelerations constrain_acceleration would give them never matter here).
+    sys_.kick(s.x, s.v, s.t, h);
     s.t += h;
     sys_.impose(s);  // prescribed velocities of t + h before they move the positions
-    s.x += h * s.v;
+    axpy(s.x.data(), h, s.v.data(), s.x.size());  // x += h v
     sys_.impose(s);
     return {h, h, 1, 0, 0.0};
   }
 
  private:
   System& sys_;
-  Eigen::Matrix3Xd a_;
 };
 
 }  // namespace

@@ -29,6 +29,10 @@ class System {
   /// a = f / m on free coordinates; constrained ones from Constraints::constrain_acceleration.
   /// The raw forces of the last call stay available in last_forces().
   void accelerations(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, double t, Eigen::Matrix3Xd& a);
+  /// v += h f(x, v, t) / m on EVERY coordinate (the symplectic Euler velocity update without
+  /// storing a): constrained coordinates get garbage that the caller's impose() overwrites.
+  /// The forces stay available in last_forces().
+  void kick(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& v, double t, double h);
   /// Imposes fixed and controlled coordinates on s at time s.t.
   void impose(State& s) const;
 
@@ -43,6 +47,7 @@ class System {
  private:
   Model& model_;
   Eigen::VectorXd inv_mass_;
+  Eigen::VectorXd inv_mass3_;  // inv_mass_ per coordinate (node_loops.hpp)
   Eigen::Matrix3Xd f_;
   Eigen::Matrix3Xd x_fixed_;
   std::size_t evaluations_ = 0;

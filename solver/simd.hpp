@@ -14,7 +14,37 @@
 #define ADAMSS_AVX512
 #endif
 
+#include <cstddef>
+#include <cstdint>
+#include <new>
+#include <vector>
+
 namespace adamss::solver {
+
+/// Allocates on 64-byte boundaries (one cache line, one AVX-512 register), so that the
+/// vectorised loops' loads of 8 doubles at multiples of 8 do not straddle two cache lines.
+template <class T>
+struct AlignedAllocator {
+  using value_type = T;
+  static constexpr std::align_val_t kAlign{64};
+  AlignedAllocator() = default;
+  template <class U>
+  explicit AlignedAllocator(const AlignedAllocator<U>& /*other*/) {}
+  T* allocate(std::size_t count) { return static_cast<T*>(::operator new(count * sizeof(T), kAlign)); }
+  void deallocate(T* p, std::size_t /*count*/) { ::operator delete(p, kAlign); }
+  template <class U>
+  bool operator==(const AlignedAllocator<U>& /*other*/) const {
+    return true;
+  }
+};
+
+using AlignedDoubles = std::vector<double, AlignedAllocator<double>>;
+
+/// Coordinate stride of node arrays X | Y | Z for n nodes: n rounded up to a multiple of 8, so
+/// that Y and Z start on 64-byte boundaries too.
+constexpr std::int64_t padded_stride(std::int64_t n) {
+  return (n + 7) / 8 * 8;
+}
 
 /// True if this CPU runs AVX-512F (always false without ADAMSS_HAVE_AVX512).
 inline bool avx512_available() {

@@ -296,25 +296,28 @@ void hybmss_volume_runs(const LayoutRun* runs, std::size_t r0, std::size_t r1, c
   }
 }
 
-/// Checks that x and f have the layout's node count and sizes the node work arrays (3 n each).
-void prepare_node_arrays(std::int64_t n, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& f, std::vector<double>& pos,
-                         std::vector<double>& acc) {
+/// Checks that x and f have the layout's node count, sizes the node work arrays (3 strides each)
+/// and returns their coordinate stride (padded_stride(n)).
+std::int64_t prepare_node_arrays(std::int64_t n, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& f,
+                                 AlignedDoubles& pos, AlignedDoubles& acc) {
   if (x.cols() != n || f.cols() != n)
     throw std::invalid_argument("soa loop: state has " + std::to_string(x.cols()) + " nodes, the layout " +
                                 std::to_string(n));
-  pos.resize(static_cast<std::size_t>(3 * n));
-  acc.resize(static_cast<std::size_t>(3 * n));
+  const std::int64_t stride = padded_stride(n);
+  pos.resize(static_cast<std::size_t>(3 * stride));
+  acc.resize(static_cast<std::size_t>(3 * stride));
+  return stride;
 }
 
 /// The three phases of an evaluation (see the header): positions to node arrays, kernel(r0, r1)
 /// over this thread's block of runs, the ordered scatter of slot arrays `slot` (3 N pointers, with
-/// sign[a]) into this thread's node range, then f += acc there.
+/// sign[a]) into this thread's node range, then f += acc there. Node arrays have coordinate
+/// stride padded_stride(n).
 template <int N, class Kernel>
-void evaluate(const RunLayout<N>& layout, const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f, std::vector<double>& pos,
-              std::vector<double>& acc, const int* order, const double* const* slot, const double* sign,
-              Kernel&& kernel) {
+void evaluate(const RunLayout<N>& layout, const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f, AlignedDoubles& pos,
+              AlignedDoubles& acc, const int* order, const double* const* slot, const double* sign, Kernel&& kernel) {
   const std::int64_t n = layout.node_count;
-  prepare_node_arrays(n, x, f, pos, acc);
+  const std::int64_t ns = prepare_node_arrays(n, x, f, pos, acc);
   const bool par = layout.slots() * N >= kParallelWork && omp_get_max_threads() > 1;
 #pragma omp parallel if (par)
   {
@@ -322,13 +325,13 @@ void evaluate(const RunLayout<N>& layout, const Eigen::Matrix3Xd& x, Eigen::Matr
     const int tid = omp_get_thread_num();
     std::int64_t lo = 0, hi = 0;
     node_range(n, tid, nt, lo, hi);
-    load_positions(x, lo, hi, n, pos.data(), acc.data());
+    load_positions(x, lo, hi, ns, pos.data(), acc.data());
 #pragma omp barrier
     kernel(first_run_of(layout, tid, nt), first_run_of(layout, tid + 1, nt));
 #pragma omp barrier
-    scatter_runs(layout.runs.data(), layout.runs.size(), layout.offsets.data(), N, order, slot, sign, acc.data(), n, lo,
-                 hi);
-    store_forces(acc.data(), lo, hi, n, f);
+    scatter_runs(layout.runs.data(), layout.runs.size(), layout.offsets.data(), N, order, slot, sign, acc.data(), ns,
+                 lo, hi);
+    store_forces(acc.data(), lo, hi, ns, f);
   }
 }
 
@@ -351,16 +354,17 @@ SpringLoop::SpringLoop(const std::vector<std::array<preprocess::Index, 2>>& edge
 
 void SpringLoop::add_forces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f) const {
   const std::int64_t n = layout_.node_count;
+  const std::int64_t stride = padded_stride(n);
   const std::size_t ns = layout_.slots();
   const bool avx512 = avx512_available();
   const bool par = layout_.slots() * 2 >= kParallelWork && omp_get_max_threads() > 1;
   if (avx512 && !par) {
     // One thread: the fused loop (no slot arrays), same order as the scatter below.
     prepare_node_arrays(n, x, f, pos_, acc_);
-    load_positions(x, 0, n, n, pos_.data(), acc_.data());
-    spring_fused_avx512(layout_.runs.data(), layout_.runs.size(), layout_.offsets.data(), pos_.data(), n, k_.data(),
-                        kl_.data(), acc_.data());
-    store_forces(acc_.data(), 0, n, n, f);
+    load_positions(x, 0, n, stride, pos_.data(), acc_.data());
+    spring_fused_avx512(layout_.runs.data(), layout_.runs.size(), layout_.offsets.data(), pos_.data(), stride,
+                        k_.data(), kl_.data(), acc_.data());
+    store_forces(acc_.data(), 0, n, stride, f);
     return;
   }
   slot_.resize(3 * ns);
@@ -372,10 +376,10 @@ void SpringLoop::add_forces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f) cons
   const int order[2] = {1, 0};         // per run: the j side first (the fused loop's order)
   evaluate<2>(layout_, x, f, pos_, acc_, order, slots, sign, [&](std::size_t r0, std::size_t r1) {
     if (avx512)
-      spring_slots_avx512(layout_.runs.data(), r0, r1, layout_.offsets.data(), pos_.data(), n, k_.data(), kl_.data(),
+      spring_slots_avx512(layout_.runs.data(), r0, r1, layout_.offsets.data(), pos_.data(), stride, k_.data(), kl_.data(),
                           tx, ty, tz);
     else
-      spring_runs(layout_.runs.data(), r0, r1, layout_.offsets.data(), pos_.data(), n, k_.data(), kl_.data(), tx, ty,
+      spring_runs(layout_.runs.data(), r0, r1, layout_.offsets.data(), pos_.data(), stride, k_.data(), kl_.data(), tx, ty,
                   tz);
   });
 }
@@ -396,7 +400,7 @@ HybmssVolumeLoop::HybmssVolumeLoop(const std::vector<std::array<preprocess::Inde
 }
 
 void HybmssVolumeLoop::add_forces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f) const {
-  const std::int64_t n = layout_.node_count;
+  const std::int64_t stride = padded_stride(layout_.node_count);
   const std::size_t ns = layout_.slots();
   slot_.resize(24 * ns);
   const double* slots[24];
@@ -404,7 +408,7 @@ void HybmssVolumeLoop::add_forces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f
   const double sign[8] = {1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0};
   const int order[8] = {0, 1, 2, 3, 4, 5, 6, 7};
   evaluate<8>(layout_, x, f, pos_, acc_, order, slots, sign, [&](std::size_t r0, std::size_t r1) {
-    hybmss_volume_runs(layout_.runs.data(), r0, r1, layout_.offsets.data(), pos_.data(), n, scale_.data(),
+    hybmss_volume_runs(layout_.runs.data(), r0, r1, layout_.offsets.data(), pos_.data(), stride, scale_.data(),
                        volume0_.data(), slot_.data(), static_cast<std::int64_t>(ns));
   });
 }

@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "solver/run_layout.hpp"
+#include "solver/simd.hpp"
 
 namespace adamss::solver {
 
@@ -51,8 +52,8 @@ class SpringLoop {
  private:
   RunLayout<2> layout_;
   std::size_t springs_ = 0;
-  std::vector<double> k_, kl_;                    // per slot: k, k L
-  mutable std::vector<double> pos_, slot_, acc_;  // 3 n, 3 slots, 3 n (work space)
+  AlignedDoubles k_, kl_;                    // per slot: k, k L
+  mutable AlignedDoubles pos_, slot_, acc_;  // 3 stride, 3 slots, 3 stride (work space; padded_stride)
 };
 
 /// HybMSS volume-correction forces on a RunLayout<8>.
@@ -66,8 +67,8 @@ class HybmssVolumeLoop {
 
  private:
   RunLayout<8> layout_;
-  std::vector<double> scale_, volume0_;           // per slot: kappa / V_c (0 for ghosts), V_c (1 for ghosts)
-  mutable std::vector<double> pos_, slot_, acc_;  // 3 n, 24 slots, 3 n
+  AlignedDoubles scale_, volume0_;           // per slot: kappa / V_c (0 for ghosts), V_c (1 for ghosts)
+  mutable AlignedDoubles pos_, slot_, acc_;  // 3 stride, 24 slots, 3 stride
 };
 
 /// A cache that a copy does not share: a kernel struct holding one stays copyable, and each copy
