@@ -94,6 +94,19 @@ void Constraints::impose(Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& v, const Eigen::
   }
 }
 
+void Constraints::impose_velocity_controls(Eigen::Matrix3Xd& v, double t) const {
+  const AxisControl* last = nullptr;
+  double value = 0.0;
+  for (const AxisControl& k : controls_) {
+    if (!k.velocity) continue;
+    if (last == nullptr || k.course_id != last->course_id) {
+      value = k.course(t);
+      last = &k;
+    }
+    v(k.axis, k.node) = value;
+  }
+}
+
 void Constraints::constrain_acceleration(Eigen::Matrix3Xd& a, double t) const {
   for (const auto& [node, c] : fixed_list_) a(c, node) = 0.0;
   const AxisControl* last = nullptr;

@@ -63,6 +63,10 @@ class Constraints {
   /// velocities to w(t). `x_ref` is the reference configuration X.
   void impose(Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& v, const Eigen::Matrix3Xd& x_ref, const Eigen::Matrix3Xd& x_fixed,
               double t) const;
+  /// Only the velocity-controlled coordinates of impose(): v = w(t). (Symplectic Euler's
+  /// mid-step call: the positions and the other velocities are set by the full impose after
+  /// x += h v, which overwrites whatever that update did to them.)
+  void impose_velocity_controls(Eigen::Matrix3Xd& v, double t) const;
   /// Sets the accelerations of constrained coordinates: 0 for fixed and displacement-
   /// controlled ones (their motion is imposed after the step), w'(t) for velocity-controlled ones.
   void constrain_acceleration(Eigen::Matrix3Xd& a, double t) const;

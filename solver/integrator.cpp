@@ -49,6 +49,10 @@ void System::impose(State& s) const {
   model_.constraints.impose(s.x, s.v, model_.x_ref, x_fixed_, s.t);
 }
 
+void System::impose_velocity_controls(State& s) const {
+  model_.constraints.impose_velocity_controls(s.v, s.t);
+}
+
 namespace {
 
 class ForwardEuler final : public Integrator {
@@ -78,7 +82,9 @@ class SymplecticEuler final : public Integrator {
     // accelerations constrain_acceleration would give them never matter here).
     sys_.kick(s.x, s.v, s.t, h);
     s.t += h;
-    sys_.impose(s);  // prescribed velocities of t + h before they move the positions
+    // Prescribed velocities of t + h before they move the positions. Fixed and displacement-
+    // controlled coordinates need nothing here: the impose below sets both their x and v.
+    sys_.impose_velocity_controls(s);
     axpy(s.x.data(), h, s.v.data(), s.x.size());  // x += h v
     sys_.impose(s);
     return {h, h, 1, 0, 0.0};

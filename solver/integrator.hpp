@@ -35,6 +35,8 @@ class System {
   void kick(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& v, double t, double h);
   /// Imposes fixed and controlled coordinates on s at time s.t.
   void impose(State& s) const;
+  /// Only the velocity-controlled velocities of impose() (Constraints::impose_velocity_controls).
+  void impose_velocity_controls(State& s) const;
 
   [[nodiscard]] const Eigen::Matrix3Xd& last_forces() const { return f_; }
   [[nodiscard]] std::size_t evaluations() const { return evaluations_; }

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <cstring>
 #include <csignal>
 #include <cstdio>
 #include <sstream>
@@ -59,24 +58,15 @@ std::int64_t integrator_code(const std::string& name) {
 
 using Clock = std::chrono::steady_clock;
 
-/// to = from, through memcpy (glibc's vectorised copy) once the sizes agree: Eigen's assignment
-/// is an SSE2 loop in this build, and this copy runs after every checked step.
-void copy_state(const State& from, State& to) {
-  if (to.x.cols() != from.x.cols() || to.v.cols() != from.v.cols()) {
-    to = from;
-    return;
-  }
-  std::memcpy(to.x.data(), from.x.data(), sizeof(double) * static_cast<std::size_t>(from.x.size()));
-  std::memcpy(to.v.data(), from.v.data(), sizeof(double) * static_cast<std::size_t>(from.v.size()));
-  to.t = from.t;
-}
-
 /// First problem found in state s, or an empty string. Sets `element` for a flat element.
 /// The gate skips the screen (and the finiteness scan) while it holds: no node has moved far
 /// enough since the last screen to flag an element, and x, v are finite.
+/// On return, `copy` holds s (x, v, t), whatever the outcome.
 std::string check_state(const Model& model, const State& s, const std::vector<double>& vref, double flat,
-                        const SignedVolumeScreen& screen, MotionGate& gate, std::optional<std::size_t>& element) {
-  if (gate.quiet(s.x, s.v)) return {};
+                        const SignedVolumeScreen& screen, MotionGate& gate, State& copy,
+                        std::optional<std::size_t>& element) {
+  copy.t = s.t;
+  if (gate.quiet(s.x, s.v, copy.x, copy.v)) return {};
   if (!s.x.allFinite() || !s.v.allFinite()) {
     for (Eigen::Index i = 0; i < s.x.cols(); ++i) {
       if (!s.x.col(i).allFinite() || !s.v.col(i).allFinite()) {
@@ -159,6 +149,7 @@ RunOutcome run_simulation(Model& model, State& s, const RunSettings& set, Result
 
   RunOutcome out;
   State good;
+  State spare;  // check_state copies s here; swapped with good when the check passes
   std::size_t good_step = 0;
   Eigen::Matrix3Xd f;
   GlobalsRow row;
@@ -335,7 +326,7 @@ RunOutcome run_simulation(Model& model, State& s, const RunSettings& set, Result
     }
     if (out.steps % set.check_every == 0) {
       std::optional<std::size_t> bad;
-      const std::string problem = check_state(model, s, vref, set.flat_fraction, screen, gate, bad);
+      const std::string problem = check_state(model, s, vref, set.flat_fraction, screen, gate, spare, bad);
       if (!problem.empty()) {
         out.bad_element = bad;
         std::ostringstream os;
@@ -345,7 +336,7 @@ RunOutcome run_simulation(Model& model, State& s, const RunSettings& set, Result
         fail_with("unstable", os.str());
         break;
       }
-      copy_state(s, good);
+      std::swap(good, spare);  // spare held a copy of s (check_state): no second copy
       good_step = out.steps;
     }
     // The kinetic energy (a pass over all nodes) only when something reads it.

@@ -119,14 +119,20 @@ std::vector<double> slot_thresholds(const RunLayout<N>& layout, const std::vecto
   return out;
 }
 
-/// True if |x[i] - x0[i]| <= limit and |v[i]| is finite for all i < size (false on NaN).
+/// True if |x[i] - x0[i]| <= limit and |v[i]| is finite for all i < size (false on NaN);
+/// copies x and v into x_out and v_out on the way (the run loop's copy of the state it keeps as
+/// the last good one, done in the same pass over x and v).
 ADAMSS_SIMD_CLONES
-bool within(const double* __restrict x, const double* __restrict x0, const double* __restrict v, std::int64_t size,
-            double limit) {
+bool within_copy(const double* __restrict x, const double* __restrict x0, const double* __restrict v,
+                 std::int64_t size, double limit, double* __restrict x_out, double* __restrict v_out) {
   constexpr double kMax = std::numeric_limits<double>::max();
   unsigned bad = 0;
-  for (std::int64_t i = 0; i < size; ++i)
-    bad |= static_cast<unsigned>(!(std::abs(x[i] - x0[i]) <= limit)) | static_cast<unsigned>(!(std::abs(v[i]) <= kMax));
+  for (std::int64_t i = 0; i < size; ++i) {
+    const double xi = x[i], vi = v[i];
+    x_out[i] = xi;
+    v_out[i] = vi;
+    bad |= static_cast<unsigned>(!(std::abs(xi - x0[i]) <= limit)) | static_cast<unsigned>(!(std::abs(vi) <= kMax));
+  }
   return bad == 0;
 }
 
@@ -206,9 +212,19 @@ bool SignedVolumeScreen::any_flagged(const Eigen::Matrix3Xd& x, double& slack) c
   return false;
 }
 
-bool MotionGate::quiet(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v) const {
-  if (!(limit_ > 0.0) || x.size() != x0_.size() || v.size() != x.size()) return false;
-  return within(x.data(), x0_.data(), v.data(), x.size(), limit_);
+bool MotionGate::quiet(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd& x_copy,
+                       Eigen::Matrix3Xd& v_copy) const {
+  x_copy.resize(3, x.cols());
+  v_copy.resize(3, v.cols());
+  if (v.size() != x.size()) {
+    x_copy = x;
+    v_copy = v;
+    return false;
+  }
+  const bool armed = limit_ > 0.0 && x0_.size() == x.size();
+  // Disarmed: the same pass with a limit no difference passes (and x0 = x itself), for the copy.
+  return within_copy(x.data(), armed ? x0_.data() : x.data(), v.data(), x.size(), armed ? limit_ : -1.0,
+                     x_copy.data(), v_copy.data());
 }
 
 void MotionGate::arm(const Eigen::Matrix3Xd& x, double slack) {

@@ -60,7 +60,10 @@ class SignedVolumeScreen {
 /// the armed copy and v (3 x 3 n doubles), against the screen's 8 determinants per hexahedron.
 class MotionGate {
  public:
-  [[nodiscard]] bool quiet(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v) const;
+  /// The test, with x and v copied into x_copy and v_copy (resized) in the same pass: the run
+  /// loop keeps that copy as its last good state when the check passes.
+  [[nodiscard]] bool quiet(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd& x_copy,
+                           Eigen::Matrix3Xd& v_copy) const;
   void arm(const Eigen::Matrix3Xd& x, double slack);
   void disarm();
 
