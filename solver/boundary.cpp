@@ -52,6 +52,7 @@ void Constraints::fix(Index node, std::uint8_t axes, const std::string& source) 
     mask_[n] |= static_cast<std::uint8_t>(1U << c);
     fixed_[n] |= static_cast<std::uint8_t>(1U << c);
     fixed_list_.emplace_back(node, c);
+    fixed_flat_.push_back(3 * static_cast<std::int64_t>(node) + c);
     ++fixed_dofs_;
   }
 }
@@ -69,13 +70,17 @@ void Constraints::control(Index node, int axis, const TimeCourse& course, bool v
                            : controls_.back().course == course ? controls_.back().course_id
                                                                 : controls_.back().course_id + 1U;
   controls_.push_back({node, axis, course, velocity, id});
+  if (velocity) ++velocity_controls_;
 }
 
 void Constraints::impose(Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& v, const Eigen::Matrix3Xd& x_ref,
                          const Eigen::Matrix3Xd& x_fixed, double t) const {
-  for (const auto& [node, c] : fixed_list_) {
-    x(c, node) = x_fixed(c, node);
-    v(c, node) = 0.0;
+  double* xd = x.data();
+  double* vd = v.data();
+  const double* xf = x_fixed.data();
+  for (const std::int64_t i : fixed_flat_) {
+    xd[i] = xf[i];
+    vd[i] = 0.0;
   }
   const AxisControl* last = nullptr;
   double value = 0.0, rate = 0.0;

@@ -67,6 +67,8 @@ class Constraints {
   /// mid-step call: the positions and the other velocities are set by the full impose after
   /// x += h v, which overwrites whatever that update did to them.)
   void impose_velocity_controls(Eigen::Matrix3Xd& v, double t) const;
+  /// True if some coordinate is velocity-controlled.
+  [[nodiscard]] bool has_velocity_controls() const { return velocity_controls_ > 0; }
   /// Sets the accelerations of constrained coordinates: 0 for fixed and displacement-
   /// controlled ones (their motion is imposed after the step), w'(t) for velocity-controlled ones.
   void constrain_acceleration(Eigen::Matrix3Xd& a, double t) const;
@@ -76,7 +78,9 @@ class Constraints {
   std::vector<std::uint8_t> fixed_;  // bit c: axis c fixed (subset of mask_), per node, lazily sized
   std::vector<AxisControl> controls_;
   std::vector<std::pair<Index, int>> fixed_list_;  // the fixed (node, axis) pairs, for the per-step loops
+  std::vector<std::int64_t> fixed_flat_;            // the same as 3 node + axis (offsets into x.data())
   std::size_t fixed_dofs_ = 0;
+  std::size_t velocity_controls_ = 0;
 };
 
 /// Nodes whose reference position lies in `region` (sorted). Throws InputError naming

@@ -45,6 +45,22 @@ void System::kick(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& v, double t, doub
   solver::kick(v.data(), h, f_.data(), inv_mass3_.data(), v.size());
 }
 
+void System::symplectic_euler_step(State& s, double h) {
+  const double t = s.t;
+  s.t += h;
+  if (model_.constraints.has_velocity_controls()) {
+    kick(s.x, s.v, t, h);
+    // Prescribed velocities of t + h before they move the positions. Fixed and displacement-
+    // controlled coordinates need nothing here: the impose below sets both their x and v.
+    impose_velocity_controls(s);
+    axpy(s.x.data(), h, s.v.data(), s.x.size());  // x += h v
+  } else {
+    forces(s.x, s.v, t, f_);
+    kick_drift(s.v.data(), s.x.data(), h, f_.data(), inv_mass3_.data(), s.x.size());
+  }
+  impose(s);
+}
+
 void System::impose(State& s) const {
   model_.constraints.impose(s.x, s.v, model_.x_ref, x_fixed_, s.t);
 }
@@ -80,13 +96,7 @@ class SymplecticEuler final : public Integrator {
   StepReport step(State& s, double h) override {
     // v += h a with a = f / m; the constrained velocities are then set by impose (so the
     // accelerations constrain_acceleration would give them never matter here).
-    sys_.kick(s.x, s.v, s.t, h);
-    s.t += h;
-    // Prescribed velocities of t + h before they move the positions. Fixed and displacement-
-    // controlled coordinates need nothing here: the impose below sets both their x and v.
-    sys_.impose_velocity_controls(s);
-    axpy(s.x.data(), h, s.v.data(), s.x.size());  // x += h v
-    sys_.impose(s);
+    sys_.symplectic_euler_step(s, h);
     return {h, h, 1, 0, 0.0};
   }
 

@@ -16,6 +16,16 @@ void kick(double* __restrict v, double h, const double* __restrict f, const doub
 }
 
 ADAMSS_SIMD_CLONES
+void kick_drift(double* __restrict v, double* __restrict x, double h, const double* __restrict f,
+                const double* __restrict w3, std::int64_t size) {
+  for (std::int64_t i = 0; i < size; ++i) {
+    const double vi = v[i] + h * (f[i] * w3[i]);
+    v[i] = vi;
+    x[i] += h * vi;
+  }
+}
+
+ADAMSS_SIMD_CLONES
 void scale(double* __restrict a, const double* __restrict f, const double* __restrict w3, std::int64_t size) {
   for (std::int64_t i = 0; i < size; ++i) a[i] = f[i] * w3[i];
 }

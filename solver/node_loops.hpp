@@ -17,6 +17,9 @@ void axpy(double* y, double h, const double* x, std::int64_t size);
 /// v[i] += h * (f[i] * w3[i])   (v += h a with a = f / m, a not stored).
 void kick(double* v, double h, const double* f, const double* w3, std::int64_t size);
 
+/// v[i] += h * (f[i] * w3[i]); x[i] += h * v[i]   (kick, then axpy with the new v, in one pass).
+void kick_drift(double* v, double* x, double h, const double* f, const double* w3, std::int64_t size);
+
 /// a[i] = f[i] * w3[i].
 void scale(double* a, const double* f, const double* w3, std::int64_t size);
 
