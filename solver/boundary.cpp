@@ -66,9 +66,9 @@ void Constraints::control(Index node, int axis, const TimeCourse& course, bool v
                      " already has a boundary condition");
   }
   mask_[n] |= static_cast<std::uint8_t>(1U << axis);
-  const std::uint32_t id = controls_.empty() ? 0U
+  const std::uint32_t id = controls_.empty()                   ? 0U
                            : controls_.back().course == course ? controls_.back().course_id
-                                                                : controls_.back().course_id + 1U;
+                                                               : controls_.back().course_id + 1U;
   controls_.push_back({node, axis, course, velocity, id});
   if (velocity) ++velocity_controls_;
 }

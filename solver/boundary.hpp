@@ -78,7 +78,7 @@ class Constraints {
   std::vector<std::uint8_t> fixed_;  // bit c: axis c fixed (subset of mask_), per node, lazily sized
   std::vector<AxisControl> controls_;
   std::vector<std::pair<Index, int>> fixed_list_;  // the fixed (node, axis) pairs, for the per-step loops
-  std::vector<std::int64_t> fixed_flat_;            // the same as 3 node + axis (offsets into x.data())
+  std::vector<std::int64_t> fixed_flat_;           // the same as 3 node + axis (offsets into x.data())
   std::size_t fixed_dofs_ = 0;
   std::size_t velocity_controls_ = 0;
 };

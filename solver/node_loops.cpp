@@ -10,8 +10,7 @@ void axpy(double* __restrict y, double h, const double* __restrict x, std::int64
 }
 
 ADAMSS_SIMD_CLONES
-void kick(double* __restrict v, double h, const double* __restrict f, const double* __restrict w3,
-          std::int64_t size) {
+void kick(double* __restrict v, double h, const double* __restrict f, const double* __restrict w3, std::int64_t size) {
   for (std::int64_t i = 0; i < size; ++i) v[i] += h * (f[i] * w3[i]);
 }
 
@@ -31,8 +30,7 @@ void scale(double* __restrict a, const double* __restrict f, const double* __res
 }
 
 ADAMSS_SIMD_CLONES
-void sub_product(double* __restrict f, const double* __restrict mu3, const double* __restrict v,
-                 std::int64_t size) {
+void sub_product(double* __restrict f, const double* __restrict mu3, const double* __restrict v, std::int64_t size) {
   for (std::int64_t i = 0; i < size; ++i) f[i] -= mu3[i] * v[i];
 }
 

@@ -58,57 +58,10 @@ struct RunLayout {
   }
 };
 
-/// Tiling (cache blocking): every run is cut where its base crosses a multiple of `tile`, and
-/// the pieces are ordered by (base / tile, then their previous order), with the slots renumbered
-/// to follow. A loop over the runs then finishes every pattern on the nodes of one tile before
-/// the next tile: it touches the node arrays in a window of about tile + (largest offset) nodes
-/// instead of sweeping all of them once per pattern. For the 11^3-node HybMSS cube and a tile of
-/// 256 nodes that window is ~390 nodes x 48 bytes (positions and forces), which stays in a
-/// 32 KiB L1 data cache; untiled, every pattern streams 64 KB through L2. The per-node summation
-/// order is still "run by run" in the (new) run order, for every path (see above).
-template <int N>
-void tile_runs(RunLayout<N>& layout, std::int64_t tile) {
-  struct Piece {
-    LayoutRun run;
-    std::int64_t tile;
-  };
-  std::vector<Piece> pieces;
-  pieces.reserve(layout.runs.size());
-  for (const LayoutRun& r : layout.runs) {
-    std::uint32_t t = 0;
-    while (t < r.length) {
-      const std::int64_t base = r.base + t;
-      const std::int64_t tile_index = base >= 0 ? base / tile : -1;
-      const std::int64_t tile_end = (tile_index + 1) * tile;
-      const auto len = static_cast<std::uint32_t>(
-          std::min<std::int64_t>(r.length - t, base >= 0 ? tile_end - base : static_cast<std::int64_t>(r.length)));
-      LayoutRun piece = r;
-      piece.base = base;
-      piece.begin = r.begin + t;
-      piece.length = len;
-      pieces.push_back({piece, tile_index});
-      t += len;
-    }
-  }
-  std::stable_sort(pieces.begin(), pieces.end(), [](const Piece& a, const Piece& b) { return a.tile < b.tile; });
-  std::vector<std::int64_t> items;
-  items.reserve(layout.item_of_slot.size());
-  layout.runs.clear();
-  for (Piece& p : pieces) {
-    const std::uint32_t old_begin = p.run.begin;
-    p.run.begin = static_cast<std::uint32_t>(items.size());
-    items.insert(items.end(), layout.item_of_slot.begin() + old_begin,
-                 layout.item_of_slot.begin() + old_begin + p.run.length);
-    layout.runs.push_back(p.run);
-  }
-  layout.item_of_slot = std::move(items);
-}
-
-/// Builds the layout of `stencils` (item i has nodes stencils[i]) on `node_count` nodes; with
-/// tile > 0 the runs are then tiled (tile_runs).
+/// Builds the layout of `stencils` (item i has nodes stencils[i]) on `node_count` nodes.
 template <int N>
 RunLayout<N> make_run_layout(const std::vector<std::array<preprocess::Index, N>>& stencils, std::int64_t node_count,
-                             int max_gap, std::int64_t tile = 0) {
+                             int max_gap) {
   struct Key {
     std::array<std::int64_t, N> pattern;
     std::int64_t base;
@@ -170,7 +123,6 @@ RunLayout<N> make_run_layout(const std::vector<std::array<preprocess::Index, N>>
     out.item_of_slot.push_back(key.item);
   }
   for (const auto& pat : out.patterns) out.offsets.insert(out.offsets.end(), pat.begin(), pat.end());
-  if (tile > 0) tile_runs(out, tile);
   return out;
 }
 

@@ -27,8 +27,7 @@ void soa_add_to_aos_scalar(const double* soa, std::int64_t n, std::int64_t lo, s
 // and 8-15 (second): X takes a0 a3 a6 b1 b4 b7 c2 c5, Y a1 a4 a7 b2 b5 c0 c3 c6, Z a2 a5 b0 b3
 // b6 c1 c4 c7. Each is two permutes: lanes 0-5 (or 0-4) from (a, b), the rest from (that, c).
 
-ADAMSS_AVX512 void aos_to_soa_avx512(const double* aos, std::int64_t n, std::int64_t lo, std::int64_t hi,
-                                     double* soa) {
+ADAMSS_AVX512 void aos_to_soa_avx512(const double* aos, std::int64_t n, std::int64_t lo, std::int64_t hi, double* soa) {
   const __m512i x_ab = _mm512_setr_epi64(0, 3, 6, 9, 12, 15, 0, 0);
   const __m512i x_c = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 10, 13);
   const __m512i y_ab = _mm512_setr_epi64(1, 4, 7, 10, 13, 0, 0, 0);

@@ -122,8 +122,7 @@ ADAMSS_AVX512 inline __mmask8 tail_mask(std::int64_t left) {
 /// coordinate stride n), k and kL at s; f = force on node i (spring8). The one body of both the
 /// fused and the slot loops, so the two paths round alike.
 ADAMSS_AVX512 inline void spring_block(const double* pos, std::int64_t n, std::int64_t i, std::int64_t j,
-                                       const double* k, const double* kl, std::int64_t s, __mmask8 m,
-                                       __m512d (&f)[3]) {
+                                       const double* k, const double* kl, std::int64_t s, __mmask8 m, __m512d (&f)[3]) {
   __m512d d[3];
   for (int c = 0; c < 3; ++c)
     d[c] = _mm512_sub_pd(_mm512_maskz_loadu_pd(m, pos + c * n + j), _mm512_maskz_loadu_pd(m, pos + c * n + i));
@@ -153,7 +152,8 @@ ADAMSS_AVX512 void spring_run_near(const LayoutRun& run, std::int64_t o, const d
     if (t < len) spring_block(pos, n, i0 + t, j0 + t, k, kl, b + t, mi, f);
     const __mmask8 mj = tail_mask(len + o - t);
     for (int c = 0; c < 3; ++c) {
-      const __m512d g = from_current ? _mm512_permutex2var_pd(f1[c], idx, f[c]) : _mm512_permutex2var_pd(f2[c], idx, f1[c]);
+      const __m512d g =
+          from_current ? _mm512_permutex2var_pd(f1[c], idx, f[c]) : _mm512_permutex2var_pd(f2[c], idx, f1[c]);
       double* a = acc + c * n + i0 + t;
       const __m512d v = _mm512_sub_pd(_mm512_maskz_loadu_pd(mj, a), g);
       _mm512_mask_storeu_pd(a, mj, _mm512_mask_add_pd(v, mi, v, f[c]));
@@ -337,9 +337,21 @@ void evaluate(const RunLayout<N>& layout, const Eigen::Matrix3Xd& x, Eigen::Matr
 
 }  // namespace
 
+namespace {
+/// The springs with their end nodes in increasing order: a spring's two forces are exact
+/// negatives, so swapping its ends changes no value, and every pattern then has a positive
+/// node offset, which the fused loop's per-node order (j side of a run before its i side, as in
+/// scatter_runs) relies on.
+std::vector<std::array<preprocess::Index, 2>> ordered_ends(std::vector<std::array<preprocess::Index, 2>> edges) {
+  for (auto& e : edges)
+    if (e[1] < e[0]) std::swap(e[0], e[1]);
+  return edges;
+}
+}  // namespace
+
 SpringLoop::SpringLoop(const std::vector<std::array<preprocess::Index, 2>>& edges, const std::vector<double>& stiffness,
                        const std::vector<double>& rest_length, std::int64_t node_count)
-    : layout_(make_run_layout<2>(edges, node_count, 2)), springs_(edges.size()) {
+    : layout_(make_run_layout<2>(ordered_ends(edges), node_count, 2)), springs_(edges.size()) {
   if (stiffness.size() != edges.size() || rest_length.size() != edges.size())
     throw std::invalid_argument("SpringLoop: stiffness / rest length arrays do not match the springs");
   k_.assign(layout_.slots(), 0.0);
@@ -376,11 +388,11 @@ void SpringLoop::add_forces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f) cons
   const int order[2] = {1, 0};         // per run: the j side first (the fused loop's order)
   evaluate<2>(layout_, x, f, pos_, acc_, order, slots, sign, [&](std::size_t r0, std::size_t r1) {
     if (avx512)
-      spring_slots_avx512(layout_.runs.data(), r0, r1, layout_.offsets.data(), pos_.data(), stride, k_.data(), kl_.data(),
-                          tx, ty, tz);
+      spring_slots_avx512(layout_.runs.data(), r0, r1, layout_.offsets.data(), pos_.data(), stride, k_.data(),
+                          kl_.data(), tx, ty, tz);
     else
-      spring_runs(layout_.runs.data(), r0, r1, layout_.offsets.data(), pos_.data(), stride, k_.data(), kl_.data(), tx, ty,
-                  tz);
+      spring_runs(layout_.runs.data(), r0, r1, layout_.offsets.data(), pos_.data(), stride, k_.data(), kl_.data(), tx,
+                  ty, tz);
   });
 }
 

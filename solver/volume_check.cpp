@@ -70,13 +70,12 @@ void hex_run(const double* const* pp, std::int64_t n, const double* bias, const 
                           min2(min2(corner<4>(p, n, t, b4), corner<5>(p, n, t, b5)),
                                min2(corner<6>(p, n, t, b6), corner<7>(p, n, t, b7))));
     // The 12 edges (VTK order): every corner's three edge vectors are among them.
-    const double l2 = max2(
-        max2(max2(max2(dist2(p[0], p[1], n, t), dist2(p[1], p[2], n, t)),
-                  max2(dist2(p[2], p[3], n, t), dist2(p[3], p[0], n, t))),
-             max2(max2(dist2(p[4], p[5], n, t), dist2(p[5], p[6], n, t)),
-                  max2(dist2(p[6], p[7], n, t), dist2(p[7], p[4], n, t)))),
-        max2(max2(dist2(p[0], p[4], n, t), dist2(p[1], p[5], n, t)),
-             max2(dist2(p[2], p[6], n, t), dist2(p[3], p[7], n, t))));
+    const double l2 = max2(max2(max2(max2(dist2(p[0], p[1], n, t), dist2(p[1], p[2], n, t)),
+                                     max2(dist2(p[2], p[3], n, t), dist2(p[3], p[0], n, t))),
+                                max2(max2(dist2(p[4], p[5], n, t), dist2(p[5], p[6], n, t)),
+                                     max2(dist2(p[6], p[7], n, t), dist2(p[7], p[4], n, t)))),
+                           max2(max2(dist2(p[0], p[4], n, t), dist2(p[1], p[5], n, t)),
+                                max2(dist2(p[2], p[6], n, t), dist2(p[3], p[7], n, t))));
     out[t] = slot_slack(v, thr[t], l2, 1.0);
   }
 }
@@ -123,8 +122,8 @@ std::vector<double> slot_thresholds(const RunLayout<N>& layout, const std::vecto
 /// copies x and v into x_out and v_out on the way (the run loop's copy of the state it keeps as
 /// the last good one, done in the same pass over x and v).
 ADAMSS_SIMD_CLONES
-bool within_copy(const double* __restrict x, const double* __restrict x0, const double* __restrict v,
-                 std::int64_t size, double limit, double* __restrict x_out, double* __restrict v_out) {
+bool within_copy(const double* __restrict x, const double* __restrict x0, const double* __restrict v, std::int64_t size,
+                 double limit, double* __restrict x_out, double* __restrict v_out) {
   constexpr double kMax = std::numeric_limits<double>::max();
   unsigned bad = 0;
   for (std::int64_t i = 0; i < size; ++i) {
@@ -223,8 +222,8 @@ bool MotionGate::quiet(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, Eig
   }
   const bool armed = limit_ > 0.0 && x0_.size() == x.size();
   // Disarmed: the same pass with a limit no difference passes (and x0 = x itself), for the copy.
-  return within_copy(x.data(), armed ? x0_.data() : x.data(), v.data(), x.size(), armed ? limit_ : -1.0,
-                     x_copy.data(), v_copy.data());
+  return within_copy(x.data(), armed ? x0_.data() : x.data(), v.data(), x.size(), armed ? limit_ : -1.0, x_copy.data(),
+                     v_copy.data());
 }
 
 void MotionGate::arm(const Eigen::Matrix3Xd& x, double slack) {

@@ -187,3 +187,67 @@ TEST(Integrators, FixedAndControlledCoordinatesAreImposed) {
   EXPECT_NEAR(s.x(0, 2), x2 + 0.05 * 5e-4, 1e-12);
   EXPECT_THROW(model->constraints.fix(1, 4, "again"), InputError);  // z of node 1 is controlled
 }
+
+TEST(Integrators, SymplecticEulerFusedPassGivesTheBitsOfTheTextbookSequence) {
+  // Without velocity controls the step runs as one kick-drift pass; with them, kick, the
+  // mid-step velocity controls, x += h v. Both must equal the plain sequence a = f / m with
+  // the constrained accelerations, v += h a, impose, x += h v, impose -- bit for bit.
+  for (const bool with_velocity_control : {false, true}) {
+    auto model = elastic_block();
+    model->constraints.fix(0, solver::parse_axes("xyz", "t"), "t");
+    model->constraints.control(1, 2, solver::TimeCourse::ramp(0.0, 1e-4, 0.0, 1e-3), false, "t");
+    if (with_velocity_control)
+      model->constraints.control(2, 0, solver::TimeCourse::ramp(0.0, 0.05, 0.0, 1e-3), true, "t");
+    EXPECT_EQ(model->constraints.has_velocity_controls(), with_velocity_control);
+    solver::System sys(*model);
+    auto integ = solver::make_integrator("symplectic_euler", sys);
+    State s = initial_state(*model);
+    sys.set_fixed_positions(s.x);
+    sys.impose(s);
+    State r = s;
+    Eigen::Matrix3Xd a;
+    for (int k = 0; k < 50; ++k) {
+      integ->step(s, kDt);
+      sys.accelerations(r.x, r.v, r.t, a);
+      r.v += kDt * a;
+      r.t += kDt;
+      sys.impose(r);
+      r.x += kDt * r.v;
+      sys.impose(r);
+    }
+    EXPECT_EQ(s.t, r.t);
+    EXPECT_EQ(s.x, r.x) << (with_velocity_control ? "with" : "without") << " a velocity control";
+    EXPECT_EQ(s.v, r.v) << (with_velocity_control ? "with" : "without") << " a velocity control";
+    EXPECT_GT((s.x - model->x_ref).cwiseAbs().maxCoeff(), 1e-6);  // it moved
+  }
+}
+
+TEST(Integrators, ControlsWithDifferentCoursesKeepTheirOwnValues) {
+  // Consecutive controls share one course evaluation only while their courses are equal.
+  auto model = elastic_block();
+  const auto up = solver::TimeCourse::ramp(0.0, 1e-3, 0.0, 1.0);
+  const auto down = solver::TimeCourse::ramp(0.0, -2e-3, 0.0, 1.0);
+  model->constraints.control(0, 2, up, false, "a");
+  model->constraints.control(1, 2, up, false, "a");
+  model->constraints.control(2, 2, down, false, "b");
+  model->constraints.control(3, 2, up, false, "c");
+  model->constraints.control(4, 1, solver::TimeCourse::constant(0.25), true, "d");
+  const auto& c = model->constraints.controls();
+  EXPECT_EQ(c[0].course_id, c[1].course_id);
+  EXPECT_NE(c[1].course_id, c[2].course_id);
+  EXPECT_NE(c[2].course_id, c[3].course_id);
+  State s = initial_state(*model);
+  s.t = 0.5;
+  Eigen::Matrix3Xd before_v = s.v;
+  model->constraints.impose_velocity_controls(s.v, s.t);
+  EXPECT_EQ(s.v(1, 4), 0.25);
+  before_v(1, 4) = 0.25;
+  EXPECT_EQ(s.v, before_v) << "impose_velocity_controls touched another coordinate";
+  model->constraints.impose(s.x, s.v, model->x_ref, model->x_ref, s.t);
+  EXPECT_DOUBLE_EQ(s.x(2, 0) - model->x_ref(2, 0), 0.5e-3);
+  EXPECT_DOUBLE_EQ(s.x(2, 1) - model->x_ref(2, 1), 0.5e-3);
+  EXPECT_DOUBLE_EQ(s.x(2, 2) - model->x_ref(2, 2), -1e-3);
+  EXPECT_DOUBLE_EQ(s.x(2, 3) - model->x_ref(2, 3), 0.5e-3);
+  EXPECT_DOUBLE_EQ(s.v(2, 2), -2e-3);
+  EXPECT_DOUBLE_EQ(s.v(2, 3), 1e-3);
+}

@@ -1,6 +1,5 @@
 // The vectorised explicit path (issue 9): RunLayout (solver/run_layout.hpp), the spring and HybMSS
-// volume loops (solver/soa_loops.hpp) against the per-item kernels, thread-count invariance, and
-// the signed-volume screen (solver/volume_check.hpp) against the exact check.
+// volume loops (solver/soa_loops.hpp) against the per-item kernels, and thread-count invariance.
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -12,38 +11,19 @@
 
 #include "preprocess/box_mesh.hpp"
 #include "preprocess/ellipsoid_mesh.hpp"
+#include "soa_fixtures.hpp"
 #include "solver/edge_springs.hpp"
 #include "solver/hybmss.hpp"
 #include "solver/mass_springs.hpp"
 #include "solver/model.hpp"
 #include "solver/run_layout.hpp"
-#include "solver/volume_check.hpp"
 
 using namespace adamss;
+using adamss::testing::perturbed;
+using adamss::testing::shuffled;
 using solver::StencilTerm;
 
 namespace {
-
-/// Positions of `mesh` moved by a random field of relative size `amp` (fixed seed).
-Eigen::Matrix3Xd perturbed(const preprocess::Mesh& mesh, double amp, unsigned seed = 7) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const double h = (mesh.nodes.rowwise().maxCoeff() - mesh.nodes.rowwise().minCoeff()).maxCoeff();
-  Eigen::Matrix3Xd x = mesh.nodes;
-  for (Eigen::Index i = 0; i < x.size(); ++i) x.data()[i] += amp * h * u(rng);
-  return x;
-}
-
-/// The same mesh with its nodes renumbered by a random permutation (an "unstructured" order).
-preprocess::Mesh shuffled(const preprocess::Mesh& mesh, unsigned seed = 3) {
-  std::vector<preprocess::Index> perm(mesh.node_count());
-  std::iota(perm.begin(), perm.end(), 0);
-  std::shuffle(perm.begin(), perm.end(), std::mt19937(seed));
-  preprocess::Mesh out = mesh;
-  for (std::size_t i = 0; i < perm.size(); ++i) out.nodes.col(perm[i]) = mesh.nodes.col(static_cast<Eigen::Index>(i));
-  for (auto& n : out.connectivity) n = perm[static_cast<std::size_t>(n)];
-  return out;
-}
 
 template <class Term>
 double max_rel_difference(const Term& term, const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* bulk_out = nullptr) {
@@ -124,66 +104,29 @@ TEST(SoaLoops, MassSpringsOnTetrahedraMatchThePerItemKernel) {
 }
 
 TEST(SoaLoops, ForcesAreBitwiseTheSameWithOneAndTwoThreads) {
-  // Large enough for the parallel branch (slots x stencil >= 200 000).
-  const preprocess::Mesh mesh = preprocess::make_box_mesh({1.0, 1.0, 1.0}, {24, 24, 24}, "hex");
-  const Eigen::Matrix3Xd x = perturbed(mesh, 0.01);
-  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, x.cols());
-  const solver::StateView s{x, v, 0.0};
-  const auto terms = solver::make_hybmss_terms(mesh, {10e3, 0.3, 1.0});
-  const int saved = omp_get_max_threads();
-  Eigen::Matrix3Xd f1 = Eigen::Matrix3Xd::Zero(3, x.cols()), f2 = f1;
-  omp_set_num_threads(1);
-  for (const auto& t : terms) t->add_forces(s, f1);
-  omp_set_num_threads(2);
-  for (const auto& t : terms) t->add_forces(s, f2);
-  omp_set_num_threads(saved);
-  EXPECT_GT(f1.cwiseAbs().maxCoeff(), 0.0);
-  EXPECT_EQ(std::memcmp(f1.data(), f2.data(), sizeof(double) * static_cast<std::size_t>(f1.size())), 0);
-}
-
-TEST(SignedVolumeScreen, FlagsExactlyWhereTheExactCheckCouldFail) {
-  for (const char* topo : {"hex", "tet5m"}) {
-    const preprocess::Mesh mesh = preprocess::make_box_mesh({1.0, 1.0, 1.0}, {6, 5, 4}, topo);
-    std::vector<double> vref(mesh.element_count()), thr(mesh.element_count());
-    for (std::size_t e = 0; e < vref.size(); ++e) {
-      vref[e] = solver::element_signed_volume_check(mesh, mesh.nodes, e);
-      thr[e] = 0.1 * vref[e] + 1e-6 * vref[e];
-    }
-    const solver::SignedVolumeScreen screen(mesh, thr);
-    EXPECT_FALSE(screen.any_flagged(mesh.nodes)) << topo;
-    EXPECT_FALSE(screen.any_flagged(perturbed(mesh, 0.005))) << topo;
-    // Push one interior node through its neighbours: the exact check fails somewhere, the screen too.
-    Eigen::Matrix3Xd x = mesh.nodes;
-    Eigen::Index inner = 0;
-    for (Eigen::Index i = 0; i < x.cols(); ++i)
-      if ((x.col(i) - Eigen::Vector3d(0.5, 0.6, 0.5)).norm() < (x.col(inner) - Eigen::Vector3d(0.5, 0.6, 0.5)).norm())
-        inner = i;
-    x(2, inner) += 0.3;
-    bool exact_fails = false;
-    for (std::size_t e = 0; e < vref.size(); ++e)
-      exact_fails |= !(solver::element_signed_volume_check(mesh, x, e) > 0.1 * vref[e]);
-    EXPECT_TRUE(exact_fails) << topo;
-    EXPECT_TRUE(screen.any_flagged(x)) << topo;
-    Eigen::Matrix3Xd bad = mesh.nodes;
-    bad(0, 5) = std::numeric_limits<double>::quiet_NaN();
-    EXPECT_TRUE(screen.any_flagged(bad)) << topo;
+  // Large enough for the parallel branch (slots x stencil >= 200 000). 24 cells per row give
+  // node offsets 1 and >= 24 (the fused one-thread loop's near and far runs); 10 cells per row
+  // give offsets 10, 11 and 12 (near runs that span two blocks); the shuffled box has runs of
+  // about one spring with offsets of either sign before SpringLoop orders the ends.
+  for (const int rows : {24, 10, -1}) {
+    const preprocess::Mesh mesh = rows == 24 ? preprocess::make_box_mesh({1.0, 1.0, 1.0}, {24, 24, 24}, "hex")
+                                  : rows == 10
+                                      ? preprocess::make_box_mesh({1.0, 1.0, 1.0}, {10, 40, 40}, "hex")
+                                      : shuffled(preprocess::make_box_mesh({1.0, 1.0, 1.0}, {24, 24, 24}, "hex"));
+    const Eigen::Matrix3Xd x = perturbed(mesh, 0.01);
+    const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, x.cols());
+    const solver::StateView s{x, v, 0.0};
+    const auto terms = solver::make_hybmss_terms(mesh, {10e3, 0.3, 1.0});
+    const int saved = omp_get_max_threads();
+    Eigen::Matrix3Xd f1 = Eigen::Matrix3Xd::Zero(3, x.cols()), f2 = f1;
+    omp_set_num_threads(1);
+    for (const auto& t : terms) t->add_forces(s, f1);
+    omp_set_num_threads(2);
+    for (const auto& t : terms) t->add_forces(s, f2);
+    omp_set_num_threads(saved);
+    EXPECT_GT(f1.cwiseAbs().maxCoeff(), 0.0) << rows;
+    EXPECT_EQ(std::memcmp(f1.data(), f2.data(), sizeof(double) * static_cast<std::size_t>(f1.size())), 0) << rows;
   }
-}
-
-TEST(SignedVolumeScreen, SkipsCollapsedCornersOfDegenerateHexahedraLikeTheExactCheck) {
-  // The Land ellipsoid's apex ring: hexahedra with repeated nodes (wedges).
-  const preprocess::Mesh mesh = preprocess::make_land_ellipsoid({12, 6, 2});
-  std::vector<double> thr(mesh.element_count());
-  for (std::size_t e = 0; e < thr.size(); ++e) {
-    const double v = solver::element_signed_volume_check(mesh, mesh.nodes, e);
-    ASSERT_GT(v, 0.0);
-    thr[e] = 0.5 * v;
-  }
-  const solver::SignedVolumeScreen screen(mesh, thr);
-  EXPECT_FALSE(screen.any_flagged(mesh.nodes));
-  Eigen::Matrix3Xd squashed = mesh.nodes;
-  squashed.row(2) *= 0.0;  // every element flat
-  EXPECT_TRUE(screen.any_flagged(squashed));
 }
 
 TEST(SoaLoops, HybmssOnDegenerateApexHexahedraHasNoSelfSpringsAndFiniteForces) {
