@@ -18,30 +18,16 @@
 
 #include "cli_runner.hpp"
 
+using adamss::test::cache_arg;
 using adamss::test::run_adamss;
 using adamss::test::scratch_dir;
+using adamss::test::write_scene;
 namespace fs = std::filesystem;
 
 namespace {
 
 std::string slab_scene(const std::string& integrator, const std::string& t_end, const std::string& extra_terms = "") {
-  return R"(
-name: slab
-mesh: {phantom: slab, slab_size: [2, 2, 4], voxel_size: 1 mm, topology: tet6m, fibre: [0, 0, 1], sheet: [1, 0, 0]}
-materials:
-  - name: m
-    labels: [1]
-    density: 1000 kg/m^3
-    terms:
-      - virtual_hexahedron: {law: neo_hookean, parameters: {E: 20 kPa, nu: 0.3}})" +
-         extra_terms + R"(
-boundary:
-  - select: {region: {plane: {point: [0, 0, 0], normal: [0, 0, 1]}}}
-    fix: xyz
-  - select: {region: {plane: {point: [0, 0, 4 mm], normal: [0, 0, 1], tolerance: 0.001 mm}}}
-    control: {axis: z, displacement: {ramp: {to: 0.5 mm, duration: 2 ms}}}
-integrator: )" +
-         integrator + "\nrun: {t_end: " + t_end +
+  return adamss::test::slab_scene_head(extra_terms) + integrator + "\nrun: {t_end: " + t_end +
          "}\noutput:\n  frame_interval: 0.5 ms\n  probes:\n    - {name: top, point: [1 mm, 1 mm, 4 mm]}\n"
          "    - {name: mid, point: [2 mm, 2 mm, 2 mm]}\n";
 }
@@ -62,15 +48,10 @@ std::string strip_wall(const fs::path& csv) {
 }
 
 nlohmann::json summary_without_wall(const fs::path& out) {
-  std::ifstream in(out / "summary.json");
-  nlohmann::json j = nlohmann::json::parse(in);
+  nlohmann::json j = adamss::test::read_summary(out);
   j.erase("wall_time_s");
   j.erase("ns_per_element_evaluation");
   return j;
-}
-
-std::string cache_arg(const fs::path& dir) {
-  return " --cache " + (dir / "cache").string();
 }
 
 /// Every output of `b` equals that of `a` bit for bit (frames byte for byte).
@@ -133,12 +114,6 @@ void check_restarts(const fs::path& dir, const std::string& scene, std::vector<i
     SCOPED_TRACE("stopped after " + std::to_string(n) + " steps");
     expect_identical(full, part);
   }
-}
-
-fs::path write_scene(const fs::path& dir, const std::string& text) {
-  const fs::path p = dir / "scene.yaml";
-  std::ofstream(p) << text;
-  return p;
 }
 
 }  // namespace

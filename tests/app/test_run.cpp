@@ -11,41 +11,21 @@
 
 #include "cli_runner.hpp"
 
+using adamss::test::cache_arg;
 using adamss::test::run_adamss;
 using adamss::test::scratch_dir;
+using adamss::test::write_scene;
 namespace fs = std::filesystem;
 
 namespace {
 
 std::string slab_scene(const std::string& integrator, const std::string& run, const std::string& extra_terms = "") {
-  return R"(
-name: slab
-mesh: {phantom: slab, slab_size: [2, 2, 4], voxel_size: 1 mm, topology: tet6m, fibre: [0, 0, 1], sheet: [1, 0, 0]}
-materials:
-  - name: m
-    labels: [1]
-    density: 1000 kg/m^3
-    terms:
-      - virtual_hexahedron: {law: neo_hookean, parameters: {E: 20 kPa, nu: 0.3}})" +
-         extra_terms + R"(
-boundary:
-  - select: {region: {plane: {point: [0, 0, 0], normal: [0, 0, 1]}}}
-    fix: xyz
-  - select: {region: {plane: {point: [0, 0, 4 mm], normal: [0, 0, 1], tolerance: 0.001 mm}}}
-    control: {axis: z, displacement: {ramp: {to: 0.5 mm, duration: 2 ms}}}
-integrator: )" +
-         integrator + "\nrun: " + run + "\noutput: {frame_interval: 1 ms}\n";
-}
-
-fs::path write_scene(const fs::path& dir, const std::string& text) {
-  const fs::path p = dir / "scene.yaml";
-  std::ofstream(p) << text;
-  return p;
+  return adamss::test::slab_scene_head(extra_terms) + integrator + "\nrun: " + run +
+         "\noutput: {frame_interval: 1 ms}\n";
 }
 
 nlohmann::json summary(const fs::path& out) {
-  std::ifstream in(out / "summary.json");
-  return nlohmann::json::parse(in);
+  return adamss::test::read_summary(out);
 }
 
 std::size_t line_count(const fs::path& p) {
@@ -54,10 +34,6 @@ std::size_t line_count(const fs::path& p) {
   std::string line;
   while (std::getline(in, line)) ++n;
   return n;
-}
-
-std::string cache_arg(const fs::path& dir) {
-  return " --cache " + (dir / "cache").string();
 }
 
 }  // namespace
