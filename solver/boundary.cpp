@@ -12,6 +12,22 @@ namespace {
 const char* axis_name(int c) {
   return c == 0 ? "x" : (c == 1 ? "y" : "z");
 }
+
+/// visit(k, u(t), u'(t)) for every control k, evaluating a course only when the course_id
+/// changes (consecutive controls of one boundary condition share one evaluation).
+template <class Visit>
+void for_each_control(const std::vector<AxisControl>& controls, double t, Visit&& visit) {
+  const AxisControl* last = nullptr;
+  double value = 0.0, rate = 0.0;
+  for (const AxisControl& k : controls) {
+    if (last == nullptr || k.course_id != last->course_id) {
+      value = k.course(t);
+      rate = k.course.derivative(t);
+      last = &k;
+    }
+    visit(k, value, rate);
+  }
+}
 }  // namespace
 
 std::uint8_t parse_axes(const std::string& text, const std::string& what) {
@@ -51,9 +67,7 @@ void Constraints::fix(Index node, std::uint8_t axes, const std::string& source) 
     }
     mask_[n] |= static_cast<std::uint8_t>(1U << c);
     fixed_[n] |= static_cast<std::uint8_t>(1U << c);
-    fixed_list_.emplace_back(node, c);
     fixed_flat_.push_back(3 * static_cast<std::int64_t>(node) + c);
-    ++fixed_dofs_;
   }
 }
 
@@ -82,47 +96,28 @@ void Constraints::impose(Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& v, const Eigen::
     xd[i] = xf[i];
     vd[i] = 0.0;
   }
-  const AxisControl* last = nullptr;
-  double value = 0.0, rate = 0.0;
-  for (const AxisControl& k : controls_) {
-    if (last == nullptr || k.course_id != last->course_id) {
-      value = k.course(t);
-      rate = k.course.derivative(t);
-      last = &k;
-    }
+  for_each_control(controls_, t, [&](const AxisControl& k, double value, double rate) {
     if (k.velocity) {
       v(k.axis, k.node) = value;
     } else {
       x(k.axis, k.node) = x_ref(k.axis, k.node) + value;
       v(k.axis, k.node) = rate;
     }
-  }
+  });
 }
 
 void Constraints::impose_velocity_controls(Eigen::Matrix3Xd& v, double t) const {
-  const AxisControl* last = nullptr;
-  double value = 0.0;
-  for (const AxisControl& k : controls_) {
-    if (!k.velocity) continue;
-    if (last == nullptr || k.course_id != last->course_id) {
-      value = k.course(t);
-      last = &k;
-    }
-    v(k.axis, k.node) = value;
-  }
+  for_each_control(controls_, t, [&](const AxisControl& k, double value, double /*rate*/) {
+    if (k.velocity) v(k.axis, k.node) = value;
+  });
 }
 
 void Constraints::constrain_acceleration(Eigen::Matrix3Xd& a, double t) const {
-  for (const auto& [node, c] : fixed_list_) a(c, node) = 0.0;
-  const AxisControl* last = nullptr;
-  double rate = 0.0;
-  for (const AxisControl& k : controls_) {
-    if (last == nullptr || k.course_id != last->course_id) {
-      rate = k.course.derivative(t);
-      last = &k;
-    }
+  double* ad = a.data();
+  for (const std::int64_t i : fixed_flat_) ad[i] = 0.0;
+  for_each_control(controls_, t, [&](const AxisControl& k, double /*value*/, double rate) {
     a(k.axis, k.node) = k.velocity ? rate : 0.0;
-  }
+  });
 }
 
 std::vector<Index> select_nodes(const Eigen::Matrix3Xd& x_ref, const Region& region, const std::string& what) {

@@ -54,7 +54,7 @@ class Constraints {
   }
   [[nodiscard]] const std::vector<std::uint8_t>& mask() const { return mask_; }
   [[nodiscard]] const std::vector<AxisControl>& controls() const { return controls_; }
-  [[nodiscard]] std::size_t fixed_dof_count() const { return fixed_dofs_; }
+  [[nodiscard]] std::size_t fixed_dof_count() const { return fixed_flat_.size(); }
   [[nodiscard]] std::size_t controlled_dof_count() const { return controls_.size(); }
   [[nodiscard]] std::size_t node_count() const { return mask_.size(); }
 
@@ -77,9 +77,7 @@ class Constraints {
   std::vector<std::uint8_t> mask_;   // bit c: axis c constrained (fixed or controlled)
   std::vector<std::uint8_t> fixed_;  // bit c: axis c fixed (subset of mask_), per node, lazily sized
   std::vector<AxisControl> controls_;
-  std::vector<std::pair<Index, int>> fixed_list_;  // the fixed (node, axis) pairs, for the per-step loops
-  std::vector<std::int64_t> fixed_flat_;           // the same as 3 node + axis (offsets into x.data())
-  std::size_t fixed_dofs_ = 0;
+  std::vector<std::int64_t> fixed_flat_;  // fixed coordinates as 3 node + axis (offsets into x.data())
   std::size_t velocity_controls_ = 0;
 };
 

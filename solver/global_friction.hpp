@@ -16,6 +16,7 @@
 //   the resolution -- the parameter to use when comparing meshes.
 #include <Eigen/Core>
 #include <array>
+#include <cassert>
 #include <memory>
 #include <string>
 
@@ -42,13 +43,10 @@ struct GlobalFrictionKernel {
   }
   /// All particles at once: f_i -= mu_i v_i (the same bits as forces() item by item).
   void add_forces_bulk(const StateView& s, Eigen::Matrix3Xd& f) const {
-    if (mu3.size() == 3 * mu.size()) {
-      sub_product(f.data(), mu3.data(), s.v.data(), f.size());  // a vectorised flat loop
-    } else {
-      f.array() -= s.v.array().rowwise() * mu.transpose().array();
-    }
+    assert(mu3.size() == 3 * mu.size() && f.size() == mu3.size());
+    sub_product(f.data(), mu3.data(), s.v.data(), f.size());  // a vectorised flat loop
   }
-  Eigen::VectorXd mu3;  ///< mu per coordinate (node_loops.hpp), set by the make_ functions
+  Eigen::VectorXd mu3;  ///< mu per coordinate (node_loops.hpp); the make_ functions below set both
 };
 
 /// Eq. (2.118) literally: mu (N s/m, >= 0, finite) on each of `node_count` particles.

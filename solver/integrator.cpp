@@ -40,22 +40,17 @@ void System::accelerations(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
   model_.constraints.constrain_acceleration(a, t);
 }
 
-void System::kick(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& v, double t, double h) {
-  forces(x, v, t, f_);
-  solver::kick(v.data(), h, f_.data(), inv_mass3_.data(), v.size());
-}
-
 void System::symplectic_euler_step(State& s, double h) {
   const double t = s.t;
   s.t += h;
+  forces(s.x, s.v, t, f_);
   if (model_.constraints.has_velocity_controls()) {
-    kick(s.x, s.v, t, h);
+    kick(s.v.data(), h, f_.data(), inv_mass3_.data(), s.v.size());  // v += h f / m
     // Prescribed velocities of t + h before they move the positions. Fixed and displacement-
     // controlled coordinates need nothing here: the impose below sets both their x and v.
-    impose_velocity_controls(s);
+    model_.constraints.impose_velocity_controls(s.v, s.t);
     axpy(s.x.data(), h, s.v.data(), s.x.size());  // x += h v
   } else {
-    forces(s.x, s.v, t, f_);
     kick_drift(s.v.data(), s.x.data(), h, f_.data(), inv_mass3_.data(), s.x.size());
   }
   impose(s);
@@ -63,10 +58,6 @@ void System::symplectic_euler_step(State& s, double h) {
 
 void System::impose(State& s) const {
   model_.constraints.impose(s.x, s.v, model_.x_ref, x_fixed_, s.t);
-}
-
-void System::impose_velocity_controls(State& s) const {
-  model_.constraints.impose_velocity_controls(s.v, s.t);
 }
 
 namespace {

@@ -29,18 +29,12 @@ class System {
   /// a = f / m on free coordinates; constrained ones from Constraints::constrain_acceleration.
   /// The raw forces of the last call stay available in last_forces().
   void accelerations(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, double t, Eigen::Matrix3Xd& a);
-  /// v += h f(x, v, t) / m on EVERY coordinate (the symplectic Euler velocity update without
-  /// storing a): constrained coordinates get garbage that the caller's impose() overwrites.
-  /// The forces stay available in last_forces().
-  void kick(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& v, double t, double h);
   /// A whole symplectic Euler step t -> t + h on s: v += h f(x, v, t) / m, the velocity controls
   /// of t + h, x += h v, the full impose of t + h. Without velocity controls the two updates run
   /// as one pass (node_loops.hpp kick_drift; the same bits).
   void symplectic_euler_step(State& s, double h);
   /// Imposes fixed and controlled coordinates on s at time s.t.
   void impose(State& s) const;
-  /// Only the velocity-controlled velocities of impose() (Constraints::impose_velocity_controls).
-  void impose_velocity_controls(State& s) const;
 
   [[nodiscard]] const Eigen::Matrix3Xd& last_forces() const { return f_; }
   [[nodiscard]] std::size_t evaluations() const { return evaluations_; }

@@ -335,9 +335,6 @@ void evaluate(const RunLayout<N>& layout, const Eigen::Matrix3Xd& x, Eigen::Matr
   }
 }
 
-}  // namespace
-
-namespace {
 /// The springs with their end nodes in increasing order: a spring's two forces are exact
 /// negatives, so swapping its ends changes no value, and every pattern then has a positive
 /// node offset, which the fused loop's per-node order (j side of a run before its i side, as in
