@@ -12,13 +12,15 @@
 set -euo pipefail
 problem=$1 model=$2 topo=$3 level=$4 solver=$5 dt=${6:-1e-6} fitdir=${7:-.}
 
+# The mesh entry of a box problem: box_mesh SIZE NX NY NZ (fibres along x, sheets along y).
+box_mesh() {
+  printf 'box: %s\n  divisions: [%s, %s, %s]\n  topology: %s\n  fibre: [1, 0, 0]\n  sheet: [0, 1, 0]' \
+    "$1" "$2" "$3" "$4" "$topo"
+}
+
 case $problem in
   p1) IFS=x read -r nx ny nz <<< "$level"
-      mesh="box: [10 mm, 1 mm, 1 mm]
-  divisions: [$nx, $ny, $nz]
-  topology: $topo
-  fibre: [1, 0, 0]
-  sheet: [0, 1, 0]"
+      mesh=$(box_mesh "[10 mm, 1 mm, 1 mm]" "$nx" "$ny" "$nz")
       law=guccione_land_problem1; params="{}"; vol="2000 kPa"; E=18000; nu=0.49
       h=$(awk -v n="$nx" 'BEGIN{print 1e-2 / n}')
       ramp=0.1; t_dyn=2; rate=80; ke=1e-15; dt_static=0.1
@@ -43,11 +45,7 @@ case $problem in
     fix: xyz"
       probes="    - {name: endo_apex, point: [0, 0, -17 mm]}" ;;
   p3) n=$level
-      mesh="box: [5 m, 5 m, 5 m]
-  divisions: [$n, $n, $n]
-  topology: $topo
-  fibre: [1, 0, 0]
-  sheet: [0, 1, 0]"
+      mesh=$(box_mesh "[5 m, 5 m, 5 m]" "$n" "$n" "$n")
       law=neo_hookean; params="{E: 10000 Pa, nu: 0.25}"; vol=""; E=10000; nu=0.25
       h=$(awk -v n="$n" 'BEGIN{print 5 / n}')
       ramp=5; t_dyn=60; rate=2.5; ke=1e-5; dt_static=0.5
