@@ -1,7 +1,8 @@
 #pragma once
 // Structure-of-arrays force loops for the explicit path (issue 9): the spring set of
 // solver/edge_springs.hpp and the HybMSS volume correction of solver/hybmss.hpp, on a
-// RunLayout (solver/run_layout.hpp).
+// RunLayout (solver/run_layout.hpp). Springs on a lattice-numbered mesh that one thread evaluates
+// go through the lane loop of solver/lane_springs.hpp instead.
 //
 // One evaluation:
 //   1. positions x (3 x n, Eigen column-major) are copied into three node arrays X, Y, Z;
@@ -33,6 +34,7 @@
 #include <memory>
 #include <vector>
 
+#include "solver/lane_springs.hpp"
 #include "solver/run_layout.hpp"
 #include "solver/simd.hpp"
 
@@ -48,10 +50,15 @@ class SpringLoop {
   void add_forces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f) const;
   [[nodiscard]] const RunLayout<2>& layout() const { return layout_; }
   [[nodiscard]] std::size_t spring_count() const { return springs_; }
+  /// The lane loop (solver/lane_springs.hpp) if this loop uses it: for springs that suit it and
+  /// are too few for the multi-threaded path (so that the choice does not depend on the thread
+  /// count).
+  [[nodiscard]] const LaneSprings* lanes() const { return lanes_.get(); }
 
  private:
   RunLayout<2> layout_;
   std::size_t springs_ = 0;
+  std::unique_ptr<LaneSprings> lanes_;
   AlignedDoubles k_, kl_;                    // per slot: k, k L
   mutable AlignedDoubles pos_, slot_, acc_;  // 3 stride, 3 slots, 3 stride (work space; padded_stride)
 };
