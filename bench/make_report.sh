@@ -342,8 +342,7 @@ fi
   fi
   echo
   if [[ -f $res/pareto.md ]]; then
-    echo "## Speed against error (bench/pareto/run.sh)"
-    echo
+    # pareto.md (bench/pareto/report.sh) brings its own "## Speed against error" heading.
     sed -E "s#\]\((pareto_[^)]*\.png)\)#]($resrel/\1)#g; s/^# /### /" "$res/pareto.md"
     echo
   fi
