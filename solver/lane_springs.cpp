@@ -265,8 +265,9 @@ std::unique_ptr<LaneSprings> LaneSprings::make(const std::vector<std::array<prep
   std::map<std::pair<std::int64_t, int>, int> pattern;
   for (std::size_t r = 0; r < order.size(); ++r) {
     const auto& e = edges[order[r]];
-    const std::int64_t d = e[1] - e[0];
-    if (d <= 0 || d > m || e[0] < 0 || e[1] >= node_count) return nullptr;
+    if (e[0] < 0 || e[1] >= node_count) return nullptr;
+    const std::int64_t d = static_cast<std::int64_t>(e[1]) - e[0];
+    if (d <= 0 || d > m) return nullptr;
     const int repeat = r > 0 && edges[order[r - 1]] == e ? key[order[r - 1]].second + 1 : 0;
     key[order[r]] = {d, repeat};
     pattern.emplace(key[order[r]], 0);
@@ -310,6 +311,7 @@ void LaneSprings::add_forces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f) con
 #else
   (void)x;
   (void)f;
+  throw std::logic_error("LaneSprings: built without AVX-512 (make() returns null there)");
 #endif
 }
 

@@ -16,9 +16,9 @@
 // down one lane, and the halo's forces are folded back (moved up one lane) after it.
 // Per slot and offset the stiffness k and k L are stored at 16 (P s + p) + {0, 8} + l (zero where
 // no spring), read in sweep order.
-// Per-node sum order: j sides in increasing slot order of their i nodes (and offset order within
-// a slot), then the node's own i-side sum (offsets in increasing order), then, for slots below h,
-// the halo's j sides; fixed by the layout alone, so the forces are the same bits at every call and
+// Per-node sum order: the j sides in the order of the sweep (slot pairs s, s + 1 in increasing
+// order; within a pair, offsets in increasing order, slot s before s + 1 per offset), then the
+// node's own i-side sum (offsets in increasing order), then, for slots below h, the halo's j sides; fixed by the layout alone, so the forces are the same bits at every call and
 // for any thread count (the loop always runs on one thread). Each spring's force is spring8 of
 // solver/spring_simd.hpp, as in the run loops; the sums are in a different order, so the forces
 // agree with the run loops' to rounding.
@@ -60,7 +60,7 @@ class LaneSprings {
   mutable AlignedDoubles pos_, acc_;   // 3 planes of 8 (m + h) doubles each
 };
 
-/// Lane-interleaved copies (exposed for the tests). aos_to_lanes: plane c of `lanes` (8 (m + h)
+/// Lane-interleaved copies (exposed for the tests; 1 <= h <= m, m a multiple of 8). aos_to_lanes: plane c of `lanes` (8 (m + h)
 /// doubles each) gets coordinate c of node l m + s at 8 s + l for s < m (0 for nodes >= n), and
 /// halo slot m + u (u < h) that of node (l + 1) m + u (0 in lane 7). lanes_add_to_aos: f (3 x n,
 /// column-major) += slot s of lane l plus, for s < h, halo slot m + s of lane l - 1.

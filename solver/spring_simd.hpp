@@ -15,12 +15,8 @@ namespace adamss::solver {
 /// 6 operations, against 7 for two Newton steps and ~4x that for a vector sqrt and divide on
 /// this CPU. The cancellation in k - kL y when l ~ L costs what k (l - L) / l loses too:
 /// ~1e-16 k absolute, and the tests bound the force difference to the per-item kernel at 1e-13
-/// of the largest force.
-/// Lanes with k = kL = 0 (ghost slots, padding) give exactly 0 even where their two nodes
-/// coincide: s starts from 2^-1000 instead of 0, so y stays finite (at most 2^500) and c = 0 - 0 y
-/// = 0. For any spring with l^2 above ~2^-940 (l > 1e-141 m) the 2^-1000 is below half an ulp of
-/// s and changes no bit. (This replaces a compare and masked FMA: one operation less on the
-/// multiply pipes, which bound this loop.)
+/// of the largest force. Lanes with k = 0 (ghost slots, padding, masked tails) give exactly 0
+/// even where their two nodes coincide (l = 0, y = inf): c comes from a masked FMA.
 ADAMSS_AVX512 inline void spring8(__m512d dx, __m512d dy, __m512d dz, __m512d k, __m512d kl, __m512d& fx, __m512d& fy,
                                   __m512d& fz) {
   const __m512d s = _mm512_fmadd_pd(dz, dz, _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx)));

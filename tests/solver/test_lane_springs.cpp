@@ -26,6 +26,10 @@ using Edges = std::vector<std::array<preprocess::Index, 2>>;
 /// returning max |difference| / max |f|.
 double lanes_vs_reference(const solver::LaneSprings& lanes, const Edges& edges, const std::vector<double>& k,
                           const std::vector<double>& rest, const Eigen::Matrix3Xd& x) {
+  // A first call at other positions leaves forces in the work arrays: the compared call must not
+  // depend on them (every accumulator slot zeroed before its first write).
+  Eigen::Matrix3Xd scratch = Eigen::Matrix3Xd::Zero(3, x.cols());
+  lanes.add_forces(1.3 * x + Eigen::Matrix3Xd::Constant(3, x.cols(), 0.1), scratch);
   Eigen::Matrix3Xd f_lanes = Eigen::Matrix3Xd::Constant(3, x.cols(), 0.25);
   Eigen::Matrix3Xd f_ref = f_lanes;
   lanes.add_forces(x, f_lanes);
@@ -69,7 +73,7 @@ void lattice_springs(int a, int b, int c, Edges& edges, std::vector<double>& k, 
 }  // namespace
 
 TEST(LaneSprings, CopiesToAndFromTheLanesMatchTheScalarDefinition) {
-  // n = 1331 (the cube: the last lane is short), 100 (lanes 1-7 partly past n), 4096 (exact).
+  // n = 1331 (the cube: lane 7 short), 100 (m = 16: lane 6 short, lane 7 past n), 4096 (exact).
   for (const std::int64_t n : {1331, 100, 4096}) {
     const std::int64_t m = (n + 63) / 64 * 8, h = m / 2 + 3, plane = 8 * (m + h);
     Eigen::Matrix3Xd x = Eigen::Matrix3Xd::Random(3, n);
@@ -118,6 +122,31 @@ TEST(LaneSprings, LatticeSpringsMatchThePerSpringFormula) {
   Eigen::Matrix3Xd x;
   lattice_springs(4, 4, 4, edges, k, rest, x);
   EXPECT_EQ(solver::LaneSprings::make(edges, k, rest, x.cols()), nullptr);
+}
+
+TEST(LaneSprings, ChainsReachTheLaneEndsAndAnEmptyLastLane) {
+  // Springs (i, i + d) for d in {1, 3, 16} on n nodes: n = 120 gives m = 16, so the largest offset
+  // equals the lane length (h = m, every halo slot used) and lane 7 is short; n = 100 (m = 16)
+  // leaves lane 7 without any node and lane 6 short.
+  for (const std::int64_t n : {120, 100}) {
+    Edges edges;
+    std::vector<double> k, rest;
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(0.5, 1.5);
+    for (const int d : {1, 3, 16})
+      for (std::int64_t i = 0; i + d < n; ++i) {
+        edges.push_back({static_cast<preprocess::Index>(i), static_cast<preprocess::Index>(i + d)});
+        k.push_back(10.0 * u(rng));
+        rest.push_back(0.1 * d * u(rng));
+      }
+    Eigen::Matrix3Xd x(3, n);
+    for (std::int64_t i = 0; i < n; ++i) x.col(i) = Eigen::Vector3d(0.1 * i, std::sin(0.3 * i), std::cos(0.2 * i));
+    const auto lanes = solver::LaneSprings::make(edges, k, rest, n);
+    ASSERT_NE(lanes, nullptr) << n;
+    EXPECT_EQ(lanes->lane_length(), 16);
+    EXPECT_EQ(lanes->halo(), 16);
+    EXPECT_LT(lanes_vs_reference(*lanes, edges, k, rest, x), 1e-13) << n;
+  }
 }
 
 TEST(LaneSprings, RepeatedSpringsGetTheirOwnOffsetCopy) {
