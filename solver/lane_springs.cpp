@@ -18,11 +18,6 @@ std::int64_t valid_doubles(std::int64_t n, std::int64_t q) {
 }
 
 #if ADAMSS_HAVE_AVX512
-ADAMSS_AVX512 inline __mmask8 first_lanes(std::int64_t count) {
-  return count >= 8 ? static_cast<__mmask8>(0xFF)
-                    : (count <= 0 ? static_cast<__mmask8>(0) : static_cast<__mmask8>((1U << count) - 1U));
-}
-
 /// In-register transpose of the 8 x 8 matrix with rows r[0..7]: unpack pairs of rows, then move
 /// 128-bit blocks (vpermt2pd), then 256-bit halves (vshuff64x2); 24 shuffles. (The all-lanes
 /// masked forms: gcc 12 warns that the unmasked ones read an undefined source.)
@@ -77,7 +72,7 @@ ADAMSS_AVX512 inline void load_rows(const double* x, std::int64_t n, std::int64_
     const std::int64_t q = l * m + s0;
     const std::int64_t v = valid_doubles(n, q);
     for (int a = 0; a < 3; ++a)
-      r[a][l] = v > 8 * a ? _mm512_maskz_loadu_pd(first_lanes(v - 8 * a), x + 3 * q + 8 * a) : _mm512_setzero_pd();
+      r[a][l] = v > 8 * a ? _mm512_maskz_loadu_pd(tail_mask(v - 8 * a), x + 3 * q + 8 * a) : _mm512_setzero_pd();
   }
 }
 
@@ -140,7 +135,7 @@ ADAMSS_AVX512 void lanes_add_to_aos_avx512(const double* lanes, std::int64_t n, 
       const std::int64_t q = l * m + s0;
       const std::int64_t v = valid_doubles(n, q);
       for (int a = 0; a < 3 && v > 8 * a; ++a) {
-        const __mmask8 mk = first_lanes(v - 8 * a);
+        const __mmask8 mk = tail_mask(v - 8 * a);
         double* p = f + 3 * q + 8 * a;
         _mm512_mask_storeu_pd(p, mk, _mm512_add_pd(_mm512_maskz_loadu_pd(mk, p), r[a][l]));
       }
@@ -214,6 +209,12 @@ ADAMSS_AVX512 void lane_sweep(const double* pos, const double* coef, const std::
 
 }  // namespace
 
+std::vector<std::array<preprocess::Index, 2>> ordered_ends(std::vector<std::array<preprocess::Index, 2>> edges) {
+  for (auto& e : edges)
+    if (e[1] < e[0]) std::swap(e[0], e[1]);
+  return edges;
+}
+
 void aos_to_lanes(const double* x, std::int64_t n, std::int64_t m, std::int64_t h, std::int64_t plane,
                   double* lanes) {
 #if ADAMSS_HAVE_AVX512
@@ -250,10 +251,7 @@ std::unique_ptr<LaneSprings> LaneSprings::make(const std::vector<std::array<prep
   if (stiffness.size() != edges_in.size() || rest_length.size() != edges_in.size())
     throw std::invalid_argument("LaneSprings: stiffness / rest length arrays do not match the springs");
   if (!avx512_available() || node_count < 64 || edges_in.empty()) return nullptr;
-  // A spring's two forces are exact negatives, so its ends can be swapped: i < j for all.
-  std::vector<std::array<preprocess::Index, 2>> edges = edges_in;
-  for (auto& e : edges)
-    if (e[1] < e[0]) std::swap(e[0], e[1]);
+  const std::vector<std::array<preprocess::Index, 2>> edges = ordered_ends(edges_in);
   const std::int64_t m = (node_count + 63) / 64 * 8;
   // Springs in (i, j) order: the r-th copy of the same pair gets key (d, r).
   std::vector<std::size_t> order(edges.size());

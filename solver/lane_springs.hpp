@@ -60,6 +60,10 @@ class LaneSprings {
   mutable AlignedDoubles pos_, acc_;   // 3 planes of 8 (m + h) doubles each
 };
 
+/// The springs with their end nodes in increasing order (i < j). A spring's two forces are exact
+/// negatives, so swapping its ends changes no value; both spring loops work on ordered ends.
+std::vector<std::array<preprocess::Index, 2>> ordered_ends(std::vector<std::array<preprocess::Index, 2>> edges);
+
 /// Lane-interleaved copies (exposed for the tests; 1 <= h <= m, m a multiple of 8). aos_to_lanes: plane c of `lanes` (8 (m + h)
 /// doubles each) gets coordinate c of node l m + s at 8 s + l for s < m (0 for nodes >= n), and
 /// halo slot m + u (u < h) that of node (l + 1) m + u (0 in lane 7). lanes_add_to_aos: f (3 x n,

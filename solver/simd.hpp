@@ -56,4 +56,12 @@ inline bool avx512_available() {
 #endif
 }
 
+#if ADAMSS_HAVE_AVX512
+/// The first min(count, 8) lanes of an 8-lane vector (count >= 0): the mask of a loop's last,
+/// partial block of 8.
+ADAMSS_AVX512 inline __mmask8 tail_mask(std::int64_t count) {
+  return count >= 8 ? static_cast<__mmask8>(0xFF) : static_cast<__mmask8>((1U << count) - 1U);
+}
+#endif
+
 }  // namespace adamss::solver

@@ -90,10 +90,6 @@ void scatter_runs(const LayoutRun* runs, std::size_t nruns, const std::int64_t* 
 }
 
 #if ADAMSS_HAVE_AVX512
-ADAMSS_AVX512 inline __mmask8 tail_mask(std::int64_t left) {
-  return left >= 8 ? static_cast<__mmask8>(0xFF) : static_cast<__mmask8>((1U << left) - 1U);
-}
-
 /// Slots s .. s + 7 (lanes in m) of one run: d = x_j - x_i read from the node arrays at i, j (SoA,
 /// coordinate stride n), k and kL at s; f = force on node i (spring8). The one body of both the
 /// fused and the slot loops, so the two paths round alike.
@@ -310,20 +306,12 @@ void evaluate(const RunLayout<N>& layout, const Eigen::Matrix3Xd& x, Eigen::Matr
     store_forces(acc.data(), lo, hi, ns, f);
   }
 }
-
-/// The springs with their end nodes in increasing order: a spring's two forces are exact
-/// negatives, so swapping its ends changes no value, and every pattern then has a positive
-/// node offset, which the fused loop's per-node order (j side of a run before its i side, as in
-/// scatter_runs) relies on.
-std::vector<std::array<preprocess::Index, 2>> ordered_ends(std::vector<std::array<preprocess::Index, 2>> edges) {
-  for (auto& e : edges)
-    if (e[1] < e[0]) std::swap(e[0], e[1]);
-  return edges;
-}
 }  // namespace
 
 SpringLoop::SpringLoop(const std::vector<std::array<preprocess::Index, 2>>& edges, const std::vector<double>& stiffness,
                        const std::vector<double>& rest_length, std::int64_t node_count)
+    // Ordered ends give every pattern a positive node offset, which the fused loop's per-node order
+    // (j side of a run before its i side, as in scatter_runs) relies on.
     : layout_(make_run_layout<2>(ordered_ends(edges), node_count, 2)), springs_(edges.size()) {
   if (stiffness.size() != edges.size() || rest_length.size() != edges.size())
     throw std::invalid_argument("SpringLoop: stiffness / rest length arrays do not match the springs");
