@@ -12,12 +12,12 @@
 namespace adamss::solver {
 namespace {
 
+#if ADAMSS_HAVE_AVX512
 /// Doubles (0..24) of the 8 nodes from q that exist (q + a < n), as three load masks.
 std::int64_t valid_doubles(std::int64_t n, std::int64_t q) {
   return 3 * std::clamp<std::int64_t>(n - q, 0, 8);
 }
 
-#if ADAMSS_HAVE_AVX512
 /// In-register transpose of the 8 x 8 matrix with rows r[0..7]: unpack pairs of rows, then move
 /// 128-bit blocks (vpermt2pd), then 256-bit halves (vshuff64x2); 24 shuffles. (The all-lanes
 /// masked forms: gcc 12 warns that the unmasked ones read an undefined source.)
@@ -215,34 +215,32 @@ std::vector<std::array<preprocess::Index, 2>> ordered_ends(std::vector<std::arra
   return edges;
 }
 
+namespace {
+/// The copies exist only as AVX-512 loops: LaneSprings::make returns null on other CPUs.
+void require_lane_copies(std::int64_t m) {
+  if (!avx512_available() || m % 8 != 0)
+    throw std::logic_error("lane copies need an AVX-512 CPU and a lane length that is a multiple of 8");
+}
+}  // namespace
+
 void aos_to_lanes(const double* x, std::int64_t n, std::int64_t m, std::int64_t h, std::int64_t plane,
                   double* lanes) {
+  require_lane_copies(m);
 #if ADAMSS_HAVE_AVX512
-  if (avx512_available() && m % 8 == 0) return aos_to_lanes_avx512(x, n, m, h, plane, lanes);
+  aos_to_lanes_avx512(x, n, m, h, plane, lanes);
+#else
+  (void)x, (void)n, (void)h, (void)plane, (void)lanes;
 #endif
-  for (std::int64_t s = 0; s < m; ++s)
-    for (std::int64_t l = 0; l < 8; ++l)
-      for (int c = 0; c < 3; ++c) {
-        const std::int64_t node = l * m + s;
-        lanes[c * plane + 8 * s + l] = node < n ? x[3 * node + c] : 0.0;
-        if (s < h && l > 0) lanes[c * plane + 8 * (m + s) + l - 1] = node < n ? x[3 * node + c] : 0.0;
-        if (s < h && l == 7) lanes[c * plane + 8 * (m + s) + 7] = 0.0;
-      }
 }
 
 void lanes_add_to_aos(const double* lanes, std::int64_t n, std::int64_t m, std::int64_t h, std::int64_t plane,
                       double* f) {
+  require_lane_copies(m);
 #if ADAMSS_HAVE_AVX512
-  if (avx512_available() && m % 8 == 0) return lanes_add_to_aos_avx512(lanes, n, m, h, plane, f);
+  lanes_add_to_aos_avx512(lanes, n, m, h, plane, f);
+#else
+  (void)lanes, (void)n, (void)h, (void)plane, (void)f;
 #endif
-  for (std::int64_t s = 0; s < m; ++s)
-    for (std::int64_t l = 0; l < 8; ++l)
-      for (int c = 0; c < 3; ++c) {
-        const std::int64_t node = l * m + s;
-        double v = lanes[c * plane + 8 * s + l];
-        if (s < h && l > 0) v += lanes[c * plane + 8 * (m + s) + l - 1];
-        if (node < n) f[3 * node + c] += v;
-      }
 }
 
 std::unique_ptr<LaneSprings> LaneSprings::make(const std::vector<std::array<preprocess::Index, 2>>& edges_in,

@@ -64,7 +64,8 @@ class LaneSprings {
 /// negatives, so swapping its ends changes no value; both spring loops work on ordered ends.
 std::vector<std::array<preprocess::Index, 2>> ordered_ends(std::vector<std::array<preprocess::Index, 2>> edges);
 
-/// Lane-interleaved copies (exposed for the tests; 1 <= h <= m, m a multiple of 8). aos_to_lanes: plane c of `lanes` (8 (m + h)
+/// Lane-interleaved copies (exposed for the tests; AVX-512 only, as LaneSprings -- they throw
+/// std::logic_error elsewhere; 1 <= h <= m, m a multiple of 8). aos_to_lanes: plane c of `lanes` (8 (m + h)
 /// doubles each) gets coordinate c of node l m + s at 8 s + l for s < m (0 for nodes >= n), and
 /// halo slot m + u (u < h) that of node (l + 1) m + u (0 in lane 7). lanes_add_to_aos: f (3 x n,
 /// column-major) += slot s of lane l plus, for s < h, halo slot m + s of lane l - 1.
