@@ -9,6 +9,9 @@ HEART_OUT ?= results/heart
 # (CI running two tests at once on two cores) spinning made a 2-thread run 60x slower.
 OMP_WAIT_POLICY ?= passive
 export OMP_WAIT_POLICY
+# ccache (used when installed, CMakeLists.txt): paths relative to the clone, so clones share objects.
+CCACHE_BASEDIR ?= $(CURDIR)
+export CCACHE_BASEDIR
 
 FUZZ_SECONDS ?= 60
 

@@ -10,10 +10,10 @@
 
 #include "app/commands.hpp"
 #include "common/error.hpp"
-#include "preprocess/cavities.hpp"
-#include "preprocess/mesh_io.hpp"
-#include "preprocess/mesh_quality.hpp"
-#include "preprocess/nifti_io.hpp"
+#include "preprocess/surfaces/cavities.hpp"
+#include "preprocess/mesh/mesh_io.hpp"
+#include "preprocess/mesh/mesh_quality.hpp"
+#include "preprocess/image/nifti_io.hpp"
 
 namespace adamss::app {
 namespace {

@@ -14,17 +14,17 @@
 #include "app/commands.hpp"
 #include "common/error.hpp"
 #include "common/units.hpp"
-#include "preprocess/boundary_labels.hpp"
-#include "preprocess/cavities.hpp"
-#include "preprocess/cell_fields.hpp"
-#include "preprocess/cgal_mesher.hpp"
-#include "preprocess/fibre_field.hpp"
-#include "preprocess/lattice_mesher.hpp"
-#include "preprocess/mesh_io.hpp"
-#include "preprocess/mesh_quality.hpp"
-#include "preprocess/nifti_io.hpp"
-#include "preprocess/node_tags.hpp"
-#include "preprocess/rule_fibres.hpp"
+#include "preprocess/surfaces/boundary_labels.hpp"
+#include "preprocess/surfaces/cavities.hpp"
+#include "preprocess/mesh/cell_fields.hpp"
+#include "preprocess/meshers/cgal_mesher.hpp"
+#include "preprocess/fibres/fibre_field.hpp"
+#include "preprocess/meshers/lattice_mesher.hpp"
+#include "preprocess/mesh/mesh_io.hpp"
+#include "preprocess/mesh/mesh_quality.hpp"
+#include "preprocess/image/nifti_io.hpp"
+#include "preprocess/surfaces/node_tags.hpp"
+#include "preprocess/fibres/rule_fibres.hpp"
 
 namespace adamss::app {
 namespace {
@@ -42,7 +42,7 @@ struct MeshArgs {
   std::vector<std::string> cavities;     ///< NAME=LABEL
   std::vector<std::string> tag_planes;   ///< NAME=AXIS:VALUE[:TOL]
   std::vector<std::string> cell_fields;  ///< NAME=FILE[:nearest|:trilinear]
-  // --fiber rule (rule-based fibres, preprocess/rule_fibres.hpp); empty = not given.
+  // --fiber rule (rule-based fibres, preprocess/fibres/rule_fibres.hpp); empty = not given.
   std::string helix_endo, helix_epi, sheet_angle, long_axis;
   // --topology cgal only (empty = default relative to the voxel size).
   std::string cgal_facet_angle;

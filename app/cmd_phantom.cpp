@@ -9,8 +9,8 @@
 #include "app/commands.hpp"
 #include "common/error.hpp"
 #include "common/units.hpp"
-#include "preprocess/nifti_io.hpp"
-#include "preprocess/phantom.hpp"
+#include "preprocess/image/nifti_io.hpp"
+#include "preprocess/image/phantom.hpp"
 
 namespace adamss::app {
 namespace {

@@ -11,9 +11,9 @@
 
 #include "app/commands.hpp"
 #include "common/error.hpp"
-#include "solver/results.hpp"
-#include "solver/run.hpp"
-#include "solver/scene.hpp"
+#include "solver/run/results.hpp"
+#include "solver/run/run.hpp"
+#include "solver/scene/scene.hpp"
 
 namespace adamss::app {
 namespace {

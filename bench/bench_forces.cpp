@@ -26,8 +26,8 @@
 #include <string>
 #include <vector>
 
-#include "solver/integrator.hpp"
-#include "solver/scene.hpp"
+#include "solver/time/integrator.hpp"
+#include "solver/scene/scene.hpp"
 
 using namespace adamss;
 

@@ -12,7 +12,7 @@
 
 #include "common/error.hpp"
 #include "fuzz_input.hpp"
-#include "preprocess/mesh_io.hpp"
+#include "preprocess/mesh/mesh_io.hpp"
 
 namespace {
 bool has_global_heap(const std::uint8_t* data, std::size_t size) {

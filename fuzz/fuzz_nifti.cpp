@@ -4,7 +4,7 @@
 
 #include "common/error.hpp"
 #include "fuzz_input.hpp"
-#include "preprocess/nifti_io.hpp"
+#include "preprocess/image/nifti_io.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace adamss;

@@ -17,7 +17,7 @@
 #include "common/error.hpp"
 #include "common/units.hpp"
 #include "fuzz_input.hpp"
-#include "solver/scene.hpp"
+#include "solver/scene/scene.hpp"
 
 namespace {
 

@@ -14,9 +14,9 @@
 
 #include "common/error.hpp"
 #include "materials/factory.hpp"
-#include "solver/implicit.hpp"
-#include "solver/integrator.hpp"
-#include "solver/scene.hpp"
+#include "solver/time/implicit.hpp"
+#include "solver/time/integrator.hpp"
+#include "solver/scene/scene.hpp"
 #include "verify/spring_cases.hpp"
 #include "verify/spring_fit.hpp"
 

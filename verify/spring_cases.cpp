@@ -11,9 +11,9 @@
 #include <vector>
 
 #include "common/error.hpp"
-#include "solver/implicit.hpp"
-#include "solver/integrator.hpp"
-#include "solver/scene.hpp"
+#include "solver/time/implicit.hpp"
+#include "solver/time/integrator.hpp"
+#include "solver/scene/scene.hpp"
 
 namespace adamss::verify {
 namespace {

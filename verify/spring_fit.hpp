@@ -3,8 +3,8 @@
 // "the parameters k_i of the spring functions can be obtained by fitting the spring function to
 // the strain-stress curves"; Table 2.2 was fitted to the Hunter law up to 20 % strain).
 //
-// The springs are fitted in the `virtual` scaling (solver/axial_springs.hpp,
-// solver/torsion_springs.hpp), where a spring polynomial is a stress (Pa) of a dimensionless
+// The springs are fitted in the `virtual` scaling (solver/terms/adamss/axial_springs.hpp,
+// solver/terms/adamss/torsion_springs.hpp), where a spring polynomial is a stress (Pa) of a dimensionless
 // argument and the model's response is independent of the mesh:
 //
 // * Axial spring of axis l: p_l(eps) = sum_i k_{l,i} eps^i is the nominal (1st Piola-Kirchhoff)
@@ -37,7 +37,7 @@
 #include <vector>
 
 #include "materials/law.hpp"
-#include "solver/torsion_springs.hpp"
+#include "solver/terms/adamss/torsion_springs.hpp"
 
 namespace adamss::verify {
 

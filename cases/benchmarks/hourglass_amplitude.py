@@ -7,7 +7,7 @@ Reads the raw-appended VTU that `adamss run` writes (Points = current positions,
 displacement = x - X) and prints, over all hexahedra, the largest one-point strain
 |F_c - I|_max (F_c the centre gradient, what the virtual hexahedron sees) and the largest
 hourglass "strain" max_alpha |q_alpha| / (8 L), q_alpha = sum_a gamma_alpha,a x_a with the
-Flanagan-Belytschko base vectors of the reference element (solver/hourglass.hpp;
+Flanagan-Belytschko base vectors of the reference element (solver/terms/adamss/hourglass.hpp;
 L = V0^(1/3)). For an element without hourglassing the second number is ~0; comparable
 numbers mean the hourglass patterns carry as much deformation as the physical strain.
 """

@@ -1,4 +1,4 @@
-#include "preprocess/fibre_field.hpp"
+#include "preprocess/fibres/fibre_field.hpp"
 
 #include <Eigen/Geometry>
 #include <array>
@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
-#include "preprocess/face_table.hpp"
+#include "preprocess/mesh/face_table.hpp"
 
 namespace adamss::preprocess {
 namespace {

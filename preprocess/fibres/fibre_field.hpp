@@ -17,8 +17,8 @@
 #include <string>
 #include <vector>
 
-#include "preprocess/image.hpp"
-#include "preprocess/mesh.hpp"
+#include "preprocess/image/image.hpp"
+#include "preprocess/mesh/mesh.hpp"
 
 namespace adamss::preprocess {
 

@@ -1,5 +1,5 @@
 // Rule-based fibres: Laplace transmural coordinates and the LDRB-style frame (see rule_fibres.hpp).
-#include "preprocess/rule_fibres.hpp"
+#include "preprocess/fibres/rule_fibres.hpp"
 
 #include <Eigen/Geometry>
 #include <Eigen/IterativeLinearSolvers>
@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "common/error.hpp"
-#include "preprocess/boundary_labels.hpp"
-#include "preprocess/element_faces.hpp"
+#include "preprocess/surfaces/boundary_labels.hpp"
+#include "preprocess/mesh/element_faces.hpp"
 
 namespace adamss::preprocess {
 namespace {

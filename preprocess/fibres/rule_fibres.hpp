@@ -97,7 +97,7 @@
 // s = n. So alpha = 0 is circumferential, alpha = +90 deg runs along the long axis
 // towards the base, and the defaults helix_endo = +60 deg, helix_epi = -60 deg are
 // the phantom's defaults. Checked exactly on a flat wall and against the analytic
-// lv field (tests/preprocess/test_rule_fibres.cpp).
+// lv field (tests/preprocess/fibres/test_rule_fibres.cpp).
 //
 // Long axis: options.long_axis (any non-zero length, pointing from apex to base)
 // or, when not given, n_b (the mean normal of the valve openings, which points
@@ -118,8 +118,8 @@
 #include <optional>
 #include <string>
 
-#include "preprocess/image.hpp"
-#include "preprocess/mesh.hpp"
+#include "preprocess/image/image.hpp"
+#include "preprocess/mesh/mesh.hpp"
 
 namespace adamss::preprocess {
 

@@ -14,7 +14,7 @@
 // Writing builds a NIfTI-1 header (the library cannot write NIfTI-2) and writes
 // header, extender and data through znzlib ourselves, so that every I/O error
 // is seen (nifti_image_write returns void and only prints).
-#include "preprocess/nifti_io.hpp"
+#include "preprocess/image/nifti_io.hpp"
 
 #include <fmt/format.h>
 #include <nifti2_io.h>

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "preprocess/image.hpp"
+#include "preprocess/image/image.hpp"
 
 namespace adamss::preprocess {
 

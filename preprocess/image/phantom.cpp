@@ -1,7 +1,7 @@
 // Synthetic phantoms: label images on a corner-aligned grid, and the analytic
 // ellipsoidal fibre/sheet fields of Land et al. 2015 problem 3. The geometry and
 // the conventions are documented in phantom.hpp.
-#include "preprocess/phantom.hpp"
+#include "preprocess/image/phantom.hpp"
 
 #include <algorithm>
 #include <cmath>

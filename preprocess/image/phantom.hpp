@@ -4,7 +4,7 @@
 #include <optional>
 #include <string>
 
-#include "preprocess/image.hpp"
+#include "preprocess/image/image.hpp"
 
 namespace adamss::preprocess {
 

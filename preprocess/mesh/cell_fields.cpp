@@ -1,4 +1,4 @@
-#include "preprocess/cell_fields.hpp"
+#include "preprocess/mesh/cell_fields.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
-#include "preprocess/fibre_field.hpp"
+#include "preprocess/fibres/fibre_field.hpp"
 
 namespace adamss::preprocess {
 namespace {

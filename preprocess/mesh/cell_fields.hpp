@@ -20,8 +20,8 @@
 #include <cstddef>
 #include <string>
 
-#include "preprocess/image.hpp"
-#include "preprocess/mesh.hpp"
+#include "preprocess/image/image.hpp"
+#include "preprocess/mesh/mesh.hpp"
 
 namespace adamss::preprocess {
 

@@ -6,9 +6,9 @@
 #include <numeric>
 #include <vector>
 
-#include "preprocess/element_faces.hpp"
-#include "preprocess/face_table.hpp"
-#include "preprocess/mesh_quality.hpp"
+#include "preprocess/mesh/element_faces.hpp"
+#include "preprocess/mesh/face_table.hpp"
+#include "preprocess/mesh/mesh_quality.hpp"
 
 namespace adamss::preprocess {
 namespace {

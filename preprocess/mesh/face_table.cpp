@@ -1,8 +1,8 @@
-#include "preprocess/face_table.hpp"
+#include "preprocess/mesh/face_table.hpp"
 
 #include <algorithm>
 
-#include "preprocess/element_faces.hpp"
+#include "preprocess/mesh/element_faces.hpp"
 
 namespace adamss::preprocess {
 
@@ -24,7 +24,7 @@ std::vector<FaceRecord> sorted_face_records(const Mesh& mesh) {
       }
       std::sort(r.key.begin(), r.key.end());
       // A face with fewer than three distinct nodes has no area (the collapsed face of a
-      // degenerate hexahedron, e.g. the apex wedges of preprocess/ellipsoid_mesh.hpp): not a face.
+      // degenerate hexahedron, e.g. the apex wedges of preprocess/meshers/ellipsoid_mesh.hpp): not a face.
       int distinct = 0;
       for (std::size_t a = 0; a < 4; ++a) distinct += r.key[a] >= 0 && (a == 0 || r.key[a] != r.key[a - 1]) ? 1 : 0;
       if (distinct < 3) continue;

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "preprocess/mesh.hpp"
+#include "preprocess/mesh/mesh.hpp"
 
 namespace adamss::preprocess {
 

@@ -23,7 +23,7 @@ enum class ElementType { Tet4, Hex8 };
   return t == ElementType::Tet4 ? "tet4" : "hex8";
 }
 
-/// A closed surface bounding a cavity (built by preprocess/cavities.hpp). Every face and
+/// A closed surface bounding a cavity (built by preprocess/surfaces/cavities.hpp). Every face and
 /// lid triangle is ordered so that its vector area points INTO the cavity (for wall faces:
 /// outward of the solid). Tetrahedral meshes give wall triangles, hexahedral meshes wall
 /// quads (VTK quad order, bilinear); the lid is always triangles and carries no load.

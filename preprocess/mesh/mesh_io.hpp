@@ -17,7 +17,7 @@
 //                    and every entry of Mesh::attributes as a string attribute.
 #include <filesystem>
 
-#include "preprocess/mesh.hpp"
+#include "preprocess/mesh/mesh.hpp"
 
 namespace adamss::preprocess {
 

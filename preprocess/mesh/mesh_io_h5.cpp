@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "common/error.hpp"
-#include "preprocess/mesh_io.hpp"
+#include "preprocess/mesh/mesh_io.hpp"
 
 namespace adamss::preprocess {
 namespace {

@@ -1,4 +1,4 @@
-#include "preprocess/mesh_quality.hpp"
+#include "preprocess/mesh/mesh_quality.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -8,7 +8,7 @@
 #include <numbers>
 #include <numeric>
 
-#include "preprocess/element_faces.hpp"
+#include "preprocess/mesh/element_faces.hpp"
 
 namespace adamss::preprocess {
 namespace {

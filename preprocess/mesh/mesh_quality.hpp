@@ -3,7 +3,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "preprocess/mesh.hpp"
+#include "preprocess/mesh/mesh.hpp"
 
 namespace adamss::preprocess {
 

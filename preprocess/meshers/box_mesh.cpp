@@ -1,11 +1,11 @@
-#include "preprocess/box_mesh.hpp"
+#include "preprocess/meshers/box_mesh.hpp"
 
 #include <cmath>
 #include <sstream>
 
 #include "common/error.hpp"
-#include "preprocess/lattice_mesher.hpp"
-#include "preprocess/phantom.hpp"
+#include "preprocess/meshers/lattice_mesher.hpp"
+#include "preprocess/image/phantom.hpp"
 
 namespace adamss::preprocess {
 

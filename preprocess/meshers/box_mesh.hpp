@@ -3,13 +3,13 @@
 // divisions[d] elements along axis d, for benchmarks that need a cuboid with a chosen
 // resolution per axis (Land et al. 2015 problem 1, convergence studies, half models
 // with a symmetry plane). Built as the lattice mesh of a block of divisions unit voxels
-// (so every topology of preprocess/lattice_mesher.hpp is available: hex, tet5, tet5m,
+// (so every topology of preprocess/meshers/lattice_mesher.hpp is available: hex, tet5, tet5m,
 // tet6, tet6m) whose nodes are then scaled per axis; the element order and orientation
 // are the lattice mesher's (all volumes positive). Label 1, no fibres, no tags.
 #include <array>
 #include <string>
 
-#include "preprocess/mesh.hpp"
+#include "preprocess/mesh/mesh.hpp"
 
 namespace adamss::preprocess {
 

@@ -1,6 +1,6 @@
 // CGAL Mesh_3 on a labelled image. All CGAL includes of the project live in this file (Mesh_3
 // is slow to compile); see cgal_mesher.hpp for the method.
-#include "preprocess/cgal_mesher.hpp"
+#include "preprocess/meshers/cgal_mesher.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/ImageIO.h>
@@ -28,7 +28,7 @@
 #include <unordered_map>
 
 #include "common/error.hpp"
-#include "preprocess/element_faces.hpp"
+#include "preprocess/mesh/element_faces.hpp"
 
 namespace adamss::preprocess {
 namespace {

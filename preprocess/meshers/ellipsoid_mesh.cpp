@@ -1,4 +1,4 @@
-#include "preprocess/ellipsoid_mesh.hpp"
+#include "preprocess/meshers/ellipsoid_mesh.hpp"
 
 #include <Eigen/Geometry>
 #include <array>
@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "common/error.hpp"
-#include "preprocess/cavities.hpp"
+#include "preprocess/surfaces/cavities.hpp"
 
 namespace adamss::preprocess {
 

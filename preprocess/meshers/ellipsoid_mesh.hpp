@@ -39,7 +39,7 @@
 // Errors (adamss::InputError, one line naming the option): n_v < 3, n_u < 2, n_t < 1, a grid too
 // large for the 32-bit node index, radii not positive or epicardium not outside the endocardium,
 // |base_z| >= r_l of the endocardium (then the base plane misses the cavity).
-#include "preprocess/mesh.hpp"
+#include "preprocess/mesh/mesh.hpp"
 
 namespace adamss::preprocess {
 

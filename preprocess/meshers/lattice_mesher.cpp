@@ -1,4 +1,4 @@
-#include "preprocess/lattice_mesher.hpp"
+#include "preprocess/meshers/lattice_mesher.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
-#include "preprocess/element_faces.hpp"
+#include "preprocess/mesh/element_faces.hpp"
 
 namespace adamss::preprocess {
 namespace {

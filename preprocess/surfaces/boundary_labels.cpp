@@ -1,11 +1,11 @@
-#include "preprocess/boundary_labels.hpp"
+#include "preprocess/surfaces/boundary_labels.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 
-#include "preprocess/element_faces.hpp"
-#include "preprocess/face_table.hpp"
+#include "preprocess/mesh/element_faces.hpp"
+#include "preprocess/mesh/face_table.hpp"
 
 namespace adamss::preprocess {
 

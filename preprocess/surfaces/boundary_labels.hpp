@@ -3,7 +3,7 @@
 //
 // A boundary face is a face of exactly one element (sorted_face_records). Its outside
 // label is read from the label image at p = c + d n: c the face centroid, n its unit
-// outward normal (outward of the element, preprocess/element_faces.hpp), d = a quarter of
+// outward normal (outward of the element, preprocess/mesh/element_faces.hpp), d = a quarter of
 // the smallest voxel spacing -- for lattice meshes p is then inside the neighbouring voxel;
 // for unstructured (CGAL) meshes whose faces approximate a label interface it usually lands
 // on the other side of that interface, but near a junction of three labels or where the
@@ -17,8 +17,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "preprocess/image.hpp"
-#include "preprocess/mesh.hpp"
+#include "preprocess/image/image.hpp"
+#include "preprocess/mesh/mesh.hpp"
 
 namespace adamss::preprocess {
 

@@ -1,4 +1,4 @@
-#include "preprocess/cavities.hpp"
+#include "preprocess/surfaces/cavities.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>

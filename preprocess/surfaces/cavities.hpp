@@ -3,7 +3,7 @@
 // reference volume (issue 3, `adamss mesh --cavity NAME=LABEL`).
 //
 // Input. A list of boundary faces of the mesh, each with the label inside (the element's)
-// and outside it (BoundaryFace, preprocess/boundary_labels.hpp). For lattice meshes
+// and outside it (BoundaryFace, preprocess/surfaces/boundary_labels.hpp). For lattice meshes
 // boundary_faces_with_labels(mesh, image) gives it; an unstructured mesher (CGAL) can feed
 // its own surface patches instead, as BoundaryFace records with outward-oriented nodes and
 // the two labels (element/local are not used here).
@@ -41,7 +41,7 @@
 //                        A = 1/2 (x2 - x0) x (x3 - x1)  (exact; equal to the mean of the two
 //                        diagonal splits, and to either split for a planar quad)
 // positions taken relative to the mean node of the surface (the same rule as
-// solver/surface.hpp, so the solver's initial cavity volume equals volume_m3). Not a convex
+// solver/geometry/surface.hpp, so the solver's initial cavity volume equals volume_m3). Not a convex
 // hull: a concave cavity (the biv RV crescent) gets its true volume.
 //
 // Errors (adamss::InputError, one line naming the cavity and label): a bad NAME=LABEL
@@ -54,9 +54,9 @@
 #include <string>
 #include <vector>
 
-#include "preprocess/boundary_labels.hpp"
-#include "preprocess/image.hpp"
-#include "preprocess/mesh.hpp"
+#include "preprocess/surfaces/boundary_labels.hpp"
+#include "preprocess/image/image.hpp"
+#include "preprocess/mesh/mesh.hpp"
 
 namespace adamss::preprocess {
 

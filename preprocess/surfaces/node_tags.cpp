@@ -1,4 +1,4 @@
-#include "preprocess/node_tags.hpp"
+#include "preprocess/surfaces/node_tags.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -2,7 +2,7 @@
 // Named node sets written to mesh.h5 (/node_tags/NAME) so scenes can fix or load them by name.
 //
 // Label-pair surfaces. For every (inside, outside) label pair among the mesh's boundary
-// faces (BoundaryFace, preprocess/boundary_labels.hpp) the tag "surface:A-B" holds the
+// faces (BoundaryFace, preprocess/surfaces/boundary_labels.hpp) the tag "surface:A-B" holds the
 // nodes of the faces with inside label A and outside label B, e.g. on the lv phantom
 // "surface:1-0" (epicardium and base ring top) and "surface:1-2" (endocardium). Nodes
 // on the rim between two surfaces belong to both. Lists are sorted and unique.
@@ -19,8 +19,8 @@
 #include <string>
 #include <vector>
 
-#include "preprocess/boundary_labels.hpp"
-#include "preprocess/mesh.hpp"
+#include "preprocess/surfaces/boundary_labels.hpp"
+#include "preprocess/mesh/mesh.hpp"
 
 namespace adamss::preprocess {
 

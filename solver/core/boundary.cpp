@@ -1,4 +1,4 @@
-#include "solver/boundary.hpp"
+#include "solver/core/boundary.hpp"
 
 #include <algorithm>
 #include <fstream>

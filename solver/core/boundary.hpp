@@ -18,9 +18,9 @@
 #include <string>
 #include <vector>
 
-#include "preprocess/mesh.hpp"
-#include "solver/region.hpp"
-#include "solver/time_course.hpp"
+#include "preprocess/mesh/mesh.hpp"
+#include "solver/core/region.hpp"
+#include "solver/core/time_course.hpp"
 
 namespace adamss::solver {
 

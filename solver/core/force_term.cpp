@@ -1,4 +1,4 @@
-#include "solver/force_term.hpp"
+#include "solver/core/force_term.hpp"
 
 #include "common/error.hpp"
 

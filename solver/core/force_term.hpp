@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "preprocess/mesh.hpp"
-#include "solver/state_archive.hpp"
+#include "preprocess/mesh/mesh.hpp"
+#include "solver/core/state_archive.hpp"
 
 namespace adamss::solver {
 
@@ -59,7 +59,7 @@ class ForceTerm {
   /// absent) and the term writes its elements' values. The default adds nothing.
   virtual void add_cell_fields(const StateView& /*s*/, std::size_t /*element_count*/,
                                std::map<std::string, Eigen::VectorXd>& /*fields*/) const {}
-  /// Checkpoint/restart (solver/state_archive.hpp): writes the term's internal state -- whatever
+  /// Checkpoint/restart (solver/core/state_archive.hpp): writes the term's internal state -- whatever
   /// end_step or an integrator changes between steps (adaptive stiffnesses, a multiplier) -- into
   /// `archive` (a prefix of its own), so that load_state on a freshly built term of the same scene
   /// makes it bitwise the term of the interrupted run. Stateless terms (the default) save nothing.

@@ -1,10 +1,10 @@
-#include "solver/mass.hpp"
+#include "solver/core/mass.hpp"
 
 #include <cmath>
 #include <string>
 
 #include "common/error.hpp"
-#include "preprocess/mesh_quality.hpp"
+#include "preprocess/mesh/mesh_quality.hpp"
 
 namespace adamss::solver {
 

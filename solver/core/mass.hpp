@@ -7,7 +7,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "preprocess/mesh.hpp"
+#include "preprocess/mesh/mesh.hpp"
 
 namespace adamss::solver {
 

@@ -1,4 +1,4 @@
-#include "solver/model.hpp"
+#include "solver/core/model.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -6,8 +6,8 @@
 #include <cmath>
 #include <limits>
 
-#include "preprocess/element_faces.hpp"
-#include "solver/element_rules.hpp"
+#include "preprocess/mesh/element_faces.hpp"
+#include "solver/geometry/element_rules.hpp"
 
 namespace adamss::solver {
 
@@ -56,7 +56,7 @@ double element_signed_volume_check(const preprocess::Mesh& mesh, const Eigen::Ma
   double vmin = std::numeric_limits<double>::infinity();
   for (std::size_t a = 0; a < 8; ++a) {
     // A corner with a collapsed edge (a degenerate hexahedron: a wedge or pyramid stored with
-    // repeated node indices, e.g. the apex ring of preprocess/ellipsoid_mesh.hpp) spans no
+    // repeated node indices, e.g. the apex ring of preprocess/meshers/ellipsoid_mesh.hpp) spans no
     // parallelepiped in any state; it is skipped.
     const auto& nb = kHexNeighbour[a];
     if (n[nb[0]] == n[a] || n[nb[1]] == n[a] || n[nb[2]] == n[a]) continue;

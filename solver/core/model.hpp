@@ -11,9 +11,9 @@
 #include <utility>
 #include <vector>
 
-#include "preprocess/mesh.hpp"
-#include "solver/boundary.hpp"
-#include "solver/force_term.hpp"
+#include "preprocess/mesh/mesh.hpp"
+#include "solver/core/boundary.hpp"
+#include "solver/core/force_term.hpp"
 
 namespace adamss::solver {
 

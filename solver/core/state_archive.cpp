@@ -1,4 +1,4 @@
-#include "solver/state_archive.hpp"
+#include "solver/core/state_archive.hpp"
 
 #include <hdf5.h>
 

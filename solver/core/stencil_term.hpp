@@ -31,7 +31,7 @@
 #include <utility>
 #include <vector>
 
-#include "solver/force_term.hpp"
+#include "solver/core/force_term.hpp"
 
 namespace adamss::solver {
 

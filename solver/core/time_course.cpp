@@ -1,4 +1,4 @@
-#include "solver/time_course.hpp"
+#include "solver/core/time_course.hpp"
 
 #include <algorithm>
 #include <cmath>

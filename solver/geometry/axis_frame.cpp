@@ -1,4 +1,4 @@
-#include "solver/axis_frame.hpp"
+#include "solver/geometry/axis_frame.hpp"
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
@@ -7,9 +7,9 @@
 #include <string>
 
 #include "common/error.hpp"
-#include "preprocess/element_faces.hpp"
-#include "preprocess/mesh_quality.hpp"
-#include "solver/axis_frame_geometry.hpp"
+#include "preprocess/mesh/element_faces.hpp"
+#include "preprocess/mesh/mesh_quality.hpp"
+#include "solver/geometry/axis_frame_geometry.hpp"
 
 namespace adamss::solver {
 namespace {

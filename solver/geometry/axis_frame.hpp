@@ -40,7 +40,7 @@
 #include <string>
 #include <vector>
 
-#include "preprocess/mesh.hpp"
+#include "preprocess/mesh/mesh.hpp"
 
 namespace adamss::solver {
 

@@ -1,4 +1,4 @@
-#include "solver/axis_frame_geometry.hpp"
+#include "solver/geometry/axis_frame_geometry.hpp"
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>

@@ -1,8 +1,8 @@
 #pragma once
 // Shape-function gradients and quadrature rules of the mesh's own interpolation
 // (linear tetrahedron, trilinear hexahedron), in parameter space. One place for the
-// formulas that the FEM-style terms (solver/fem_element.hpp), the exact element volume
-// (solver/model.cpp) and the output (solver/results.cpp) need.
+// formulas that the FEM-style terms (solver/terms/fem/fem_element.hpp), the exact element volume
+// (solver/core/model.cpp) and the output (solver/run/results.cpp) need.
 //
 // Hexahedron: parameter cube [0,1]^3, VTK corner order
 //   0 (000), 1 (100), 2 (110), 3 (010), 4 (001), 5 (101), 6 (111), 7 (011),
@@ -17,7 +17,7 @@
 #include <array>
 #include <cmath>
 
-#include "preprocess/element_faces.hpp"
+#include "preprocess/mesh/element_faces.hpp"
 
 namespace adamss::solver {
 

@@ -1,4 +1,4 @@
-#include "solver/surface.hpp"
+#include "solver/geometry/surface.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -6,8 +6,8 @@
 #include <sstream>
 
 #include "common/error.hpp"
-#include "preprocess/element_faces.hpp"
-#include "preprocess/face_table.hpp"
+#include "preprocess/mesh/element_faces.hpp"
+#include "preprocess/mesh/face_table.hpp"
 
 namespace adamss::solver {
 namespace {

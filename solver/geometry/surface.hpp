@@ -38,8 +38,8 @@
 #include <string>
 #include <vector>
 
-#include "preprocess/mesh.hpp"
-#include "solver/region.hpp"
+#include "preprocess/mesh/mesh.hpp"
+#include "solver/core/region.hpp"
 
 namespace adamss::solver {
 

@@ -1,4 +1,4 @@
-#include "solver/results.hpp"
+#include "solver/run/results.hpp"
 
 #include <Eigen/Dense>
 #include <array>
@@ -10,8 +10,8 @@
 #include <system_error>
 
 #include "common/error.hpp"
-#include "preprocess/element_faces.hpp"
-#include "solver/element_rules.hpp"
+#include "preprocess/mesh/element_faces.hpp"
+#include "solver/geometry/element_rules.hpp"
 
 namespace adamss::solver {
 

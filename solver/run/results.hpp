@@ -13,7 +13,7 @@
 //   checkpoint.h5         written every output.checkpoint_interval, on SIGINT/SIGTERM and on
 //                         failures: /x, /v (n x 3), attributes t and step, and (for a resumable
 //                         checkpoint) the run loop's, integrator's, terms' and this writer's
-//                         state (solver/state_archive.hpp, docs/file-formats.md)
+//                         state (solver/core/state_archive.hpp, docs/file-formats.md)
 // Every file except globals.csv is written to NAME.tmp and renamed over NAME, so an interrupted
 // run never leaves a truncated frame, series, summary or checkpoint. globals.csv is appended one
 // flushed row at a time; a resume truncates it to the rows the checkpoint had seen.
@@ -24,9 +24,9 @@
 #include <string>
 #include <vector>
 
-#include "solver/integrator.hpp"
-#include "solver/model.hpp"
-#include "solver/state_archive.hpp"
+#include "solver/time/integrator.hpp"
+#include "solver/core/model.hpp"
+#include "solver/core/state_archive.hpp"
 
 namespace adamss::solver {
 

@@ -1,4 +1,4 @@
-#include "solver/run.hpp"
+#include "solver/run/run.hpp"
 
 #include <unistd.h>
 
@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "common/error.hpp"
-#include "solver/volume_check.hpp"
+#include "solver/simd/volume_check.hpp"
 
 namespace adamss::solver {
 
@@ -47,13 +47,12 @@ class SignalGuard {
   struct sigaction old_term_ {};
 };
 
-/// Integrator names in a fixed order: the checkpoint stores the index.
-const std::vector<std::string> kIntegratorNames = {"forward_euler",  "symplectic_euler",      "abm3",
-                                                   "backward_euler", "backward_euler_newton", "static"};
-
+/// The integrator's row in integrator_table(): the checkpoint stores the index.
 std::int64_t integrator_code(const std::string& name) {
-  const auto it = std::find(kIntegratorNames.begin(), kIntegratorNames.end(), name);
-  return it == kIntegratorNames.end() ? -1 : static_cast<std::int64_t>(it - kIntegratorNames.begin());
+  const auto& table = integrator_table();
+  for (std::size_t i = 0; i < table.size(); ++i)
+    if (name == table[i].name) return static_cast<std::int64_t>(i);
+  return -1;
 }
 
 using Clock = std::chrono::steady_clock;
@@ -304,7 +303,7 @@ RunOutcome run_simulation(Model& model, State& s, const RunSettings& set, Result
       while (next_checkpoint <= s.t + t_eps) next_checkpoint += set.checkpoint_interval;
       write_full_checkpoint();
     }
-    const double h = integ->name() == "abm3" ? dt : std::min(dt, set.t_end - s.t);
+    const double h = integrator_info(set.integrator).clips_last_step ? std::min(dt, set.t_end - s.t) : dt;
     StepReport& rep = last_rep;
     try {
       rep = integ->step(s, h);

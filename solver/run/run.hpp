@@ -16,7 +16,7 @@
 //     final frame are written, then the run returns (the step under way, with its retries,
 //     is finished first: a checkpoint is always taken between two accepted steps)
 //   * stop_after_steps reached (hidden --stop-after-steps, for restart tests): as a signal
-// Checkpoints (solver/state_archive.hpp): besides on a signal, every checkpoint_interval of
+// Checkpoints (solver/core/state_archive.hpp): besides on a signal, every checkpoint_interval of
 // simulated time. A resumable checkpoint holds the state, this loop's counters (step, next dt,
 // next frame/globals/checkpoint times, the last good state, the step report of the last step),
 // the integrator's history, every force term's internal state and the results writer's counters;
@@ -28,10 +28,10 @@
 #include <optional>
 #include <string>
 
-#include "solver/implicit.hpp"
-#include "solver/integrator.hpp"
-#include "solver/model.hpp"
-#include "solver/results.hpp"
+#include "solver/time/implicit.hpp"
+#include "solver/time/integrator.hpp"
+#include "solver/core/model.hpp"
+#include "solver/run/results.hpp"
 
 namespace adamss::solver {
 

@@ -1,4 +1,4 @@
-#include "solver/scene.hpp"
+#include "solver/scene/scene.hpp"
 
 #include <unistd.h>
 
@@ -15,20 +15,20 @@
 #include <sstream>
 
 #include "common/error.hpp"
-#include "preprocess/boundary_labels.hpp"
-#include "preprocess/box_mesh.hpp"
-#include "preprocess/cavities.hpp"
-#include "preprocess/cell_fields.hpp"
-#include "preprocess/ellipsoid_mesh.hpp"
-#include "preprocess/fibre_field.hpp"
-#include "preprocess/lattice_mesher.hpp"
-#include "preprocess/mesh_io.hpp"
-#include "preprocess/node_tags.hpp"
-#include "preprocess/phantom.hpp"
-#include "solver/gravity.hpp"
-#include "solver/mass.hpp"
-#include "solver/scene_loads.hpp"
-#include "solver/scene_terms.hpp"
+#include "preprocess/surfaces/boundary_labels.hpp"
+#include "preprocess/meshers/box_mesh.hpp"
+#include "preprocess/surfaces/cavities.hpp"
+#include "preprocess/mesh/cell_fields.hpp"
+#include "preprocess/meshers/ellipsoid_mesh.hpp"
+#include "preprocess/fibres/fibre_field.hpp"
+#include "preprocess/meshers/lattice_mesher.hpp"
+#include "preprocess/mesh/mesh_io.hpp"
+#include "preprocess/surfaces/node_tags.hpp"
+#include "preprocess/image/phantom.hpp"
+#include "solver/terms/loads/gravity.hpp"
+#include "solver/core/mass.hpp"
+#include "solver/scene/scene_loads.hpp"
+#include "solver/scene/scene_terms.hpp"
 
 namespace adamss::solver {
 
@@ -57,7 +57,7 @@ std::string hash_hex(const std::string& s) {
 }
 
 /// mesh: {ellipsoid: land, divisions: [n_v, n_u, n_t], topology: hex|tet, endo: [r_s, r_l],
-/// epi: [r_s, r_l], base_z: z}: the structured truncated ellipsoid (preprocess/ellipsoid_mesh.hpp),
+/// epi: [r_s, r_l], base_z: z}: the structured truncated ellipsoid (preprocess/meshers/ellipsoid_mesh.hpp),
 /// built in memory (no cache: it takes milliseconds).
 preprocess::Mesh ellipsoid_mesh(SceneNode& node) {
   node.choice("ellipsoid", {"land"});
@@ -437,8 +437,7 @@ LoadedScene assemble(const YAML::Node& root_yaml, const fs::path& origin, const 
   // ---- integrator and run
   SceneNode integ = root.map("integrator");
   RunSettings& run = sc.run;
-  run.integrator = integ.choice(
-      "type", {"forward_euler", "symplectic_euler", "abm3", "backward_euler", "backward_euler_newton", "static"});
+  run.integrator = integ.choice("type", integrator_names());
   run.dt = integ.positive("dt", Dimension::Time);
   run.abm3.error_min = integ.positive("error_min", Dimension::Length, run.abm3.error_min);
   run.abm3.error_max = integ.positive("error_max", Dimension::Length, run.abm3.error_max);
@@ -499,8 +498,7 @@ LoadedScene assemble(const YAML::Node& root_yaml, const fs::path& origin, const 
   if (max_c2 > 0.0) {
     sc.wave_speed = std::sqrt(max_c2);
     sc.critical_dt = sc.min_edge_length / sc.wave_speed;
-    const bool explicit_scheme = run.integrator == "forward_euler" || run.integrator == "symplectic_euler";
-    if (explicit_scheme && run.dt > sc.critical_dt) {
+    if (integrator_info(run.integrator).stable_step_limited && run.dt > sc.critical_dt) {
       std::ostringstream os;
       os << "integrator.dt = " << run.dt << " s exceeds the critical step h_c = L/c = " << sc.critical_dt
          << " s (eq. 2.150; shortest edge L = " << sc.min_edge_length << " m, wave speed c = " << sc.wave_speed

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "solver/model.hpp"
-#include "solver/run.hpp"
+#include "solver/core/model.hpp"
+#include "solver/run/run.hpp"
 
 namespace adamss::solver {
 

@@ -1,12 +1,12 @@
-#include "solver/scene_loads.hpp"
+#include "solver/scene/scene_loads.hpp"
 
 #include <set>
 
 #include "common/error.hpp"
-#include "solver/cavity_constraint.hpp"
-#include "solver/cavity_pressure.hpp"
-#include "solver/global_friction.hpp"
-#include "solver/surface.hpp"
+#include "solver/terms/loads/cavity_constraint.hpp"
+#include "solver/terms/loads/cavity_pressure.hpp"
+#include "solver/terms/loads/global_friction.hpp"
+#include "solver/geometry/surface.hpp"
 
 namespace adamss::solver {
 

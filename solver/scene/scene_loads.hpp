@@ -3,8 +3,8 @@
 // (eq. 2.118) and cavity pressures (eq. 2.119). See docs/scene-reference.md.
 #include <filesystem>
 
-#include "solver/model.hpp"
-#include "solver/scene_node.hpp"
+#include "solver/core/model.hpp"
+#include "solver/scene/scene_node.hpp"
 
 namespace adamss::solver {
 

@@ -1,4 +1,4 @@
-#include "solver/scene_node.hpp"
+#include "solver/scene/scene_node.hpp"
 
 #include <sstream>
 

@@ -21,8 +21,8 @@
 #include <vector>
 
 #include "common/units.hpp"
-#include "solver/region.hpp"
-#include "solver/time_course.hpp"
+#include "solver/core/region.hpp"
+#include "solver/core/time_course.hpp"
 
 namespace adamss::solver {
 

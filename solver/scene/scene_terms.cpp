@@ -1,4 +1,4 @@
-#include "solver/scene_terms.hpp"
+#include "solver/scene/scene_terms.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -7,20 +7,20 @@
 
 #include "common/error.hpp"
 #include "materials/factory.hpp"
-#include "preprocess/fibre_field.hpp"
-#include "preprocess/mesh_quality.hpp"
-#include "solver/active_tension.hpp"
-#include "solver/axial_springs.hpp"
-#include "solver/fem_element.hpp"
-#include "solver/hybmss.hpp"
-#include "solver/lloyd_springs.hpp"
-#include "solver/mass_springs.hpp"
-#include "solver/hourglass.hpp"
-#include "solver/material_friction.hpp"
-#include "solver/torsion_springs.hpp"
-#include "solver/virtual_hex.hpp"
-#include "solver/volume_preservation.hpp"
-#include "solver/volume_springs.hpp"
+#include "preprocess/fibres/fibre_field.hpp"
+#include "preprocess/mesh/mesh_quality.hpp"
+#include "solver/terms/adamss/active_tension.hpp"
+#include "solver/terms/adamss/axial_springs.hpp"
+#include "solver/terms/fem/fem_element.hpp"
+#include "solver/terms/springs/hybmss.hpp"
+#include "solver/terms/springs/lloyd_springs.hpp"
+#include "solver/terms/springs/mass_springs.hpp"
+#include "solver/terms/adamss/hourglass.hpp"
+#include "solver/terms/adamss/material_friction.hpp"
+#include "solver/terms/adamss/torsion_springs.hpp"
+#include "solver/terms/adamss/virtual_hex.hpp"
+#include "solver/terms/adamss/volume_preservation.hpp"
+#include "solver/terms/adamss/volume_springs.hpp"
 
 namespace adamss::solver {
 
@@ -69,7 +69,7 @@ std::shared_ptr<const materials::Law> scene_law(SceneNode& node) {
 }
 
 /// quadrature: axis (the thesis's one F per element from the axis frames) or gauss (the law
-/// at the Gauss points of the element's own interpolation; solver/fem_element.hpp).
+/// at the Gauss points of the element's own interpolation; solver/terms/fem/fem_element.hpp).
 void build_virtual_hex(SceneNode& node, MaterialContext& ctx) {
   const std::shared_ptr<const materials::Law> law = scene_law(node);
   const bool gauss = node.choice("quadrature", {"axis", "gauss"}, "axis") == "gauss";
@@ -272,7 +272,7 @@ void build_lloyd_springs(SceneNode& node, MaterialContext& ctx) {
   if (p.volume_force) ctx.bulk_modulus += 2.0 * lloyd_volume_penalty(p.youngs_modulus);
 }
 
-/// Hourglass stabilisation of hexahedra (an addition, not in the thesis; solver/hourglass.hpp).
+/// Hourglass stabilisation of hexahedra (an addition, not in the thesis; solver/terms/adamss/hourglass.hpp).
 /// modulus defaults to the modulus the terms listed before it declared (the virtual hexahedron's law).
 void build_hourglass(SceneNode& node, MaterialContext& ctx) {
   HourglassParams p;

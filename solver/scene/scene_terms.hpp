@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "preprocess/mesh.hpp"
-#include "solver/axis_frame.hpp"
-#include "solver/model.hpp"
-#include "solver/scene_node.hpp"
+#include "preprocess/mesh/mesh.hpp"
+#include "solver/geometry/axis_frame.hpp"
+#include "solver/core/model.hpp"
+#include "solver/scene/scene_node.hpp"
 
 namespace adamss::solver {
 

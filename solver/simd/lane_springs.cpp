@@ -1,4 +1,4 @@
-#include "solver/lane_springs.hpp"
+#include "solver/simd/lane_springs.hpp"
 
 #include <algorithm>
 #include <map>
@@ -7,7 +7,7 @@
 #include <string>
 #include <utility>
 
-#include "solver/spring_simd.hpp"
+#include "solver/simd/spring_simd.hpp"
 
 namespace adamss::solver {
 namespace {

@@ -1,6 +1,6 @@
 #pragma once
 // LaneSprings: the one-thread spring loop for springs on a lattice-numbered mesh (issue 9), used by
-// SpringLoop (solver/soa_loops.hpp) when the springs suit it.
+// SpringLoop (solver/simd/soa_loops.hpp) when the springs suit it.
 //
 // Lane interleaving. The n nodes are cut into 8 contiguous ranges of m nodes (m = ceil(n / 8)
 // rounded up to a multiple of 8); vector lane l (0..7) holds range l, and slot s holds node
@@ -20,7 +20,7 @@
 // order; within a pair, offsets in increasing order, slot s before s + 1 per offset), then the
 // node's own i-side sum (offsets in increasing order), then, for slots below h, the halo's j sides; fixed by the layout alone, so the forces are the same bits at every call and
 // for any thread count (the loop always runs on one thread). Each spring's force is spring8 of
-// solver/spring_simd.hpp, as in the run loops; the sums are in a different order, so the forces
+// solver/simd/spring_simd.hpp, as in the run loops; the sums are in a different order, so the forces
 // agree with the run loops' to rounding.
 #include <Eigen/Core>
 #include <array>
@@ -28,8 +28,8 @@
 #include <memory>
 #include <vector>
 
-#include "preprocess/mesh.hpp"
-#include "solver/simd.hpp"
+#include "preprocess/mesh/mesh.hpp"
+#include "solver/simd/simd.hpp"
 
 namespace adamss::solver {
 

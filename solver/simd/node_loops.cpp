@@ -1,6 +1,6 @@
-#include "solver/node_loops.hpp"
+#include "solver/simd/node_loops.hpp"
 
-#include "solver/run_layout.hpp"  // ADAMSS_SIMD_CLONES
+#include "solver/simd/run_layout.hpp"  // ADAMSS_SIMD_CLONES
 
 namespace adamss::solver {
 

@@ -23,7 +23,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "preprocess/mesh.hpp"
+#include "preprocess/mesh/mesh.hpp"
 
 /// Vectorised loops over runs are compiled for AVX-512, AVX2 and plain x86-64 and the best is
 /// chosen at load time (gcc function multi-versioning); a no-op for other compilers.

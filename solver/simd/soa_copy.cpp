@@ -1,6 +1,6 @@
-#include "solver/soa_copy.hpp"
+#include "solver/simd/soa_copy.hpp"
 
-#include "solver/simd.hpp"
+#include "solver/simd/simd.hpp"
 
 namespace adamss::solver {
 namespace {

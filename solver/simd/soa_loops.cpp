@@ -1,4 +1,4 @@
-#include "solver/soa_loops.hpp"
+#include "solver/simd/soa_loops.hpp"
 
 #include <omp.h>
 
@@ -7,9 +7,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "solver/simd.hpp"
-#include "solver/soa_copy.hpp"
-#include "solver/spring_simd.hpp"
+#include "solver/simd/simd.hpp"
+#include "solver/simd/soa_copy.hpp"
+#include "solver/simd/spring_simd.hpp"
 
 namespace adamss::solver {
 namespace {

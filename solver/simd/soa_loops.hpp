@@ -1,8 +1,8 @@
 #pragma once
 // Structure-of-arrays force loops for the explicit path (issue 9): the spring set of
-// solver/edge_springs.hpp and the HybMSS volume correction of solver/hybmss.hpp, on a
-// RunLayout (solver/run_layout.hpp). Springs on a lattice-numbered mesh that one thread evaluates
-// go through the lane loop of solver/lane_springs.hpp instead.
+// solver/terms/springs/edge_springs.hpp and the HybMSS volume correction of solver/terms/springs/hybmss.hpp, on a
+// RunLayout (solver/simd/run_layout.hpp). Springs on a lattice-numbered mesh that one thread evaluates
+// go through the lane loop of solver/simd/lane_springs.hpp instead.
 //
 // One evaluation:
 //   1. positions x (3 x n, Eigen column-major) are copied into three node arrays X, Y, Z;
@@ -16,7 +16,7 @@
 // are bitwise repeatable for a given binary and machine.
 //
 // Springs (per slot: nodes i = b + t, j = b + o_1 + t, stiffness k, rest length L; eq. of
-// solver/edge_springs.hpp):   d = x_j - x_i,  l = |d|,  c = k (l - L) / l = k - (k L) / l,
+// solver/terms/springs/edge_springs.hpp):   d = x_j - x_i,  l = |d|,  c = k (l - L) / l = k - (k L) / l,
 //   f_i += c d,  f_j -= c d   (ghost slots: k = 0 and c = 0 exactly). The slot stores k and kL.
 // Cost per slot (AVX-512 path): 6 loads of node coordinates (cached), 2 of constants; 3 sub,
 // 3 for l^2, rsqrt estimate + 6 for its refinement, 1 FMA for c, 3 mul = 19 operations; the
@@ -34,9 +34,9 @@
 #include <memory>
 #include <vector>
 
-#include "solver/lane_springs.hpp"
-#include "solver/run_layout.hpp"
-#include "solver/simd.hpp"
+#include "solver/simd/lane_springs.hpp"
+#include "solver/simd/run_layout.hpp"
+#include "solver/simd/simd.hpp"
 
 namespace adamss::solver {
 
@@ -50,7 +50,7 @@ class SpringLoop {
   void add_forces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f) const;
   [[nodiscard]] const RunLayout<2>& layout() const { return layout_; }
   [[nodiscard]] std::size_t spring_count() const { return springs_; }
-  /// The lane loop (solver/lane_springs.hpp) if this loop uses it: for springs that suit it and
+  /// The lane loop (solver/simd/lane_springs.hpp) if this loop uses it: for springs that suit it and
   /// are too few for the multi-threaded path (so that the choice does not depend on the thread
   /// count).
   [[nodiscard]] const LaneSprings* lanes() const { return lanes_.get(); }

@@ -1,7 +1,7 @@
 #pragma once
-// The 8-lane spring force shared by the explicit path's spring loops (solver/soa_loops.cpp and
-// solver/lane_springs.cpp), so that every loop rounds a spring's force alike.
-#include "solver/simd.hpp"
+// The 8-lane spring force shared by the explicit path's spring loops (solver/simd/soa_loops.cpp and
+// solver/simd/lane_springs.cpp), so that every loop rounds a spring's force alike.
+#include "solver/simd/simd.hpp"
 
 namespace adamss::solver {
 

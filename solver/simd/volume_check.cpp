@@ -1,12 +1,12 @@
-#include "solver/volume_check.hpp"
+#include "solver/simd/volume_check.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
-#include "preprocess/element_faces.hpp"
-#include "solver/soa_copy.hpp"
+#include "preprocess/mesh/element_faces.hpp"
+#include "solver/simd/soa_copy.hpp"
 
 namespace adamss::solver {
 namespace {

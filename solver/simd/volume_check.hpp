@@ -1,5 +1,5 @@
 #pragma once
-// A vectorised screen for the run loop's per-step element check (solver/run.cpp, eq. 2.154):
+// A vectorised screen for the run loop's per-step element check (solver/run/run.cpp, eq. 2.154):
 // which elements MAY have inverted or gone flat. The exact check
 // (element_signed_volume_check, model.hpp) then runs only when the screen flags something,
 // so the decision and the message are those of the exact check.
@@ -7,7 +7,7 @@
 // Per element the screen computes the same quantity as element_signed_volume_check -- the
 // tetrahedron's signed volume, or the smallest of a hexahedron's 8 corner parallelepiped
 // volumes sign_a det(x_b - x_a, x_c - x_a, x_d - x_a) over its non-collapsed corners -- on a
-// RunLayout (solver/run_layout.hpp), so contiguous loads and SIMD lanes across elements, and
+// RunLayout (solver/simd/run_layout.hpp), so contiguous loads and SIMD lanes across elements, and
 // flags an element when the value is not above its threshold. Callers pass thresholds raised by
 // a margin that covers the rounding differences between the two evaluations (the screen may
 // contract products into FMAs). Cost per hexahedron: 8 corners x (9 subtractions, 9
@@ -16,8 +16,8 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "preprocess/mesh.hpp"
-#include "solver/run_layout.hpp"
+#include "preprocess/mesh/mesh.hpp"
+#include "solver/simd/run_layout.hpp"
 
 namespace adamss::solver {
 

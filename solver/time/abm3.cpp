@@ -1,4 +1,4 @@
-#include "solver/abm3.hpp"
+#include "solver/time/abm3.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -27,7 +27,7 @@
 #include <array>
 #include <deque>
 
-#include "solver/integrator.hpp"
+#include "solver/time/integrator.hpp"
 
 namespace adamss::solver {
 

@@ -1,4 +1,4 @@
-#include "solver/implicit.hpp"
+#include "solver/time/implicit.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
-#include "solver/petsc_env.hpp"
+#include "solver/time/petsc/petsc_env.hpp"
 
 namespace adamss::solver {
 
@@ -47,7 +47,7 @@ void zero_dofs(Eigen::Matrix3Xd& m, const std::vector<PetscInt>& dofs) {
   for (const PetscInt d : dofs) m.data()[d] = 0.0;
 }
 
-/// Residual of cavity condition `c` at pressure p and volume v (solver/cavity_constraint.hpp):
+/// Residual of cavity condition `c` at pressure p and volume v (solver/terms/loads/cavity_constraint.hpp):
 /// P_given - p, or V*(p) - v. `ok` when it is within the Newton tolerance (1e-10 relative).
 double condition_residual(const CavityCondition& c, double p, double v, double v_ref, bool& ok) {
   if (c.pressure_given) {

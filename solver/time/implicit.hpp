@@ -24,7 +24,7 @@
 // easy step (Newton <= 3 iterations, or linear iterations <= 1/4 of the limit) dt grows by 1.5
 // up to dt_max; after a hard one (Newton >= 8) it shrinks by 2.
 // A term without a Jacobian makes these integrators refuse the scene by name (require_jacobians).
-// Cavity constraints (solver/cavity_constraint.hpp: a held volume, or a circulation's phase
+// Cavity constraints (solver/terms/loads/cavity_constraint.hpp: a held volume, or a circulation's phase
 // condition -- given pressure, held volume, Windkessel ejection V = V*(P)) are enforced by
 // `static` and `backward_euler_newton` through a bordered Newton system; the linearised
 // backward_euler refuses them by name.
@@ -34,9 +34,9 @@
 #include <string>
 #include <vector>
 
-#include "solver/cavity_constraint.hpp"
-#include "solver/integrator.hpp"
-#include "solver/petsc_matrix.hpp"
+#include "solver/terms/loads/cavity_constraint.hpp"
+#include "solver/time/integrator.hpp"
+#include "solver/time/petsc/petsc_matrix.hpp"
 
 namespace adamss::solver {
 

@@ -1,12 +1,13 @@
-#include "solver/integrator.hpp"
+#include "solver/time/integrator.hpp"
 
 #include <cmath>
+#include <stdexcept>
 
 #include "common/error.hpp"
-#include "solver/abm3.hpp"
-#include "solver/cavity_constraint.hpp"
-#include "solver/implicit.hpp"
-#include "solver/node_loops.hpp"
+#include "solver/time/abm3.hpp"
+#include "solver/terms/loads/cavity_constraint.hpp"
+#include "solver/time/implicit.hpp"
+#include "solver/simd/node_loops.hpp"
 
 namespace adamss::solver {
 
@@ -97,25 +98,57 @@ class SymplecticEuler final : public Integrator {
 
 }  // namespace
 
+const std::vector<IntegratorInfo>& integrator_table() {
+  static const std::vector<IntegratorInfo> table = {
+      {"forward_euler", IntegratorType::ForwardEuler, true, true, true},
+      {"symplectic_euler", IntegratorType::SymplecticEuler, true, true, true},
+      {"abm3", IntegratorType::Abm3, true, false, false},
+      {"backward_euler", IntegratorType::BackwardEuler, false, false, true},
+      {"backward_euler_newton", IntegratorType::BackwardEulerNewton, false, false, true},
+      {"static", IntegratorType::Static, false, false, true},
+  };
+  return table;
+}
+
+std::vector<std::string> integrator_names() {
+  std::vector<std::string> names;
+  for (const IntegratorInfo& row : integrator_table()) names.emplace_back(row.name);
+  return names;
+}
+
+const IntegratorInfo& integrator_info(const std::string& name) {
+  for (const IntegratorInfo& row : integrator_table())
+    if (name == row.name) return row;
+  std::string list;
+  for (const IntegratorInfo& row : integrator_table()) list += (list.empty() ? "" : ", ") + std::string(row.name);
+  throw InputError("unknown integrator '" + name + "' (" + list + ")");
+}
+
 std::unique_ptr<Integrator> make_integrator(const std::string& name, System& system, const Abm3Settings& abm,
                                             const ImplicitSettings* implicit) {
-  if (name == "forward_euler" || name == "symplectic_euler" || name == "abm3") {
+  const IntegratorInfo& info = integrator_info(name);
+  if (info.is_explicit) {
     for (const auto& t : system.model().terms)
       if (dynamic_cast<const CavityConstraintTerm*>(t.get()) != nullptr)
         throw InputError(name + " cannot hold a cavity volume (" + t->name() + "); use the integrator type static");
   }
-  if (name == "forward_euler") return std::make_unique<ForwardEuler>(system);
-  if (name == "symplectic_euler") return std::make_unique<SymplecticEuler>(system);
-  if (name == "abm3") return std::make_unique<Abm3>(system, abm);
   const ImplicitSettings defaults;
   const ImplicitSettings& imp = implicit != nullptr ? *implicit : defaults;
-  if (name == "backward_euler")
-    return std::make_unique<ImplicitIntegrator>(system, ImplicitIntegrator::Kind::BackwardEuler, imp);
-  if (name == "backward_euler_newton")
-    return std::make_unique<ImplicitIntegrator>(system, ImplicitIntegrator::Kind::BackwardEulerNewton, imp);
-  if (name == "static") return std::make_unique<ImplicitIntegrator>(system, ImplicitIntegrator::Kind::Static, imp);
-  throw InputError("unknown integrator '" + name +
-                   "' (forward_euler, symplectic_euler, abm3, backward_euler, backward_euler_newton, static)");
+  switch (info.type) {
+    case IntegratorType::ForwardEuler:
+      return std::make_unique<ForwardEuler>(system);
+    case IntegratorType::SymplecticEuler:
+      return std::make_unique<SymplecticEuler>(system);
+    case IntegratorType::Abm3:
+      return std::make_unique<Abm3>(system, abm);
+    case IntegratorType::BackwardEuler:
+      return std::make_unique<ImplicitIntegrator>(system, ImplicitIntegrator::Kind::BackwardEuler, imp);
+    case IntegratorType::BackwardEulerNewton:
+      return std::make_unique<ImplicitIntegrator>(system, ImplicitIntegrator::Kind::BackwardEulerNewton, imp);
+    case IntegratorType::Static:
+      return std::make_unique<ImplicitIntegrator>(system, ImplicitIntegrator::Kind::Static, imp);
+  }
+  throw std::logic_error("make_integrator: integrator type without a constructor");
 }
 
 }  // namespace adamss::solver

@@ -14,9 +14,10 @@
 #include <Eigen/Core>
 #include <memory>
 #include <string>
+#include <vector>
 
-#include "solver/model.hpp"
-#include "solver/state_archive.hpp"
+#include "solver/core/model.hpp"
+#include "solver/core/state_archive.hpp"
 
 namespace adamss::solver {
 
@@ -92,8 +93,28 @@ struct Abm3Settings {
 
 struct ImplicitSettings;
 
-/// "forward_euler", "symplectic_euler", "abm3", and (solver/implicit.hpp) "backward_euler",
-/// "backward_euler_newton", "static". Throws InputError listing the names otherwise.
+/// The integrators a scene can name (`integrator.type`): integrator_table() is the one list of
+/// them; scene parsing, the run loop, checkpoints and make_integrator all read it.
+enum class IntegratorType { ForwardEuler, SymplecticEuler, Abm3, BackwardEuler, BackwardEulerNewton, Static };
+
+struct IntegratorInfo {
+  const char* name;          ///< the scene's spelling
+  IntegratorType type;
+  bool is_explicit;          ///< no Jacobian: cannot hold a cavity volume constraint
+  bool stable_step_limited;  ///< a fixed explicit step: dt must stay below h_c = L/c (eq. 2.150)
+  bool clips_last_step;      ///< the run loop shortens the last step to land on t_end (not ABM3,
+                             ///< whose step size is part of its multistep state)
+};
+
+/// Every integrator, in the order of their checkpoint index.
+[[nodiscard]] const std::vector<IntegratorInfo>& integrator_table();
+/// The row named `name`; InputError listing the names otherwise.
+[[nodiscard]] const IntegratorInfo& integrator_info(const std::string& name);
+/// The names of integrator_table(), in its order.
+[[nodiscard]] std::vector<std::string> integrator_names();
+
+/// Builds the integrator named `name` (integrator_table(); the implicit ones are in
+/// solver/time/implicit.hpp). Throws InputError listing the names for an unknown one.
 std::unique_ptr<Integrator> make_integrator(const std::string& name, System& system, const Abm3Settings& abm = {},
                                             const ImplicitSettings* implicit = nullptr);
 

@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "cli_runner.hpp"
-#include "preprocess/mesh_io.hpp"
+#include "preprocess/mesh/mesh_io.hpp"
 
 using adamss::test::run_adamss;
 using adamss::test::scratch_dir;

@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.hpp"
-#include "preprocess/mesh_io.hpp"
+#include "preprocess/mesh/mesh_io.hpp"
 
 using adamss::test::run_adamss;
 using adamss::test::scratch_dir;

@@ -8,7 +8,7 @@
 #include <map>
 #include <random>
 
-#include "solver/force_term.hpp"
+#include "solver/core/force_term.hpp"
 
 namespace adamss::test {
 

@@ -6,7 +6,7 @@
 #include <random>
 #include <vector>
 
-#include "preprocess/mesh.hpp"
+#include "preprocess/mesh/mesh.hpp"
 
 namespace adamss::testing {
 

@@ -3,7 +3,7 @@
 #include <Eigen/Geometry>
 #include <string>
 
-#include "preprocess/lattice_mesher.hpp"
+#include "preprocess/meshers/lattice_mesher.hpp"
 #include "support/fibre_fixtures.hpp"
 #include "support/lattice_fixtures.hpp"
 

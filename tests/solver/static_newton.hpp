@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "force_term_harness.hpp"
-#include "solver/force_term.hpp"
+#include "solver/core/force_term.hpp"
 
 namespace adamss::test {
 

@@ -14,7 +14,7 @@
 
 #include <vector>
 
-#include "preprocess/mesh.hpp"
+#include "preprocess/mesh/mesh.hpp"
 #include "static_newton.hpp"
 
 namespace adamss::test {

@@ -2,7 +2,7 @@
 // Fibre/sheet/normal frames for test meshes.
 #include <Eigen/Geometry>
 
-#include "preprocess/mesh.hpp"
+#include "preprocess/mesh/mesh.hpp"
 
 namespace adamss::test {
 

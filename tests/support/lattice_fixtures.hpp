@@ -3,8 +3,8 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 
-#include "preprocess/image.hpp"
-#include "preprocess/lattice_mesher.hpp"
+#include "preprocess/image/image.hpp"
+#include "preprocess/meshers/lattice_mesher.hpp"
 
 namespace adamss::test {
 

@@ -1,4 +1,4 @@
-#include "solver/active_tension.hpp"
+#include "solver/terms/adamss/active_tension.hpp"
 
 #include <Eigen/Geometry>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include "common/error.hpp"
 #include "materials/kinematics.hpp"
-#include "solver/axis_term_support.hpp"
+#include "solver/terms/adamss/axis_term_support.hpp"
 
 namespace adamss::solver {
 namespace {

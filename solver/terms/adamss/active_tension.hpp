@@ -14,7 +14,7 @@
 //    At fixed t this is -grad of the energy V0 S_a : E = V0 T_e (E_ff + c_s E_ss + c_n E_nn)
 //    (dE = sym(F^T dF), S_a symmetric, so d(S_a : E) = F S_a : dF). It is the passive
 //    virtual-hexahedron term with the law's S replaced by S_a, i.e. exactly eq. (2.56)/
-//    (2.74) with S = S_a (sign: force on the nodes, see solver/virtual_hex.hpp).
+//    (2.74) with S = S_a (sign: force on the nodes, see solver/terms/adamss/virtual_hex.hpp).
 //    Jacobian: dP = dF S_a, dF = e_j g_b^T, so d f_a / d x_b = -V0 (g_a . S_a g_b) I
 //    (exact, isotropic 3x3 blocks); df/dv = 0.
 //
@@ -52,7 +52,7 @@
 //    has an energy at fixed t. Tension form: no energy (A^t couples the axes
 //    non-symmetrically).
 //    Jacobian (chord blocks M_lj = d f_{2l} / d zeta_j, assembled by
-//    solver/axis_term_support.hpp): P_l = I - zh_l zh_l^T, L_l = |zeta_l|,
+//    solver/terms/adamss/axis_term_support.hpp): P_l = I - zh_l zh_l^T, L_l = |zeta_l|,
 //      Force:   M_ll = -c_l T P_l / L_l
 //      Tension: alpha = |u|, u = zeta_m x zeta_n, c_l = h r_l R_v,
 //               M_ll = -c_l T alpha P_l / L_l,
@@ -68,10 +68,10 @@
 #include <string>
 #include <vector>
 
-#include "preprocess/mesh.hpp"
-#include "solver/axis_frame.hpp"
-#include "solver/stencil_term.hpp"
-#include "solver/time_course.hpp"
+#include "preprocess/mesh/mesh.hpp"
+#include "solver/geometry/axis_frame.hpp"
+#include "solver/core/stencil_term.hpp"
+#include "solver/core/time_course.hpp"
 
 namespace adamss::solver {
 

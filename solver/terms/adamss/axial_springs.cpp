@@ -1,4 +1,4 @@
-#include "solver/axial_springs.hpp"
+#include "solver/terms/adamss/axial_springs.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -2,7 +2,7 @@
 // Axial springs of the Adamss model (seed 000 sec. 2.4.2.1, eqs. 2.30-2.31, 2.33-2.39).
 //
 // Every element carries three axial springs, one per axis l = 0 (fibre), 1 (sheet),
-// 2 (normal) of its axis frame (solver/axis_frame.hpp). Spring l is the chord between
+// 2 (normal) of its axis frame (solver/geometry/axis_frame.hpp). Spring l is the chord between
 // the two intersection points of axis l,
 //   zeta_l = x_{2l} - x_{2l+1} = X d_l,   d_l = C e_{2l} - C e_{2l+1}  (K-vector),
 // with x_q = X C (eq. 2.18/2.25), X the 3 x K current nodes, C the K x 6 coefficient
@@ -31,7 +31,7 @@
 //      (triangle; bilinear quad: 2x2-Gauss area and mean normal, as in
 //      axis_frame_geometry.hpp). Not conservative (no energy). The two ends generally
 //      get different magnitudes, so an element's net force does not vanish
-//      (measured in tests/solver/test_axial_springs.cpp).
+//      (measured in tests/solver/terms/adamss/test_axial_springs.cpp).
 //
 // Deviation from the thesis: eqs. 2.37-2.39 multiply E (Pa) A (m^2) by the elongation
 // rho - l0 (m), which gives N m, not N; here the face scaling uses the strain
@@ -54,10 +54,10 @@
 #include <string>
 #include <vector>
 
-#include "preprocess/mesh.hpp"
-#include "solver/axis_frame.hpp"
-#include "solver/spring_common.hpp"
-#include "solver/stencil_term.hpp"
+#include "preprocess/mesh/mesh.hpp"
+#include "solver/geometry/axis_frame.hpp"
+#include "solver/terms/adamss/spring_common.hpp"
+#include "solver/core/stencil_term.hpp"
 
 namespace adamss::solver {
 

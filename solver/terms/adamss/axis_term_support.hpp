@@ -19,9 +19,9 @@
 #include <vector>
 
 #include "common/error.hpp"
-#include "preprocess/mesh.hpp"
-#include "solver/axis_frame.hpp"
-#include "solver/stencil_term.hpp"
+#include "preprocess/mesh/mesh.hpp"
+#include "solver/geometry/axis_frame.hpp"
+#include "solver/core/stencil_term.hpp"
 
 namespace adamss::solver {
 

@@ -1,4 +1,4 @@
-#include "solver/hourglass.hpp"
+#include "solver/terms/adamss/hourglass.hpp"
 
 #include <Eigen/LU>
 #include <cmath>

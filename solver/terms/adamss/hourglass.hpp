@@ -2,8 +2,8 @@
 // Hourglass stabilisation for hexahedral elements (Flanagan & Belytschko 1981).
 //
 // NOT PART OF THE THESIS (seed 000). An addition of this code: the virtual hexahedron
-// (sec. 2.4.2.2, eqs. 2.56-2.74, solver/virtual_hex.hpp) and the anisotropic volume term
-// (eqs. 2.82-2.106, solver/volume_preservation.hpp) measure one deformation gradient per
+// (sec. 2.4.2.2, eqs. 2.56-2.74, solver/terms/adamss/virtual_hex.hpp) and the anisotropic volume term
+// (eqs. 2.82-2.106, solver/terms/adamss/volume_preservation.hpp) measure one deformation gradient per
 // hexahedron from its axis frame (F = X G, the six face-centre intersection points), i.e. a
 // one-point rule. A trilinear hexahedron has 24 nodal degrees of freedom; 12 are the affine
 // field x = A X + c that F sees, the other 12 are the "hourglass" patterns (four base
@@ -44,8 +44,8 @@
 #include <string>
 #include <vector>
 
-#include "preprocess/mesh.hpp"
-#include "solver/stencil_term.hpp"
+#include "preprocess/mesh/mesh.hpp"
+#include "solver/core/stencil_term.hpp"
 
 namespace adamss::solver {
 

@@ -1,12 +1,12 @@
-#include "solver/material_friction.hpp"
+#include "solver/terms/adamss/material_friction.hpp"
 
 #include <Eigen/Geometry>
 #include <cmath>
 #include <string>
 
 #include "common/error.hpp"
-#include "preprocess/element_faces.hpp"
-#include "solver/axis_term_support.hpp"
+#include "preprocess/mesh/element_faces.hpp"
+#include "solver/terms/adamss/axis_term_support.hpp"
 
 namespace adamss::solver {
 namespace {

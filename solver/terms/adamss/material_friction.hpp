@@ -4,7 +4,7 @@
 // every element.
 //
 // Per element (K = 4 tet, 8 hex nodes; D the K x 3 chord matrix of
-// solver/axis_term_support.hpp, X / V the 3 x K node positions / velocities):
+// solver/terms/adamss/axis_term_support.hpp, X / V the 3 x K node positions / velocities):
 //   zeta_l     = X d_l                       current axis chord (m), eq. 2.5
 //   zeta_dot_l = V d_l = v_{2l} - v_{2l+1}   its rate (m/s), eq. 2.107 (v_q = V C)
 //   L_l = |zeta_l|, zh_l = zeta_l / L_l,  w_l = zeta_dot_l . zh_l   (axial rate, m/s)
@@ -14,7 +14,7 @@
 // 2.109); the - side point must get the opposite force (friction resists the
 // relative motion of the two ends), which is what eq. 2.111 and Bourguignon's
 // eq. 2.108 mean. This is the force ON the points (it opposes extension), unlike the
-// sign convention of eq. 2.56 (see solver/virtual_hex.hpp).
+// sign convention of eq. 2.56 (see solver/terms/adamss/virtual_hex.hpp).
 //
 // Coefficient c_l (N s/m), two scalings:
 // * virtual (eq. 2.111): c_l = R_v A_l^0 k_d,l with R_v A_l^0 = V0 / l0_l (m^2)
@@ -71,9 +71,9 @@
 #include <string>
 #include <vector>
 
-#include "preprocess/mesh.hpp"
-#include "solver/axis_frame.hpp"
-#include "solver/stencil_term.hpp"
+#include "preprocess/mesh/mesh.hpp"
+#include "solver/geometry/axis_frame.hpp"
+#include "solver/core/stencil_term.hpp"
 
 namespace adamss::solver {
 

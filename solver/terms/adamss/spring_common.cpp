@@ -1,4 +1,4 @@
-#include "solver/spring_common.hpp"
+#include "solver/terms/adamss/spring_common.hpp"
 
 #include <algorithm>
 #include <cmath>

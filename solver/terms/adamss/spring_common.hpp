@@ -1,6 +1,6 @@
 #pragma once
 // Pieces shared by the axial and torsion springs of the Adamss model
-// (solver/axial_springs.hpp, solver/torsion_springs.hpp; seed 000 sec. 2.4.2.1).
+// (solver/terms/adamss/axial_springs.hpp, solver/terms/adamss/torsion_springs.hpp; seed 000 sec. 2.4.2.1).
 //
 // * SpringScaling: how a spring's stiffness parameters become forces.
 //     none     eqs. 2.35/2.36 (axial), 2.40-2.50 (torsion) literally: stiffness
@@ -32,11 +32,11 @@
 #include <string>
 #include <vector>
 
-#include "preprocess/element_faces.hpp"
-#include "preprocess/mesh.hpp"
-#include "solver/axis_frame.hpp"
-#include "solver/axis_frame_geometry.hpp"
-#include "solver/stencil_term.hpp"
+#include "preprocess/mesh/element_faces.hpp"
+#include "preprocess/mesh/mesh.hpp"
+#include "solver/geometry/axis_frame.hpp"
+#include "solver/geometry/axis_frame_geometry.hpp"
+#include "solver/core/stencil_term.hpp"
 
 namespace adamss::solver {
 

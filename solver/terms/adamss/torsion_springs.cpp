@@ -1,4 +1,4 @@
-#include "solver/torsion_springs.hpp"
+#include "solver/terms/adamss/torsion_springs.hpp"
 
 #include <algorithm>
 #include <cmath>

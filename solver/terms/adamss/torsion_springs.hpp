@@ -66,11 +66,11 @@
 #include <string>
 #include <vector>
 
-#include "preprocess/mesh.hpp"
-#include "solver/axial_springs.hpp"
-#include "solver/axis_frame.hpp"
-#include "solver/spring_common.hpp"
-#include "solver/stencil_term.hpp"
+#include "preprocess/mesh/mesh.hpp"
+#include "solver/terms/adamss/axial_springs.hpp"
+#include "solver/geometry/axis_frame.hpp"
+#include "solver/terms/adamss/spring_common.hpp"
+#include "solver/core/stencil_term.hpp"
 
 namespace adamss::solver {
 

@@ -1,4 +1,4 @@
-#include "solver/virtual_hex.hpp"
+#include "solver/terms/adamss/virtual_hex.hpp"
 
 #include <string>
 

@@ -3,7 +3,7 @@
 // the Adamss model (seed 000 sec. 2.4.2.2, eqs. 2.56-2.74).
 //
 // Per element k (tetrahedron K = 4 or hexahedron K = 8), with the axis-frame data
-// of solver/axis_frame.hpp:
+// of solver/geometry/axis_frame.hpp:
 //   F   = X G                      deformation gradient, X the 3 x K current nodes,
 //                                  G = C D Z0^{-1} (K x 3) the axis-frame nodal gradient
 //   E   = 1/2 (F^T F - I)          Green strain, global frame
@@ -45,9 +45,9 @@
 
 #include "materials/kinematics.hpp"
 #include "materials/law.hpp"
-#include "preprocess/mesh.hpp"
-#include "solver/axis_frame.hpp"
-#include "solver/stencil_term.hpp"
+#include "preprocess/mesh/mesh.hpp"
+#include "solver/geometry/axis_frame.hpp"
+#include "solver/core/stencil_term.hpp"
 
 namespace adamss::solver {
 

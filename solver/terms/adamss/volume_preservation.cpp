@@ -1,4 +1,4 @@
-#include "solver/volume_preservation.hpp"
+#include "solver/terms/adamss/volume_preservation.hpp"
 
 #include <Eigen/Geometry>
 #include <cmath>

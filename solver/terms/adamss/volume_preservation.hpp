@@ -13,7 +13,7 @@
 // Two ways of measuring J (the text after eq. 2.100):
 //
 // * Anisotropic ("act in the direction of the defined anisotropies"): J = det F with
-//   the virtual-hexahedron gradient F = X G of the axis frames (solver/axis_frame.hpp),
+//   the virtual-hexahedron gradient F = X G of the axis frames (solver/geometry/axis_frame.hpp),
 //   so the forces act on the six intersection points and reach the nodes through C
 //   (G = C D Z0^{-1}, eq. 2.29). The thesis writes W_v as a function of the Green strain,
 //   Omega = det(2E + I) = det C (eq. 2.99, C = F^T F the right Cauchy-Green tensor,
@@ -24,7 +24,7 @@
 //     S = 2 p Omega C^{-1} (1 - r/J) = 2 p (J - r) J C^{-1},
 //   and the first Piola-Kirchhoff stress is P = F S = 2 p (J - r) J F^{-T} = dW_v/dF
 //   (d det F / dF = J F^{-T} = cof F). The nodal forces of the virtual hexahedron
-//   (eq. 2.56 / solver/virtual_hex.hpp) are then
+//   (eq. 2.56 / solver/terms/adamss/virtual_hex.hpp) are then
 //     f_a = -V0 P g_a = -2 p V0 (J - r) cof(F) g_a,   g_a = row a of G.
 //   The kernel uses cof(F) = [F_1 x F_2, F_2 x F_0, F_0 x F_1] (columns; F_m = column m),
 //   which is polynomial in X and stays finite for J <= 0 (an inverted element is pushed
@@ -67,10 +67,10 @@
 #include <string>
 #include <vector>
 
-#include "preprocess/mesh.hpp"
-#include "solver/axis_frame.hpp"
-#include "solver/stencil_term.hpp"
-#include "solver/time_course.hpp"
+#include "preprocess/mesh/mesh.hpp"
+#include "solver/geometry/axis_frame.hpp"
+#include "solver/core/stencil_term.hpp"
+#include "solver/core/time_course.hpp"
 
 namespace adamss::solver {
 

@@ -1,12 +1,12 @@
-#include "solver/volume_springs.hpp"
+#include "solver/terms/adamss/volume_springs.hpp"
 
 #include <cmath>
 #include <cstdio>
 #include <string>
 
 #include "common/error.hpp"
-#include "solver/axis_frame.hpp"
-#include "solver/volume_preservation.hpp"
+#include "solver/geometry/axis_frame.hpp"
+#include "solver/terms/adamss/volume_preservation.hpp"
 
 namespace adamss::solver {
 namespace {

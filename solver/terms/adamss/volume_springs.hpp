@@ -1,7 +1,7 @@
 #pragma once
 // Barycentric volume springs (Bourguignon & Cani; seed 000 sec. 2.4.2.3, eqs. 2.75-2.81)
 // and their LMS-adaptive variant. The thesis found them inferior to the volume
-// penalty of solver/volume_preservation.hpp; they are kept for comparison.
+// penalty of solver/terms/adamss/volume_preservation.hpp; they are kept for comparison.
 //
 // Per element (K = 4 or 8 nodes x_i), barycentre x_b = (1/K) sum_i x_i (eq. 2.8 / 2.22),
 //   xi_i = x_b - x_i,  l_i = |xi_i|,  n_i = xi_i / l_i (eq. 2.77, unit vector from the
@@ -69,8 +69,8 @@
 #include <string>
 #include <vector>
 
-#include "preprocess/mesh.hpp"
-#include "solver/stencil_term.hpp"
+#include "preprocess/mesh/mesh.hpp"
+#include "solver/core/stencil_term.hpp"
 
 namespace adamss::solver {
 

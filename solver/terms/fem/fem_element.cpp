@@ -1,12 +1,12 @@
-#include "solver/fem_element.hpp"
+#include "solver/terms/fem/fem_element.hpp"
 
 #include <Eigen/Dense>
 #include <cmath>
 #include <sstream>
 
 #include "common/error.hpp"
-#include "solver/element_rules.hpp"
-#include "solver/stencil_term.hpp"
+#include "solver/geometry/element_rules.hpp"
+#include "solver/core/stencil_term.hpp"
 
 namespace adamss::solver {
 

@@ -20,7 +20,7 @@
 //   F    = x G_q,  E = 1/2 (F^T F - I),  E_f = B^T E B,  S = B S_f(E_f) B^T,  P = F S
 //   energy = V_q W(E_f),  f_a = -V_q P g_a
 // which is exactly the VirtualHexKernel's algebra with (G, V0) replaced by (G_q, V_q), so
-// the same kernel (with its exact Jacobian, derived in solver/virtual_hex.hpp) is reused.
+// the same kernel (with its exact Jacobian, derived in solver/terms/adamss/virtual_hex.hpp) is reused.
 // B = [f s n] is the element's fibre frame from the mesh (re-orthonormalised), or the
 // identity when the mesh has no fibres. Sum over q of V_q is the exact reference volume.
 #include <memory>
@@ -28,9 +28,9 @@
 #include <vector>
 
 #include "materials/law.hpp"
-#include "preprocess/mesh.hpp"
-#include "solver/force_term.hpp"
-#include "solver/virtual_hex.hpp"
+#include "preprocess/mesh/mesh.hpp"
+#include "solver/core/force_term.hpp"
+#include "solver/terms/adamss/virtual_hex.hpp"
 
 namespace adamss::solver {
 

@@ -1,4 +1,4 @@
-#include "solver/cavity_constraint.hpp"
+#include "solver/terms/loads/cavity_constraint.hpp"
 
 #include <cmath>
 #include <sstream>

@@ -4,7 +4,7 @@
 // isovolumic phases of a heart beat (FEBio's volume constraint, fenicsx-pulse's cavity problem).
 //
 // The wall load is the follower pressure of eq. 2.119 with the current multiplier P,
-// f = P g(x), where g(x) = dV/dx for a closed surface (solver/cavity_pressure.hpp: the unit-
+// f = P g(x), where g(x) = dV/dx for a closed surface (solver/terms/loads/cavity_pressure.hpp: the unit-
 // pressure load of a closed triangle surface is exactly the volume gradient). The static
 // integrator solves f_total(x, P) = 0 and V(x) = V*(t) together by Newton on the bordered system
 //   [ -K  -G ] [dx]   [ f        ]
@@ -12,10 +12,10 @@
 // eliminating dx with two solves per cavity on the factorised -K (a Schur complement of size m).
 // The term's Jacobian is P times the follower-load Jacobian; P itself is state of the term
 // (pressure()), reported in globals.csv and summary.json. backward_euler_newton solves the
-// same bordered system for the velocity update (solver/implicit.cpp); the explicit integrators
+// same bordered system for the velocity update (solver/time/implicit.cpp); the explicit integrators
 // and the linearised backward_euler refuse the term by name.
 //
-// Generalised condition (a cavity coupled to a circulation, solver/circulation.hpp). Over a
+// Generalised condition (a cavity coupled to a circulation, solver/terms/loads/circulation.hpp). Over a
 // step ending at t1 the cavity imposes either P = P_given (no volume condition: the bordered
 // row is dP = P_given - P) or V(x) = V*(P) with V*(P) = V_c + s P, s = dV*/dP <= 0 (a held
 // volume has s = 0; ejection into a Windkessel s = -h / b). The linearised row is
@@ -25,10 +25,10 @@
 #include <memory>
 #include <string>
 
-#include "solver/cavity_pressure.hpp"
-#include "solver/circulation.hpp"
-#include "solver/model.hpp"
-#include "solver/surface.hpp"
+#include "solver/terms/loads/cavity_pressure.hpp"
+#include "solver/terms/loads/circulation.hpp"
+#include "solver/core/model.hpp"
+#include "solver/geometry/surface.hpp"
 
 namespace adamss::solver {
 

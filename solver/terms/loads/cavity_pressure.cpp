@@ -1,4 +1,4 @@
-#include "solver/cavity_pressure.hpp"
+#include "solver/terms/loads/cavity_pressure.hpp"
 
 #include <cmath>
 

@@ -1,6 +1,6 @@
 #pragma once
 // Cavity pressure (seed 000 sec. 2.4.4.3, eq. 2.119): a follower load on the faces
-// of a Surface (solver/surface.hpp).
+// of a Surface (solver/geometry/surface.hpp).
 //
 // For a face F_j with n corners (n = 3 triangle, n = 4 quad) and every corner i:
 //   f_i = -(1/n) P(t) A_j n_j                                            [N]
@@ -35,9 +35,9 @@
 #include <string>
 #include <vector>
 
-#include "solver/stencil_term.hpp"
-#include "solver/surface.hpp"
-#include "solver/time_course.hpp"
+#include "solver/core/stencil_term.hpp"
+#include "solver/geometry/surface.hpp"
+#include "solver/core/time_course.hpp"
 
 namespace adamss::solver {
 

@@ -1,4 +1,4 @@
-#include "solver/circulation.hpp"
+#include "solver/terms/loads/circulation.hpp"
 
 #include <algorithm>
 #include <cmath>

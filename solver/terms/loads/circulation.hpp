@@ -6,14 +6,14 @@
 //   filling                   P = P_at(t1)                      (mitral open; atrial pressure course)
 //   isovolumic contraction    V = V_held                        (both valves closed; P unknown)
 //   ejection                  V = V_prev - h Q(P), P = a + b Q  (aortic open; 3-element Windkessel,
-//                                                                solver/windkessel.hpp)
+//                                                                solver/terms/loads/windkessel.hpp)
 //   isovolumic relaxation     V = V_held                        (both valves closed; P unknown)
 //
 // Every condition is written as either "P given" or V*(P) = volume + dvolume_dpressure P:
 // a held volume has dV*/dP = 0; ejection has, from Q = (P - a)/b,
 //   V*(P) = V_prev + h a / b - (h / b) P.
 // The implicit solvers hold V(x) = V*(P) with P as the Lagrange multiplier of the bordered
-// Newton system (solver/implicit.cpp); dV*/dP enters the Schur complement's diagonal.
+// Newton system (solver/time/implicit.cpp); dV*/dP enters the Schur complement's diagonal.
 //
 // Valve events are decided after each ACCEPTED step (never inside Newton), from the step's
 // volume change dV = V - V_prev, the cavity pressure P and the Windkessel pressure P_c:
@@ -29,8 +29,8 @@
 #include <utility>
 #include <vector>
 
-#include "solver/time_course.hpp"
-#include "solver/windkessel.hpp"
+#include "solver/core/time_course.hpp"
+#include "solver/terms/loads/windkessel.hpp"
 
 namespace adamss::solver {
 

@@ -1,4 +1,4 @@
-#include "solver/global_friction.hpp"
+#include "solver/terms/loads/global_friction.hpp"
 
 #include <cmath>
 #include <string>

@@ -5,7 +5,7 @@
 #include <array>
 #include <string>
 
-#include "solver/stencil_term.hpp"
+#include "solver/core/stencil_term.hpp"
 
 namespace adamss::solver {
 

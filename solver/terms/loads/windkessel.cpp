@@ -1,4 +1,4 @@
-#include "solver/windkessel.hpp"
+#include "solver/terms/loads/windkessel.hpp"
 
 #include <cmath>
 #include <sstream>

@@ -12,13 +12,13 @@
 //   P_ao = a + b Q,  a = (P_c + h P_v / (R_p C)) / (1 + h / (R_p C)),
 //                    b = Z_c + (h / C) / (1 + h / (R_p C)),
 // an AFFINE relation between the cavity pressure and the outflow over the step: the implicit
-// solvers couple it to the wall by Q = -(V - V_prev) / h (solver/circulation.hpp).
+// solvers couple it to the wall by Q = -(V - V_prev) / h (solver/terms/loads/circulation.hpp).
 // For a step in Q from P_c(0) the exact solution is
 //   P_c(t) = P_v + Q R_p + (P_c(0) - P_v - Q R_p) exp(-t / (R_p C)),
-// which backward Euler approaches to first order in h (tests/solver/test_windkessel.cpp).
+// which backward Euler approaches to first order in h (tests/solver/terms/loads/test_windkessel.cpp).
 #include <string>
 
-#include "solver/state_archive.hpp"
+#include "solver/core/state_archive.hpp"
 
 namespace adamss::solver {
 

@@ -1,4 +1,4 @@
-#include "solver/edge_springs.hpp"
+#include "solver/terms/springs/edge_springs.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "preprocess/mesh.hpp"
-#include "solver/soa_loops.hpp"
-#include "solver/stencil_term.hpp"
+#include "preprocess/mesh/mesh.hpp"
+#include "solver/simd/soa_loops.hpp"
+#include "solver/core/stencil_term.hpp"
 
 namespace adamss::solver {
 
@@ -35,7 +35,7 @@ struct EdgeSpringKernel {
   void forces(std::size_t i, const Mat3N<2>& x, const Mat3N<2>& v, double t, Mat3N<2>& f) const;
   void jacobian(std::size_t i, const Mat3N<2>& x, const Mat3N<2>& v, double t, MatJ<2>& dfdx, MatJ<2>& dfdv) const;
 
-  /// All springs at once through the vectorised structure-of-arrays loop (solver/soa_loops.hpp),
+  /// All springs at once through the vectorised structure-of-arrays loop (solver/simd/soa_loops.hpp),
   /// used by StencilTerm::add_forces; same forces as forces() per item to rounding. The loop is
   /// built on the first call from edges / stiffness / rest_length, which must not change after.
   void add_forces_bulk(const StateView& s, Eigen::Matrix3Xd& f) const { bulk_loop(s.x.cols()).add_forces(s.x, f); }

@@ -1,4 +1,4 @@
-#include "solver/hybmss.hpp"
+#include "solver/terms/springs/hybmss.hpp"
 
 #include <Eigen/Geometry>
 #include <cmath>

@@ -18,7 +18,7 @@
 // modulus G, (iii) set kappa"); the E-form would give E' = G'(3 kappa + 5 G')/(kappa + 2 G')
 // with G' = 2E/5, e.g. 1.115 E and nu' = 0.393 for nu = 0.4 and 0.666 E, nu' = -0.17 for nu = 0
 // (eq. 5.4; the same numbers were measured with the uniaxial test of
-// tests/solver/test_hybmss.cpp before switching). We use the G-form with G from E and nu; both forms
+// tests/solver/terms/springs/test_hybmss.cpp before switching). We use the G-form with G from E and nu; both forms
 // agree at nu = 1/4.
 // A = 0 is HybMSS-FD (no face diagonals); A >= 0 is required (k_f < 0 otherwise).
 // Assembly (sec. 5.4, "Kirchhoff's law"): every cell hands k_e/4 to each of its 12 edges,
@@ -31,7 +31,7 @@
 // cube of the same volume (V_c of eq. 5.13 at rest), so the stiffness scales with the cell
 // size as in eq. 5.12; rest lengths are always the actual reference distances. For
 // rectangular-box cells this keeps the modulus right on average but not the isotropy.
-// Spring energy, forces and exact Jacobian: solver/edge_springs.hpp (label "hybmss_springs").
+// Spring energy, forces and exact Jacobian: solver/terms/springs/edge_springs.hpp (label "hybmss_springs").
 //
 // Volume correction (eqs. 5.1, 5.13-5.16), per cell with VTK node order
 // 0 (000), 1 (100), 2 (110), 3 (010), 4 (001), 5 (101), 6 (111), 7 (011):
@@ -70,9 +70,9 @@
 #include <string>
 #include <vector>
 
-#include "preprocess/mesh.hpp"
-#include "solver/edge_springs.hpp"
-#include "solver/stencil_term.hpp"
+#include "preprocess/mesh/mesh.hpp"
+#include "solver/terms/springs/edge_springs.hpp"
+#include "solver/core/stencil_term.hpp"
 
 namespace adamss::solver {
 
@@ -126,7 +126,7 @@ struct HybmssVolumeKernel {
   void forces(std::size_t i, const Mat3N<8>& x, const Mat3N<8>& v, double t, Mat3N<8>& f) const;
   void jacobian(std::size_t i, const Mat3N<8>& x, const Mat3N<8>& v, double t, MatJ<8>& dfdx, MatJ<8>& dfdv) const;
 
-  /// All cells at once through the vectorised structure-of-arrays loop (solver/soa_loops.hpp);
+  /// All cells at once through the vectorised structure-of-arrays loop (solver/simd/soa_loops.hpp);
   /// same forces as forces() per item to rounding. Built on the first call; the members must not
   /// change after it.
   void add_forces_bulk(const StateView& s, Eigen::Matrix3Xd& f) const {

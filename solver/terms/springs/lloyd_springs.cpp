@@ -1,10 +1,10 @@
-#include "solver/lloyd_springs.hpp"
+#include "solver/terms/springs/lloyd_springs.hpp"
 
 #include <cmath>
 #include <map>
 
 #include "common/error.hpp"
-#include "solver/volume_preservation.hpp"
+#include "solver/terms/adamss/volume_preservation.hpp"
 
 namespace adamss::solver {
 namespace {

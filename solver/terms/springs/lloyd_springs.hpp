@@ -10,7 +10,7 @@
 //   without the volume force (eq. 12):  k_ij = sum_e (2 sqrt2 / 25) l_e E          (N/m)
 //   with the volume force   (eq. 14):  k_ij = sum_e (2 sqrt2 / 21)(4/5) l_e E
 // Rest length = reference edge length. Energy, forces, exact Jacobian: the edge springs of
-// solver/edge_springs.hpp (label "lloyd_springs").
+// solver/terms/springs/edge_springs.hpp (label "lloyd_springs").
 //
 // Volume force (eq. 14, Appendix C.2; Teschner's volume-constraint energy), per tet:
 //   E_V = k_V / (2 V_0^2) (V - V_0)^2 = k_V/2 C^2,  C = (V - V_0)/V_0   (J)
@@ -19,7 +19,7 @@
 // l_e^3 = 12 V_0 / sqrt2 this is k_V = (12/84)(2/5) V_0 E = 2 E V_0 / 35 for EVERY tet
 // (eq. 13 makes l_e a function of V_0 only), so
 //   E_V = V_0 (E/35) (V/V_0 - 1)^2,
-// which is the isotropic volume penalty of solver/volume_preservation.hpp,
+// which is the isotropic volume penalty of solver/terms/adamss/volume_preservation.hpp,
 // V_0 p (J - 1)^2 with J = V/V_0 and p = E/35 -- that term (with its energy, forces and
 // exact Jacobian, Appendix C eq. 18 included) is reused instead of a copy
 // (label "volume_preservation"). Its small-strain bulk contribution is 2p = 2E/35.
@@ -29,14 +29,14 @@
 // G = (1/15V) sum k l^2 = 0.384 E, i.e. E_eff = 5G/2 = 0.96 E at nu = 1/4; eq. 14 gives
 // G = 0.366 E with a bulk addition kappa = 2E/35, i.e. E_eff = 0.93 E, nu = 0.27. The
 // tetrahedra of a voxel mesh are not regular and not isotropically oriented, so the
-// measured values on such meshes differ (tests/solver/test_lloyd_springs.cpp prints them).
+// measured values on such meshes differ (tests/solver/terms/springs/test_lloyd_springs.cpp prints them).
 // The paper fits for nu = 1/4 only; there is no Poisson-ratio parameter.
 #include <memory>
 #include <vector>
 
-#include "preprocess/mesh.hpp"
-#include "solver/edge_springs.hpp"
-#include "solver/force_term.hpp"
+#include "preprocess/mesh/mesh.hpp"
+#include "solver/terms/springs/edge_springs.hpp"
+#include "solver/core/force_term.hpp"
 
 namespace adamss::solver {
 

@@ -1,4 +1,4 @@
-#include "solver/mass_springs.hpp"
+#include "solver/terms/springs/mass_springs.hpp"
 
 #include <cmath>
 

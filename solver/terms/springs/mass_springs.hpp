@@ -6,7 +6,7 @@
 // Every spring has the same stiffness k (N/m) and its reference length as rest length:
 //   E = sum_s k/2 (l_s - L_s)^2,  f on node b of spring (a, b) = -k (l - L) d/l, d = x_b - x_a
 // (eq. 3.1 of seed 001 written for node a). Energy, forces and the exact Jacobian are those
-// of solver/edge_springs.hpp (EdgeSpringKernel, derivation there); this file only selects
+// of solver/terms/springs/edge_springs.hpp (EdgeSpringKernel, derivation there); this file only selects
 // the springs and validates the parameters.
 //
 // This is the baseline that seed 000 sec. 2.1.2 criticises: with one uniform k the
@@ -19,9 +19,9 @@
 #include <string>
 #include <vector>
 
-#include "preprocess/mesh.hpp"
-#include "solver/edge_springs.hpp"
-#include "solver/force_term.hpp"
+#include "preprocess/mesh/mesh.hpp"
+#include "solver/terms/springs/edge_springs.hpp"
+#include "solver/core/force_term.hpp"
 
 namespace adamss::solver {
 

@@ -1,4 +1,4 @@
-#include "solver/petsc_env.hpp"
+#include "solver/time/petsc/petsc_env.hpp"
 
 #include <cstdlib>
 #include <mutex>

@@ -1,9 +1,9 @@
-#include "solver/petsc_matrix.hpp"
+#include "solver/time/petsc/petsc_matrix.hpp"
 
 #include <algorithm>
 
 #include "common/error.hpp"
-#include "solver/petsc_env.hpp"
+#include "solver/time/petsc/petsc_env.hpp"
 
 namespace adamss::solver {
 

@@ -20,8 +20,8 @@
 #include <memory>
 #include <vector>
 
-#include "preprocess/mesh.hpp"
-#include "solver/force_term.hpp"
+#include "preprocess/mesh/mesh.hpp"
+#include "solver/core/force_term.hpp"
 
 namespace adamss::solver {
 

@@ -5,8 +5,8 @@
 
 #include "common/error.hpp"
 #include "support/lattice_fixtures.hpp"
-#include "preprocess/fibre_field.hpp"
-#include "preprocess/lattice_mesher.hpp"
+#include "preprocess/fibres/fibre_field.hpp"
+#include "preprocess/meshers/lattice_mesher.hpp"
 
 using namespace adamss::preprocess;
 using adamss::test::blank_image;

@@ -9,12 +9,12 @@
 #include <numbers>
 
 #include "common/error.hpp"
-#include "preprocess/boundary_labels.hpp"
-#include "preprocess/cgal_mesher.hpp"
-#include "preprocess/fibre_field.hpp"
-#include "preprocess/lattice_mesher.hpp"
-#include "preprocess/phantom.hpp"
-#include "preprocess/rule_fibres.hpp"
+#include "preprocess/surfaces/boundary_labels.hpp"
+#include "preprocess/meshers/cgal_mesher.hpp"
+#include "preprocess/fibres/fibre_field.hpp"
+#include "preprocess/meshers/lattice_mesher.hpp"
+#include "preprocess/image/phantom.hpp"
+#include "preprocess/fibres/rule_fibres.hpp"
 #include "support/lattice_fixtures.hpp"
 
 using namespace adamss::preprocess;

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "common/error.hpp"
-#include "preprocess/nifti_io.hpp"
+#include "preprocess/image/nifti_io.hpp"
 
 namespace {
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "common/error.hpp"
-#include "preprocess/phantom.hpp"
+#include "preprocess/image/phantom.hpp"
 
 namespace adamss::preprocess {
 namespace {

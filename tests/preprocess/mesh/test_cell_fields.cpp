@@ -1,4 +1,4 @@
-// Per-voxel fields sampled to elements (preprocess/cell_fields.hpp), the scalar NIfTI reader,
+// Per-voxel fields sampled to elements (preprocess/mesh/cell_fields.hpp), the scalar NIfTI reader,
 // and the round trip of the result through mesh.h5 and the .vtu.
 #include <gtest/gtest.h>
 
@@ -11,12 +11,12 @@
 #include <string>
 
 #include "common/error.hpp"
-#include "preprocess/cell_fields.hpp"
-#include "preprocess/fibre_field.hpp"
-#include "preprocess/lattice_mesher.hpp"
-#include "preprocess/mesh_io.hpp"
-#include "preprocess/mesh_quality.hpp"
-#include "preprocess/nifti_io.hpp"
+#include "preprocess/mesh/cell_fields.hpp"
+#include "preprocess/fibres/fibre_field.hpp"
+#include "preprocess/meshers/lattice_mesher.hpp"
+#include "preprocess/mesh/mesh_io.hpp"
+#include "preprocess/mesh/mesh_quality.hpp"
+#include "preprocess/image/nifti_io.hpp"
 #include "support/lattice_fixtures.hpp"
 
 namespace {

@@ -22,8 +22,8 @@
 #include <vector>
 
 #include "common/error.hpp"
-#include "preprocess/mesh.hpp"
-#include "preprocess/mesh_io.hpp"
+#include "preprocess/mesh/mesh.hpp"
+#include "preprocess/mesh/mesh_io.hpp"
 
 namespace {
 

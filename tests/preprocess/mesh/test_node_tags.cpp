@@ -1,4 +1,4 @@
-// Node tags (preprocess/node_tags.hpp): one "surface:A-B" tag per label pair of the boundary,
+// Node tags (preprocess/surfaces/node_tags.hpp): one "surface:A-B" tag per label pair of the boundary,
 // plane tags (base=z:5mm), and their errors.
 #include <gtest/gtest.h>
 
@@ -8,10 +8,10 @@
 #include <vector>
 
 #include "common/error.hpp"
-#include "preprocess/boundary_labels.hpp"
-#include "preprocess/lattice_mesher.hpp"
-#include "preprocess/node_tags.hpp"
-#include "preprocess/phantom.hpp"
+#include "preprocess/surfaces/boundary_labels.hpp"
+#include "preprocess/meshers/lattice_mesher.hpp"
+#include "preprocess/surfaces/node_tags.hpp"
+#include "preprocess/image/phantom.hpp"
 
 namespace {
 

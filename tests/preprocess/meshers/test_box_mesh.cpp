@@ -1,10 +1,10 @@
-// Structured box meshes (preprocess/box_mesh.hpp): counts, extent, exact volume, positive
+// Structured box meshes (preprocess/meshers/box_mesh.hpp): counts, extent, exact volume, positive
 // elements for every topology, and the errors.
 #include <gtest/gtest.h>
 
 #include "common/error.hpp"
-#include "preprocess/box_mesh.hpp"
-#include "preprocess/mesh_quality.hpp"
+#include "preprocess/meshers/box_mesh.hpp"
+#include "preprocess/mesh/mesh_quality.hpp"
 
 using namespace adamss;
 

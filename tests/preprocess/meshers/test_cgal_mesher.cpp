@@ -1,4 +1,4 @@
-// CGAL Mesh_3 on labelled images (preprocess/cgal_mesher.hpp), on coarse phantoms so the
+// CGAL Mesh_3 on labelled images (preprocess/meshers/cgal_mesher.hpp), on coarse phantoms so the
 // suite stays within seconds. The 0.5 mm measurements are in the report, not here.
 #include <gtest/gtest.h>
 
@@ -9,11 +9,11 @@
 #include <set>
 
 #include "common/error.hpp"
-#include "preprocess/cgal_mesher.hpp"
-#include "preprocess/element_faces.hpp"
-#include "preprocess/fibre_field.hpp"
-#include "preprocess/mesh_quality.hpp"
-#include "preprocess/phantom.hpp"
+#include "preprocess/meshers/cgal_mesher.hpp"
+#include "preprocess/mesh/element_faces.hpp"
+#include "preprocess/fibres/fibre_field.hpp"
+#include "preprocess/mesh/mesh_quality.hpp"
+#include "preprocess/image/phantom.hpp"
 #include "support/lattice_fixtures.hpp"
 
 using namespace adamss::preprocess;

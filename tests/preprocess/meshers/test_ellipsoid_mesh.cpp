@@ -1,4 +1,4 @@
-// Structured truncated ellipsoid of Land et al. 2015 (preprocess/ellipsoid_mesh.hpp): counts,
+// Structured truncated ellipsoid of Land et al. 2015 (preprocess/meshers/ellipsoid_mesh.hpp): counts,
 // base plane and apex positions, positive Gauss-point Jacobians, solid and cavity volumes against
 // the analytic truncated ellipsoids (converging under refinement), the problem-3 fibre frame,
 // tags, the tetrahedral split, and the option errors.
@@ -13,11 +13,11 @@
 #include <string>
 
 #include "common/error.hpp"
-#include "preprocess/cavities.hpp"
-#include "preprocess/element_faces.hpp"
-#include "preprocess/ellipsoid_mesh.hpp"
-#include "preprocess/face_table.hpp"
-#include "preprocess/mesh_quality.hpp"
+#include "preprocess/surfaces/cavities.hpp"
+#include "preprocess/mesh/element_faces.hpp"
+#include "preprocess/meshers/ellipsoid_mesh.hpp"
+#include "preprocess/mesh/face_table.hpp"
+#include "preprocess/mesh/mesh_quality.hpp"
 
 namespace {
 

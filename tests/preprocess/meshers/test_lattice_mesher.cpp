@@ -4,9 +4,9 @@
 #include <set>
 
 #include "common/error.hpp"
-#include "preprocess/element_faces.hpp"
-#include "preprocess/lattice_mesher.hpp"
-#include "preprocess/mesh_quality.hpp"
+#include "preprocess/mesh/element_faces.hpp"
+#include "preprocess/meshers/lattice_mesher.hpp"
+#include "preprocess/mesh/mesh_quality.hpp"
 #include "support/lattice_fixtures.hpp"
 
 using namespace adamss::preprocess;

@@ -1,4 +1,4 @@
-// Cavity surfaces (preprocess/cavities.hpp): closed wall + lid, normals into the cavity,
+// Cavity surfaces (preprocess/surfaces/cavities.hpp): closed wall + lid, normals into the cavity,
 // divergence-theorem volumes against voxel counts and the analytic Land 2015 cavity, hex
 // quads, mesh.h5 round trip, and the errors.
 #include <gtest/gtest.h>
@@ -11,12 +11,12 @@
 #include <vector>
 
 #include "common/error.hpp"
-#include "preprocess/boundary_labels.hpp"
-#include "preprocess/cavities.hpp"
-#include "preprocess/lattice_mesher.hpp"
-#include "preprocess/mesh_io.hpp"
-#include "preprocess/mesh_quality.hpp"
-#include "preprocess/phantom.hpp"
+#include "preprocess/surfaces/boundary_labels.hpp"
+#include "preprocess/surfaces/cavities.hpp"
+#include "preprocess/meshers/lattice_mesher.hpp"
+#include "preprocess/mesh/mesh_io.hpp"
+#include "preprocess/mesh/mesh_quality.hpp"
+#include "preprocess/image/phantom.hpp"
 #include "support/lattice_fixtures.hpp"
 
 namespace {

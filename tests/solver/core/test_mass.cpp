@@ -1,8 +1,8 @@
 #include <gtest/gtest.h>
 
 #include "common/error.hpp"
-#include "preprocess/lattice_mesher.hpp"
-#include "solver/mass.hpp"
+#include "preprocess/meshers/lattice_mesher.hpp"
+#include "solver/core/mass.hpp"
 #include "support/lattice_fixtures.hpp"
 
 using namespace adamss;

@@ -1,4 +1,4 @@
-// Tests of the per-element axis frame (solver/axis_frame.hpp): intersection
+// Tests of the per-element axis frame (solver/geometry/axis_frame.hpp): intersection
 // points, coefficient matrix C, reference axes and the virtual-hexahedron F.
 #include <gtest/gtest.h>
 
@@ -14,10 +14,10 @@
 #include <string>
 
 #include "common/error.hpp"
-#include "preprocess/element_faces.hpp"
-#include "preprocess/lattice_mesher.hpp"
-#include "solver/axis_frame.hpp"
-#include "solver/axis_frame_geometry.hpp"
+#include "preprocess/mesh/element_faces.hpp"
+#include "preprocess/meshers/lattice_mesher.hpp"
+#include "solver/geometry/axis_frame.hpp"
+#include "solver/geometry/axis_frame_geometry.hpp"
 #include "support/fibre_fixtures.hpp"
 
 using namespace adamss;

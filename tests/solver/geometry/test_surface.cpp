@@ -8,10 +8,10 @@
 
 #include "common/error.hpp"
 #include "force_term_harness.hpp"
-#include "preprocess/cavities.hpp"
-#include "preprocess/lattice_mesher.hpp"
-#include "preprocess/phantom.hpp"
-#include "solver/surface.hpp"
+#include "preprocess/surfaces/cavities.hpp"
+#include "preprocess/meshers/lattice_mesher.hpp"
+#include "preprocess/image/phantom.hpp"
+#include "solver/geometry/surface.hpp"
 #include "support/lattice_fixtures.hpp"
 
 using namespace adamss;

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "common/error.hpp"
-#include "solver/scene.hpp"
+#include "solver/scene/scene.hpp"
 
 using namespace adamss;
 

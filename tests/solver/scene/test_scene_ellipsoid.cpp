@@ -7,10 +7,10 @@
 #include <string>
 
 #include "common/error.hpp"
-#include "preprocess/ellipsoid_mesh.hpp"
-#include "solver/axis_frame.hpp"
-#include "solver/model.hpp"
-#include "solver/scene.hpp"
+#include "preprocess/meshers/ellipsoid_mesh.hpp"
+#include "solver/geometry/axis_frame.hpp"
+#include "solver/core/model.hpp"
+#include "solver/scene/scene.hpp"
 
 using namespace adamss;
 

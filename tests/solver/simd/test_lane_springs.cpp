@@ -1,4 +1,4 @@
-// The lane-interleaved one-thread spring loop (solver/lane_springs.hpp): its copies against a
+// The lane-interleaved one-thread spring loop (solver/simd/lane_springs.hpp): its copies against a
 // scalar reference, its forces against the per-item spring kernel, when SpringLoop takes it, and
 // ghost lanes whose nodes coincide.
 #include <gtest/gtest.h>
@@ -7,12 +7,12 @@
 #include <cstring>
 #include <random>
 
-#include "preprocess/box_mesh.hpp"
+#include "preprocess/meshers/box_mesh.hpp"
 #include "soa_fixtures.hpp"
-#include "solver/edge_springs.hpp"
-#include "solver/hybmss.hpp"
-#include "solver/lane_springs.hpp"
-#include "solver/mass_springs.hpp"
+#include "solver/terms/springs/edge_springs.hpp"
+#include "solver/terms/springs/hybmss.hpp"
+#include "solver/simd/lane_springs.hpp"
+#include "solver/terms/springs/mass_springs.hpp"
 
 using namespace adamss;
 using adamss::testing::perturbed;
@@ -71,7 +71,7 @@ void lattice_springs(int a, int b, int c, Edges& edges, std::vector<double>& k, 
 }
 
 /// LaneSprings exists only on AVX-512 CPUs (make() returns null elsewhere and SpringLoop keeps its
-/// run loops, which tests/solver/test_soa_loops.cpp covers).
+/// run loops, which tests/solver/simd/test_soa_loops.cpp covers).
 class LaneSprings : public ::testing::Test {
  protected:
   void SetUp() override {

@@ -1,4 +1,4 @@
-// The explicit integrators' flat node loops (solver/node_loops.hpp) give the same bits as the
+// The explicit integrators' flat node loops (solver/simd/node_loops.hpp) give the same bits as the
 // Eigen expressions they replace (sizes that are not multiples of any vector width).
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <cstring>
 #include <random>
 
-#include "solver/node_loops.hpp"
+#include "solver/simd/node_loops.hpp"
 
 using namespace adamss;
 

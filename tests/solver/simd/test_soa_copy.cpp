@@ -1,4 +1,4 @@
-// AoS <-> SoA copies of the explicit path (solver/soa_copy.hpp): exact, on ranges that are not
+// AoS <-> SoA copies of the explicit path (solver/simd/soa_copy.hpp): exact, on ranges that are not
 // multiples of the 8-node vector block, with a padded coordinate stride.
 #include <gtest/gtest.h>
 
@@ -7,8 +7,8 @@
 #include <random>
 #include <vector>
 
-#include "solver/simd.hpp"
-#include "solver/soa_copy.hpp"
+#include "solver/simd/simd.hpp"
+#include "solver/simd/soa_copy.hpp"
 
 using namespace adamss;
 

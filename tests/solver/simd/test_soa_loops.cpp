@@ -1,5 +1,5 @@
-// The vectorised explicit path (issue 9): RunLayout (solver/run_layout.hpp), the spring and HybMSS
-// volume loops (solver/soa_loops.hpp) against the per-item kernels, and thread-count invariance.
+// The vectorised explicit path (issue 9): RunLayout (solver/simd/run_layout.hpp), the spring and HybMSS
+// volume loops (solver/simd/soa_loops.hpp) against the per-item kernels, and thread-count invariance.
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -9,14 +9,14 @@
 #include <numeric>
 #include <random>
 
-#include "preprocess/box_mesh.hpp"
-#include "preprocess/ellipsoid_mesh.hpp"
+#include "preprocess/meshers/box_mesh.hpp"
+#include "preprocess/meshers/ellipsoid_mesh.hpp"
 #include "soa_fixtures.hpp"
-#include "solver/edge_springs.hpp"
-#include "solver/hybmss.hpp"
-#include "solver/mass_springs.hpp"
-#include "solver/model.hpp"
-#include "solver/run_layout.hpp"
+#include "solver/terms/springs/edge_springs.hpp"
+#include "solver/terms/springs/hybmss.hpp"
+#include "solver/terms/springs/mass_springs.hpp"
+#include "solver/core/model.hpp"
+#include "solver/simd/run_layout.hpp"
 
 using namespace adamss;
 using adamss::testing::perturbed;

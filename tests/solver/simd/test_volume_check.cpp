@@ -1,4 +1,4 @@
-// The per-step element check's fast path (solver/volume_check.hpp): the vectorised signed-volume
+// The per-step element check's fast path (solver/simd/volume_check.hpp): the vectorised signed-volume
 // screen against the exact check, the slack it proves (no node displacement below it can flag
 // an element), and the MotionGate that lets the run loop skip the screen.
 #include <gtest/gtest.h>
@@ -9,11 +9,11 @@
 #include <random>
 #include <vector>
 
-#include "preprocess/box_mesh.hpp"
-#include "preprocess/ellipsoid_mesh.hpp"
+#include "preprocess/meshers/box_mesh.hpp"
+#include "preprocess/meshers/ellipsoid_mesh.hpp"
 #include "soa_fixtures.hpp"
-#include "solver/model.hpp"
-#include "solver/volume_check.hpp"
+#include "solver/core/model.hpp"
+#include "solver/simd/volume_check.hpp"
 
 using namespace adamss;
 using adamss::testing::perturbed;

@@ -8,11 +8,11 @@
 
 #include "common/error.hpp"
 #include "materials/factory.hpp"
-#include "solver/abm3.hpp"
-#include "solver/axis_frame.hpp"
-#include "solver/integrator.hpp"
-#include "solver/mass.hpp"
-#include "solver/virtual_hex.hpp"
+#include "solver/time/abm3.hpp"
+#include "solver/geometry/axis_frame.hpp"
+#include "solver/time/integrator.hpp"
+#include "solver/core/mass.hpp"
+#include "solver/terms/adamss/virtual_hex.hpp"
 #include "support/lattice_fixtures.hpp"
 
 using namespace adamss;

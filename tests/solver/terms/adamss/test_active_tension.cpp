@@ -8,8 +8,8 @@
 
 #include "common/error.hpp"
 #include "force_term_harness.hpp"
-#include "solver/active_tension.hpp"
-#include "solver/axis_frame.hpp"
+#include "solver/terms/adamss/active_tension.hpp"
+#include "solver/geometry/axis_frame.hpp"
 #include "support/fibre_fixtures.hpp"
 #include "support/lattice_fixtures.hpp"
 

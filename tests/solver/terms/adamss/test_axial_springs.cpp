@@ -1,4 +1,4 @@
-// Tests of the axial springs (solver/axial_springs.hpp, seed 000 eqs. 2.30-2.39).
+// Tests of the axial springs (solver/terms/adamss/axial_springs.hpp, seed 000 eqs. 2.30-2.39).
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -9,9 +9,9 @@
 
 #include "common/error.hpp"
 #include "force_term_harness.hpp"
-#include "preprocess/element_faces.hpp"
-#include "solver/axial_springs.hpp"
-#include "solver/axis_frame.hpp"
+#include "preprocess/mesh/element_faces.hpp"
+#include "solver/terms/adamss/axial_springs.hpp"
+#include "solver/geometry/axis_frame.hpp"
 #include "spring_fixtures.hpp"
 
 using namespace adamss;

@@ -8,11 +8,11 @@
 
 #include "common/error.hpp"
 #include "force_term_harness.hpp"
-#include "preprocess/element_faces.hpp"
-#include "solver/axis_frame.hpp"
-#include "solver/global_friction.hpp"
-#include "solver/mass.hpp"
-#include "solver/material_friction.hpp"
+#include "preprocess/mesh/element_faces.hpp"
+#include "solver/geometry/axis_frame.hpp"
+#include "solver/terms/loads/global_friction.hpp"
+#include "solver/core/mass.hpp"
+#include "solver/terms/adamss/material_friction.hpp"
 #include "support/fibre_fixtures.hpp"
 #include "support/lattice_fixtures.hpp"
 

@@ -1,4 +1,4 @@
-// Hourglass stabilisation of hexahedra (solver/hourglass.hpp; an addition, not in the thesis).
+// Hourglass stabilisation of hexahedra (solver/terms/adamss/hourglass.hpp; an addition, not in the thesis).
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -10,10 +10,10 @@
 #include "common/error.hpp"
 #include "force_term_harness.hpp"
 #include "materials/factory.hpp"
-#include "solver/axis_frame.hpp"
-#include "solver/hourglass.hpp"
-#include "solver/scene.hpp"
-#include "solver/virtual_hex.hpp"
+#include "solver/geometry/axis_frame.hpp"
+#include "solver/terms/adamss/hourglass.hpp"
+#include "solver/scene/scene.hpp"
+#include "solver/terms/adamss/virtual_hex.hpp"
 #include "support/fibre_fixtures.hpp"
 
 using namespace adamss;

@@ -1,4 +1,4 @@
-// Tests of the torsion springs (solver/torsion_springs.hpp, seed 000 eqs. 2.32, 2.40-2.55).
+// Tests of the torsion springs (solver/terms/adamss/torsion_springs.hpp, seed 000 eqs. 2.32, 2.40-2.55).
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -9,8 +9,8 @@
 
 #include "common/error.hpp"
 #include "force_term_harness.hpp"
-#include "solver/axis_frame.hpp"
-#include "solver/torsion_springs.hpp"
+#include "solver/geometry/axis_frame.hpp"
+#include "solver/terms/adamss/torsion_springs.hpp"
 #include "spring_fixtures.hpp"
 
 using namespace adamss;

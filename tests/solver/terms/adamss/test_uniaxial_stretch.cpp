@@ -24,9 +24,9 @@
 
 #include "materials/hunter.hpp"
 #include "materials/law.hpp"
-#include "solver/axis_frame.hpp"
-#include "solver/torsion_springs.hpp"
-#include "solver/virtual_hex.hpp"
+#include "solver/geometry/axis_frame.hpp"
+#include "solver/terms/adamss/torsion_springs.hpp"
+#include "solver/terms/adamss/virtual_hex.hpp"
 #include "spring_fixtures.hpp"
 #include "static_newton.hpp"
 

@@ -7,9 +7,9 @@
 #include "common/error.hpp"
 #include "force_term_harness.hpp"
 #include "materials/factory.hpp"
-#include "preprocess/lattice_mesher.hpp"
-#include "solver/axis_frame.hpp"
-#include "solver/virtual_hex.hpp"
+#include "preprocess/meshers/lattice_mesher.hpp"
+#include "solver/geometry/axis_frame.hpp"
+#include "solver/terms/adamss/virtual_hex.hpp"
 #include "support/fibre_fixtures.hpp"
 
 using namespace adamss;

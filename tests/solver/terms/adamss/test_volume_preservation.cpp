@@ -11,9 +11,9 @@
 #include "../support/lattice_fixtures.hpp"
 #include "common/error.hpp"
 #include "force_term_harness.hpp"
-#include "preprocess/mesh_quality.hpp"
-#include "solver/axis_frame.hpp"
-#include "solver/volume_preservation.hpp"
+#include "preprocess/mesh/mesh_quality.hpp"
+#include "solver/geometry/axis_frame.hpp"
+#include "solver/terms/adamss/volume_preservation.hpp"
 #include "support/fibre_fixtures.hpp"
 
 using namespace adamss;

@@ -8,8 +8,8 @@
 #include "../support/lattice_fixtures.hpp"
 #include "common/error.hpp"
 #include "force_term_harness.hpp"
-#include "solver/volume_preservation.hpp"
-#include "solver/volume_springs.hpp"
+#include "solver/terms/adamss/volume_preservation.hpp"
+#include "solver/terms/adamss/volume_springs.hpp"
 
 using namespace adamss;
 using solver::VolumeSpringForm;

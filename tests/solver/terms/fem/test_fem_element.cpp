@@ -1,4 +1,4 @@
-// The Gauss-point (FEM) evaluation of a law (solver/fem_element.hpp): derivative harness,
+// The Gauss-point (FEM) evaluation of a law (solver/terms/fem/fem_element.hpp): derivative harness,
 // exact reference volume, the patch test (an affine deformation of a distorted mesh gives
 // zero force on every interior node and the energy V W(E)), removal of the hourglass modes
 // of the one-point axis F, and the error paths.
@@ -12,10 +12,10 @@
 #include "force_term_harness.hpp"
 #include "materials/factory.hpp"
 #include "materials/kinematics.hpp"
-#include "preprocess/box_mesh.hpp"
-#include "solver/axis_frame.hpp"
-#include "solver/fem_element.hpp"
-#include "solver/virtual_hex.hpp"
+#include "preprocess/meshers/box_mesh.hpp"
+#include "solver/geometry/axis_frame.hpp"
+#include "solver/terms/fem/fem_element.hpp"
+#include "solver/terms/adamss/virtual_hex.hpp"
 #include "support/fibre_fixtures.hpp"
 
 using namespace adamss;

@@ -8,9 +8,9 @@
 #include <string>
 
 #include "common/error.hpp"
-#include "solver/cavity_constraint.hpp"
-#include "solver/implicit.hpp"
-#include "solver/scene.hpp"
+#include "solver/terms/loads/cavity_constraint.hpp"
+#include "solver/time/implicit.hpp"
+#include "solver/scene/scene.hpp"
 
 using namespace adamss;
 

@@ -7,9 +7,9 @@
 
 #include "common/error.hpp"
 #include "force_term_harness.hpp"
-#include "preprocess/lattice_mesher.hpp"
-#include "preprocess/phantom.hpp"
-#include "solver/cavity_pressure.hpp"
+#include "preprocess/meshers/lattice_mesher.hpp"
+#include "preprocess/image/phantom.hpp"
+#include "solver/terms/loads/cavity_pressure.hpp"
 #include "support/lattice_fixtures.hpp"
 
 using namespace adamss;

@@ -9,8 +9,8 @@
 #include <string>
 
 #include "common/error.hpp"
-#include "solver/circulation.hpp"
-#include "solver/state_archive.hpp"
+#include "solver/terms/loads/circulation.hpp"
+#include "solver/core/state_archive.hpp"
 
 using namespace adamss;
 using solver::CardiacPhase;

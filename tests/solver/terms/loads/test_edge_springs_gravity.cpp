@@ -2,10 +2,10 @@
 
 #include "common/error.hpp"
 #include "force_term_harness.hpp"
-#include "preprocess/lattice_mesher.hpp"
-#include "solver/edge_springs.hpp"
-#include "solver/gravity.hpp"
-#include "solver/mass.hpp"
+#include "preprocess/meshers/lattice_mesher.hpp"
+#include "solver/terms/springs/edge_springs.hpp"
+#include "solver/terms/loads/gravity.hpp"
+#include "solver/core/mass.hpp"
 #include "support/lattice_fixtures.hpp"
 
 using namespace adamss;

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "common/error.hpp"
-#include "solver/windkessel.hpp"
+#include "solver/terms/loads/windkessel.hpp"
 
 using namespace adamss;
 

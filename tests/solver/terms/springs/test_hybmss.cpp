@@ -1,4 +1,4 @@
-// HybMSS (solver/hybmss.hpp, seed 001 sec. 5): spring constants (eq. 5.12), the sharing
+// HybMSS (solver/terms/springs/hybmss.hpp, seed 001 sec. 5): spring constants (eq. 5.12), the sharing
 // rule of sec. 5.4, kappa, the volume V' of eq. 5.13, the FD harness, errors, the scene
 // key and a small uniaxial test of the measured E and nu.
 #include <gtest/gtest.h>
@@ -13,8 +13,8 @@
 
 #include "common/error.hpp"
 #include "force_term_harness.hpp"
-#include "solver/hybmss.hpp"
-#include "solver/scene.hpp"
+#include "solver/terms/springs/hybmss.hpp"
+#include "solver/scene/scene.hpp"
 #include "support/lattice_fixtures.hpp"
 #include "uniaxial_moduli.hpp"
 

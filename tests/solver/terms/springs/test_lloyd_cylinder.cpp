@@ -14,11 +14,11 @@
 #include <memory>
 
 #include "materials/factory.hpp"
-#include "preprocess/box_mesh.hpp"
-#include "solver/fem_element.hpp"
-#include "solver/implicit.hpp"
-#include "solver/lloyd_springs.hpp"
-#include "solver/mass.hpp"
+#include "preprocess/meshers/box_mesh.hpp"
+#include "solver/terms/fem/fem_element.hpp"
+#include "solver/time/implicit.hpp"
+#include "solver/terms/springs/lloyd_springs.hpp"
+#include "solver/core/mass.hpp"
 
 using namespace adamss;
 

@@ -1,4 +1,4 @@
-// Lloyd et al. tetrahedral springs (solver/lloyd_springs.hpp, seed 002 sec. 4.2, App. C):
+// Lloyd et al. tetrahedral springs (solver/terms/springs/lloyd_springs.hpp, seed 002 sec. 4.2, App. C):
 // constants of eqs. 12-14 on a regular tet, summation over shared edges, the volume force
 // energy, the FD harness, errors, the scene key and a small uniaxial test.
 #include <gtest/gtest.h>
@@ -12,9 +12,9 @@
 
 #include "common/error.hpp"
 #include "force_term_harness.hpp"
-#include "solver/lloyd_springs.hpp"
-#include "solver/scene.hpp"
-#include "solver/volume_preservation.hpp"
+#include "solver/terms/springs/lloyd_springs.hpp"
+#include "solver/scene/scene.hpp"
+#include "solver/terms/adamss/volume_preservation.hpp"
 #include "support/lattice_fixtures.hpp"
 #include "uniaxial_moduli.hpp"
 

@@ -1,4 +1,4 @@
-// Classic mass-spring system (solver/mass_springs.hpp): harness, spring sets, errors, scene key.
+// Classic mass-spring system (solver/terms/springs/mass_springs.hpp): harness, spring sets, errors, scene key.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,8 +10,8 @@
 
 #include "common/error.hpp"
 #include "force_term_harness.hpp"
-#include "solver/mass_springs.hpp"
-#include "solver/scene.hpp"
+#include "solver/terms/springs/mass_springs.hpp"
+#include "solver/scene/scene.hpp"
 #include "support/lattice_fixtures.hpp"
 #include "uniaxial_moduli.hpp"
 
