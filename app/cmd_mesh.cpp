@@ -1,4 +1,6 @@
 // adamss mesh IMAGE --solid 1 --topology T -o mesh.h5: voxel lattice or CGAL Mesh_3 -> mesh.
+// Parses the options into a preprocess::MeshRequest, runs the meshing pipeline
+// (preprocess/pipeline/mesh_pipeline.hpp), writes mesh.h5 and the .vtu, and prints the report.
 #include <Eigen/Core>
 #include <chrono>
 #include <cmath>
@@ -10,21 +12,13 @@
 #include <numbers>
 #include <optional>
 #include <sstream>
+#include <variant>
 
 #include "app/commands.hpp"
 #include "common/error.hpp"
 #include "common/units.hpp"
-#include "preprocess/surfaces/boundary_labels.hpp"
-#include "preprocess/surfaces/cavities.hpp"
-#include "preprocess/mesh/cell_fields.hpp"
-#include "preprocess/meshers/cgal_mesher.hpp"
-#include "preprocess/fibres/fibre_field.hpp"
-#include "preprocess/meshers/lattice_mesher.hpp"
 #include "preprocess/mesh/mesh_io.hpp"
-#include "preprocess/mesh/mesh_quality.hpp"
-#include "preprocess/image/nifti_io.hpp"
-#include "preprocess/surfaces/node_tags.hpp"
-#include "preprocess/fibres/rule_fibres.hpp"
+#include "preprocess/pipeline/mesh_pipeline.hpp"
 
 namespace adamss::app {
 namespace {
@@ -141,8 +135,7 @@ preprocess::CgalMeshOptions cgal_options(const MeshArgs& a) {
   return o;
 }
 
-double assign_rule(preprocess::Mesh& mesh, const preprocess::LabelImage& image, const MeshArgs& a) {
-  const preprocess::RuleFibreReport r = preprocess::assign_rule_fibres(mesh, image, rule_options(a));
+void print_rule_fibres(const preprocess::RuleFibreReport& r) {
   const Eigen::Vector3d& l = r.long_axis;
   std::cout << "fibres: rule, " << (r.biv ? "LV + RV" : "one ventricle") << "; faces: " << r.lv_endo_faces
             << " LV endo, " << r.rv_endo_faces << " RV endo, " << r.epi_faces << " epi, " << r.base_faces << " base, "
@@ -152,7 +145,6 @@ double assign_rule(preprocess::Mesh& mesh, const preprocess::LabelImage& image, 
             << (r.biv ? "; RV free wall " + std::to_string(r.rv_elements) + " elements" : "") << "\n"
             << "  Laplace: " << r.solves << " solves, up to " << r.unknowns << " unknowns, " << r.max_iterations
             << " CG iterations, " << r.solve_seconds << " s\n";
-  return r.total_seconds;
 }
 // ---- end of rule-based fibres
 /// The first --cgal-* option given on the command line, or "" (for lattice topologies).
@@ -172,163 +164,115 @@ std::string first_cgal_option(const MeshArgs& a) {
   return "";
 }
 
-void run_mesh(const MeshArgs& a) {
+/// The files `adamss mesh` writes: mesh.h5 and the .vtu ("" for --no-vtu).
+struct MeshOutputs {
+  std::string h5;
+  std::string vtu;
+};
+
+/// Topology, mesher and fibre options; InputError for options that do not go together.
+preprocess::MeshRequest request_from_options(const MeshArgs& a) {
   using namespace preprocess;
-  const auto t_start = Clock::now();
-  const Topology topo = parse_topology(a.topology);
-  if (topo != Topology::Cgal) {
+  MeshRequest req;
+  req.topology = parse_topology(a.topology);
+  if (req.topology != Topology::Cgal) {
     const std::string opt = first_cgal_option(a);
     if (!opt.empty()) throw InputError(opt + ": only with --topology cgal (got --topology " + a.topology + ")");
   }
   const bool rule = rule_requested(a);
-  const CgalMeshOptions cgal_opt = topo == Topology::Cgal ? cgal_options(a) : CgalMeshOptions{};
+  if (req.topology == Topology::Cgal) req.cgal = cgal_options(a);
   if (!rule && a.fiber.empty() != a.sheet.empty()) throw InputError("--fiber and --sheet must be given together");
+  req.image = ImageFile{a.image};
+  req.source = a.image;
+  req.solid_labels.assign(a.solid.begin(), a.solid.end());
+  if (rule) {
+    req.fibres = RuleFibres{};  // options read after the surface options, as before
+  } else if (!a.fiber.empty()) {
+    req.fibres = FibreImages{a.fiber, a.sheet, a.strict};
+  }
+  req.check = true;
+  return req;
+}
+
+MeshOutputs output_paths(const MeshArgs& a) {
   require_parent_dir(a.output, "-o");
   const std::string vtu =
       a.no_vtu ? "" : (a.vtu.empty() ? std::filesystem::path(a.output).replace_extension(".vtu").string() : a.vtu);
   if (!vtu.empty()) require_parent_dir(vtu, "--vtu");
-  // Option texts are checked before any file is read.
-  std::vector<CavitySpec> cavity_specs;
-  for (const std::string& c : a.cavities) cavity_specs.push_back(parse_cavity_spec(c, "--cavity"));
-  std::vector<TagPlane> planes;
-  for (const std::string& p : a.tag_planes) planes.push_back(parse_tag_plane(p, "--tag-plane"));
-  std::vector<CellFieldSpec> field_specs;
+  return {a.output, vtu};
+}
+
+/// --cavity, --tag-plane and --cell-field texts into the request (checked before any file is read).
+void add_surface_options(const MeshArgs& a, preprocess::MeshRequest& req) {
+  using namespace preprocess;
+  for (const std::string& c : a.cavities) req.cavities.push_back(parse_cavity_spec(c, "--cavity"));
+  for (const std::string& p : a.tag_planes) req.tag_planes.push_back({parse_tag_plane(p, "--tag-plane"), false});
   for (const std::string& f : a.cell_fields) {
-    field_specs.push_back(parse_cell_field_spec(f, "--cell-field"));
-    if (!std::filesystem::exists(field_specs.back().file))
-      throw InputError("--cell-field " + field_specs.back().name + ": image '" + field_specs.back().file +
+    req.cell_fields.push_back(parse_cell_field_spec(f, "--cell-field"));
+    if (!std::filesystem::exists(req.cell_fields.back().file))
+      throw InputError("--cell-field " + req.cell_fields.back().name + ": image '" + req.cell_fields.back().file +
                        "' does not exist");
   }
+}
 
-  auto t = Clock::now();
-  const LabelImage image = read_label_image(a.image);
-  const double t_read = since(t);
-
-  t = Clock::now();
-  Mesh mesh;
-  std::ostringstream cgal_report;
-  std::vector<SurfacePatchFace> cgal_patches;
-  if (topo == Topology::Cgal) {
-    CgalMeshResult r = mesh_cgal(image, cgal_opt);
-    mesh = std::move(r.mesh);
-    cgal_patches = r.patches;
-    const CgalCriteria& c = r.criteria;
-    std::map<std::pair<int, int>, std::size_t> pairs;
-    for (const SurfacePatchFace& f : r.patches) ++pairs[{f.label_in, f.label_out}];
-    cgal_report << std::setprecision(4) << "  cgal: facet angle " << c.facet_angle_deg << " deg, facet size "
-                << c.facet_size_m * 1e3 << " mm, facet distance " << c.facet_distance_m * 1e3
-                << " mm, cell radius-edge ratio " << c.cell_radius_edge_ratio << ", cell size " << c.cell_size_m * 1e3
-                << " mm (voxel " << c.voxel_size_m * 1e3 << " mm), seed " << cgal_opt.seed << "\n"
-                << "  cgal time: refine " << r.refine_seconds << " s"
-                << (cgal_opt.odt || cgal_opt.lloyd ? ", smoothing " + std::to_string(r.smooth_seconds) + " s" : "")
-                << ", perturb " << r.perturb_seconds << " s (" << r.perturb_attempts << " attempts"
-                << (r.perturb_capped ? ", capped" : "") << "), exude " << r.exude_seconds << " s (" << r.initial_points
-                << " initial points)\n"
-                << "  surface patches (label inside-outside: faces):";
-    for (const auto& [pr, n] : pairs) cgal_report << " " << pr.first << "-" << pr.second << ": " << n;
-    cgal_report << "\n";
-    if (r.inconsistent_patch_faces > 0) {
-      cgal_report << "  warning: " << r.inconsistent_patch_faces
-                  << " boundary faces had no matching CGAL surface patch (outside label taken from the neighbour)\n";
-    }
-  } else {
-    LatticeMeshOptions opt;
-    opt.topology = topo;
-    opt.solid_labels.assign(a.solid.begin(), a.solid.end());
-    mesh = mesh_lattice(image, opt);
+/// Fibre lines printed as soon as the fibres are on the mesh.
+void print_fibres(const preprocess::MeshBuild& b) {
+  if (b.rule_fibres) print_rule_fibres(*b.rule_fibres);
+  if (b.image_fibres && b.image_fibres->filled_elements > 0) {
+    std::cout << "fibres: " << b.image_fibres->filled_elements
+              << " elements had no valid fibre/sheet sample and were filled from neighbours (e.g. element "
+              << b.image_fibres->filled_examples.front() << ")\n";
   }
-  mesh.attributes["source"] = a.image;
-  const double t_mesh = since(t);
+}
 
-  double t_fibre = 0.0;
-  if (rule) {
-    t_fibre = assign_rule(mesh, image, a);
-  } else if (!a.fiber.empty()) {
-    t = Clock::now();
-    const VectorImage f = read_vector_image(a.fiber);
-    const VectorImage s = read_vector_image(a.sheet);
-    const FibreReport rep = assign_fibres(mesh, image.grid, f, a.fiber, s, a.sheet, a.strict);
-    mesh.attributes["fiber_source"] = a.fiber;
-    mesh.attributes["sheet_source"] = a.sheet;
-    t_fibre = since(t);
-    if (rep.filled_elements > 0) {
-      std::cout << "fibres: " << rep.filled_elements
-                << " elements had no valid fibre/sheet sample and were filled from neighbours (e.g. element "
-                << rep.filled_examples.front() << ")\n";
-    }
+/// The CGAL lines of the report: criteria, times, surface patches per label pair.
+std::string cgal_report(const preprocess::CgalMeshResult& r, const preprocess::CgalMeshOptions& opt) {
+  const preprocess::CgalCriteria& c = r.criteria;
+  std::map<std::pair<int, int>, std::size_t> pairs;
+  for (const preprocess::SurfacePatchFace& f : r.patches) ++pairs[{f.label_in, f.label_out}];
+  std::ostringstream os;
+  os << std::setprecision(4) << "  cgal: facet angle " << c.facet_angle_deg << " deg, facet size "
+     << c.facet_size_m * 1e3 << " mm, facet distance " << c.facet_distance_m * 1e3 << " mm, cell radius-edge ratio "
+     << c.cell_radius_edge_ratio << ", cell size " << c.cell_size_m * 1e3 << " mm (voxel " << c.voxel_size_m * 1e3
+     << " mm), seed " << opt.seed << "\n"
+     << "  cgal time: refine " << r.refine_seconds << " s"
+     << (opt.odt || opt.lloyd ? ", smoothing " + std::to_string(r.smooth_seconds) + " s" : "") << ", perturb "
+     << r.perturb_seconds << " s (" << r.perturb_attempts << " attempts" << (r.perturb_capped ? ", capped" : "")
+     << "), exude " << r.exude_seconds << " s (" << r.initial_points << " initial points)\n"
+     << "  surface patches (label inside-outside: faces):";
+  for (const auto& [pr, n] : pairs) os << " " << pr.first << "-" << pr.second << ": " << n;
+  os << "\n";
+  if (r.inconsistent_patch_faces > 0) {
+    os << "  warning: " << r.inconsistent_patch_faces
+       << " boundary faces had no matching CGAL surface patch (outside label taken from the neighbour)\n";
   }
+  return os.str();
+}
 
-  // Boundary surfaces: automatic label-pair tags, plane tags, cavities.
-  t = Clock::now();
-  // CGAL meshes: the mesher's own surface patches know the label beyond each face exactly; the
-  // lattice meshes read it from the image next to the face.
-  std::vector<BoundaryFace> faces;
-  if (topo == Topology::Cgal) {
-    for (const SurfacePatchFace& pf : cgal_patches) {
-      BoundaryFace f;
-      f.nodes = {pf.nodes[0], pf.nodes[1], pf.nodes[2], -1};
-      f.element = pf.element;
-      f.inside_label = pf.label_in;
-      f.outside_label = pf.label_out;
-      faces.push_back(f);
-    }
-  } else {
-    faces = boundary_faces_with_labels(mesh, image);
-  }
-  mesh.node_tags = label_pair_tags(faces);
-  for (const TagPlane& p : planes) {
-    if (mesh.node_tags.count(p.name) != 0)
-      throw InputError("--tag-plane " + p.name + ": a node tag of that name already exists");
-    mesh.node_tags[p.name] = nodes_on_plane(mesh, p, "--tag-plane");
-  }
-  std::vector<CavityBuildInfo> cavity_info;
-  if (!cavity_specs.empty()) {
-    check_cavity_labels_present(image, cavity_specs);
-    add_cavities(mesh, faces, cavity_specs, &cavity_info);
-  }
-  const double t_surfaces = since(t);
-
-  t = Clock::now();
-  std::vector<CellFieldReport> field_reports;
-  for (const CellFieldSpec& f : field_specs) {
-    const ScalarImage field = read_scalar_image(f.file);
-    field_reports.push_back(add_cell_field(mesh, f.name, field, f.method));
-    mesh.attributes["cell_field_" + f.name] = f.file + ":" + interpolation_name(f.method);
-  }
-  const double t_fields = since(t);
-
-  t = Clock::now();
-  const QualitySummary q = summarize_quality(mesh);
-  const ConformityReport conf = check_conformity(mesh);
-  const double t_check = since(t);
-  if (q.inverted > 0) throw NumericalError("mesher produced " + std::to_string(q.inverted) + " inverted elements");
-  if (conf.overshared_faces > 0) {
-    throw NumericalError("mesher produced a non-conforming mesh (" + std::to_string(conf.overshared_faces) +
-                         " faces in more than two elements)");
-  }
-  mesh.attributes["meshing_seconds"] = std::to_string(t_mesh + t_fibre + t_surfaces + t_fields);
-
-  t = Clock::now();
-  write_mesh_h5(a.output, mesh);
-  if (!vtu.empty()) write_mesh_vtu(vtu, mesh, q.element_volume, q.element_min_dihedral);
-  const double t_write = since(t);
-
-  std::cout << std::setprecision(6) << "mesh " << topology_name(topo) << ": " << mesh.node_count() << " nodes, "
-            << mesh.element_count() << " " << element_type_name(mesh.type) << " elements, volume " << q.volume_m3 * 1e9
-            << " mm^3\n"
+/// Size, quality, CGAL lines, boundary and node tags.
+void print_mesh_summary(const preprocess::MeshRequest& req, const preprocess::MeshBuild& b) {
+  const preprocess::Mesh& mesh = b.mesh;
+  const preprocess::QualitySummary& q = *b.quality;
+  const preprocess::ConformityReport& conf = *b.conformity;
+  std::cout << std::setprecision(6) << "mesh " << preprocess::topology_name(req.topology) << ": " << mesh.node_count()
+            << " nodes, " << mesh.element_count() << " " << element_type_name(mesh.type) << " elements, volume "
+            << q.volume_m3 * 1e9 << " mm^3\n"
             << "  dihedral angle min " << q.min_dihedral_deg << " deg, mean of element minima " << q.mean_dihedral_deg
             << " deg, " << q.below_10_deg << " elements under 10 deg\n"
-            << cgal_report.str() << "  boundary: " << conf.boundary_faces << " faces, "
+            << (b.cgal ? cgal_report(*b.cgal, req.cgal) : "") << "  boundary: " << conf.boundary_faces << " faces, "
             << (conf.closed_manifold() ? "closed 2-manifold" : "NOT a closed 2-manifold") << " ("
             << conf.nonmanifold_edges << " non-manifold edges, " << conf.nonmanifold_vertices
             << " non-manifold vertices)\n";
   std::cout << "  node tags:";
   for (const auto& [name, nodes] : mesh.node_tags) std::cout << " " << name << " (" << nodes.size() << ")";
   std::cout << "\n";
-  for (std::size_t i = 0; i < cavity_specs.size(); ++i) {
-    const Cavity& c = mesh.cavities.at(cavity_specs[i].name);
-    const CavityBuildInfo& ci = cavity_info[i];
-    std::cout << "  cavity " << cavity_specs[i].name << " (label " << cavity_specs[i].label << "): " << ci.wall_faces
+}
+
+void print_cavities(const preprocess::MeshRequest& req, const preprocess::MeshBuild& b) {
+  for (std::size_t i = 0; i < req.cavities.size(); ++i) {
+    const preprocess::Cavity& c = b.mesh.cavities.at(req.cavities[i].name);
+    const preprocess::CavityBuildInfo& ci = b.cavities[i];
+    std::cout << "  cavity " << req.cavities[i].name << " (label " << req.cavities[i].label << "): " << ci.wall_faces
               << (c.quads.empty() ? " wall triangles, " : " wall quads, ") << c.lid.size() << " lid triangles ("
               << ci.loops << (ci.loops == 1 ? " opening" : " openings");
     if (ci.loops > 0) std::cout << ", max distance from its plane " << ci.lid_max_deviation_m * 1e3 << " mm";
@@ -338,17 +282,42 @@ void run_mesh(const MeshArgs& a) {
                       : "watertight, " + std::to_string(ci.check.nonmanifold_edges) + " edges in more than two faces")
               << "\n";
   }
-  for (std::size_t i = 0; i < field_specs.size(); ++i) {
-    const CellFieldReport& r = field_reports[i];
-    std::cout << "  cell field " << field_specs[i].name << " (" << interpolation_name(field_specs[i].method) << " from "
-              << field_specs[i].file << "): min " << r.min << ", max " << r.max;
+}
+
+void print_cell_fields(const preprocess::MeshRequest& req, const preprocess::MeshBuild& b) {
+  for (std::size_t i = 0; i < req.cell_fields.size(); ++i) {
+    const preprocess::CellFieldSpec& f = req.cell_fields[i];
+    const preprocess::CellFieldReport& r = b.cell_fields[i];
+    std::cout << "  cell field " << f.name << " (" << interpolation_name(f.method) << " from " << f.file << "): min "
+              << r.min << ", max " << r.max;
     if (r.nan_elements > 0) std::cout << ", " << r.nan_elements << " elements NaN (only NaN voxels around them)";
     std::cout << "\n";
   }
-  std::cout << "  time: read " << t_read << " s, mesh " << t_mesh << " s, fibres " << t_fibre << " s, surfaces "
-            << t_surfaces << " s, cell fields " << t_fields << " s, checks " << t_check << " s, write " << t_write
+}
+
+void run_mesh(const MeshArgs& a) {
+  const auto t_start = Clock::now();
+  preprocess::MeshRequest req = request_from_options(a);
+  const MeshOutputs out = output_paths(a);
+  add_surface_options(a, req);
+  if (auto* rule = std::get_if<preprocess::RuleFibres>(&req.fibres)) rule->options = rule_options(a);
+  req.on_fibres = print_fibres;
+
+  const preprocess::MeshBuild b = preprocess::build_mesh(req);
+
+  const auto t = Clock::now();
+  write_mesh_h5(out.h5, b.mesh);
+  if (!out.vtu.empty()) write_mesh_vtu(out.vtu, b.mesh, b.quality->element_volume, b.quality->element_min_dihedral);
+  const double t_write = since(t);
+
+  print_mesh_summary(req, b);
+  print_cavities(req, b);
+  print_cell_fields(req, b);
+  const preprocess::MeshStageTimes& s = b.times;
+  std::cout << "  time: read " << s.read << " s, mesh " << s.mesh << " s, fibres " << s.fibres << " s, surfaces "
+            << s.surfaces << " s, cell fields " << s.cell_fields << " s, checks " << s.checks << " s, write " << t_write
             << " s, total " << since(t_start) << " s\n"
-            << "wrote " << a.output << (vtu.empty() ? "" : " and " + vtu) << "\n";
+            << "wrote " << out.h5 << (out.vtu.empty() ? "" : " and " + out.vtu) << "\n";
 }
 
 }  // namespace

@@ -47,6 +47,79 @@ class ConstraintMonitor final : public VolumeMonitor {
   const CavityConstraintTerm* term_;
 };
 
+/// `surface: {cavity: NAME}` (a cavity of the mesh) or `surface: {region: {...}}` (the boundary
+/// faces in a region), named `name`.
+Surface pressure_surface(SceneNode sel, const preprocess::Mesh& mesh, const std::string& name) {
+  Surface surface;
+  const bool cav = sel.has("cavity"), reg = sel.has("region");
+  if (cav == reg) throw InputError(sel.path() + ": give either cavity: NAME (from the mesh) or region: {...}");
+  if (cav) {
+    surface = cavity_surface(mesh, sel.text("cavity"));
+    surface.name = name;
+  } else {
+    surface = boundary_surface(mesh, sel.region("region"), name);
+  }
+  sel.finish();
+  return surface;
+}
+
+/// `circulation: {atrial_pressure, contraction_onset, period, windkessel: {...}}`.
+CirculationSettings circulation_settings(SceneNode& c) {
+  CirculationSettings cs;
+  cs.atrial_pressure = c.course("atrial_pressure", Dimension::Pressure);
+  cs.contraction_onset = c.positive("contraction_onset", Dimension::Time, std::nullopt, true);
+  cs.period = c.positive("period", Dimension::Time, 0.0, true);
+  if (auto w = c.optional_map("windkessel")) {
+    WindkesselParameters& wk = cs.windkessel;
+    // SI numbers: Pa s/m^3 for Z_c and R_p, m^3/Pa for C (no unit strings for these).
+    wk.characteristic_impedance =
+        w->quantity("characteristic_impedance", Dimension::Dimensionless, wk.characteristic_impedance);
+    wk.peripheral_resistance = w->quantity("peripheral_resistance", Dimension::Dimensionless, wk.peripheral_resistance);
+    wk.compliance = w->quantity("compliance", Dimension::Dimensionless, wk.compliance);
+    wk.venous_pressure = w->quantity("venous_pressure", Dimension::Pressure, wk.venous_pressure);
+    wk.initial_pressure = w->quantity("initial_pressure", Dimension::Pressure, wk.initial_pressure);
+    const std::string wpath = w->path();
+    w->finish();
+    Windkessel check(wk, wpath);  // InputError naming the key
+  }
+  return cs;
+}
+
+/// One `pressure:` entry: a pressure load, a held volume ratio or a circulation on its surface,
+/// with the monitor that reports the cavity's volume and pressure.
+void build_pressure(SceneNode& p, Model& model, std::set<std::string>& names) {
+  const std::string name = p.text("name");
+  if (!names.insert(name).second) throw InputError(p.at("name") + ": a second pressure surface named '" + name + "'");
+  Surface surface = pressure_surface(p.map("surface"), *model.mesh, name);
+  const bool given_p = p.has("pressure"), given_v = p.has("volume_ratio"), given_c = p.has("circulation");
+  if (int(given_p) + int(given_v) + int(given_c) != 1)
+    throw InputError(p.path() +
+                     ": give exactly one of pressure: (a load, Pa), volume_ratio: (hold V = r(t) V0; the "
+                     "pressure becomes an unknown, integrator static or backward_euler_newton) or circulation: "
+                     "(filling, isovolumic phases, Windkessel ejection)");
+  if (given_c) {
+    SceneNode c = p.map("circulation");
+    const CirculationSettings cs = circulation_settings(c);
+    const std::string what = c.path();
+    c.finish();
+    p.finish();
+    auto term = std::make_unique<CavityConstraintTerm>(surface, cs, model.x_ref, what);
+    model.cavities.push_back(std::make_unique<ConstraintMonitor>(term.get()));
+    model.terms.push_back(std::move(term));
+  } else if (given_p) {
+    const TimeCourse course = p.course("pressure", Dimension::Pressure);
+    p.finish();
+    model.terms.push_back(make_cavity_pressure_term(surface, course, model.node_count()));
+    model.cavities.push_back(std::make_unique<SurfaceMonitor>(std::move(surface), course));
+  } else {
+    const TimeCourse ratio = p.course("volume_ratio", Dimension::Dimensionless);
+    p.finish();
+    auto term = std::make_unique<CavityConstraintTerm>(surface, ratio, model.x_ref);
+    model.cavities.push_back(std::make_unique<ConstraintMonitor>(term.get()));
+    model.terms.push_back(std::move(term));
+  }
+}
+
 }  // namespace
 
 void build_loads(SceneNode& loads, Model& model, const std::filesystem::path& /*base*/) {
@@ -65,65 +138,7 @@ void build_loads(SceneNode& loads, Model& model, const std::filesystem::path& /*
     g->finish();
   }
   std::set<std::string> names;
-  for (SceneNode& p : loads.list("pressure")) {
-    const std::string name = p.text("name");
-    if (!names.insert(name).second) throw InputError(p.at("name") + ": a second pressure surface named '" + name + "'");
-    SceneNode sel = p.map("surface");
-    Surface surface;
-    const bool cav = sel.has("cavity"), reg = sel.has("region");
-    if (cav == reg) throw InputError(sel.path() + ": give either cavity: NAME (from the mesh) or region: {...}");
-    if (cav) {
-      surface = cavity_surface(*model.mesh, sel.text("cavity"));
-      surface.name = name;
-    } else {
-      surface = boundary_surface(*model.mesh, sel.region("region"), name);
-    }
-    sel.finish();
-    const bool given_p = p.has("pressure"), given_v = p.has("volume_ratio"), given_c = p.has("circulation");
-    if (int(given_p) + int(given_v) + int(given_c) != 1)
-      throw InputError(p.path() +
-                       ": give exactly one of pressure: (a load, Pa), volume_ratio: (hold V = r(t) V0; the "
-                       "pressure becomes an unknown, integrator static or backward_euler_newton) or circulation: "
-                       "(filling, isovolumic phases, Windkessel ejection)");
-    if (given_c) {
-      SceneNode c = p.map("circulation");
-      CirculationSettings cs;
-      cs.atrial_pressure = c.course("atrial_pressure", Dimension::Pressure);
-      cs.contraction_onset = c.positive("contraction_onset", Dimension::Time, std::nullopt, true);
-      cs.period = c.positive("period", Dimension::Time, 0.0, true);
-      if (auto w = c.optional_map("windkessel")) {
-        WindkesselParameters& wk = cs.windkessel;
-        // SI numbers: Pa s/m^3 for Z_c and R_p, m^3/Pa for C (no unit strings for these).
-        wk.characteristic_impedance =
-            w->quantity("characteristic_impedance", Dimension::Dimensionless, wk.characteristic_impedance);
-        wk.peripheral_resistance =
-            w->quantity("peripheral_resistance", Dimension::Dimensionless, wk.peripheral_resistance);
-        wk.compliance = w->quantity("compliance", Dimension::Dimensionless, wk.compliance);
-        wk.venous_pressure = w->quantity("venous_pressure", Dimension::Pressure, wk.venous_pressure);
-        wk.initial_pressure = w->quantity("initial_pressure", Dimension::Pressure, wk.initial_pressure);
-        const std::string wpath = w->path();
-        w->finish();
-        Windkessel check(wk, wpath);  // InputError naming the key
-      }
-      const std::string what = c.path();
-      c.finish();
-      p.finish();
-      auto term = std::make_unique<CavityConstraintTerm>(surface, cs, model.x_ref, what);
-      model.cavities.push_back(std::make_unique<ConstraintMonitor>(term.get()));
-      model.terms.push_back(std::move(term));
-    } else if (given_p) {
-      const TimeCourse course = p.course("pressure", Dimension::Pressure);
-      p.finish();
-      model.terms.push_back(make_cavity_pressure_term(surface, course, model.node_count()));
-      model.cavities.push_back(std::make_unique<SurfaceMonitor>(std::move(surface), course));
-    } else {
-      const TimeCourse ratio = p.course("volume_ratio", Dimension::Dimensionless);
-      p.finish();
-      auto term = std::make_unique<CavityConstraintTerm>(surface, ratio, model.x_ref);
-      model.cavities.push_back(std::make_unique<ConstraintMonitor>(term.get()));
-      model.terms.push_back(std::move(term));
-    }
-  }
+  for (SceneNode& p : loads.list("pressure")) build_pressure(p, model, names);
 }
 
 }  // namespace adamss::solver

@@ -4,6 +4,8 @@
 #include <cctype>
 #include <cmath>
 #include <map>
+#include <memory>
+#include <utility>
 
 #include "common/error.hpp"
 #include "materials/factory.hpp"
@@ -11,16 +13,16 @@
 #include "preprocess/mesh/mesh_quality.hpp"
 #include "solver/terms/adamss/active_tension.hpp"
 #include "solver/terms/adamss/axial_springs.hpp"
-#include "solver/terms/fem/fem_element.hpp"
-#include "solver/terms/springs/hybmss.hpp"
-#include "solver/terms/springs/lloyd_springs.hpp"
-#include "solver/terms/springs/mass_springs.hpp"
 #include "solver/terms/adamss/hourglass.hpp"
 #include "solver/terms/adamss/material_friction.hpp"
 #include "solver/terms/adamss/torsion_springs.hpp"
 #include "solver/terms/adamss/virtual_hex.hpp"
 #include "solver/terms/adamss/volume_preservation.hpp"
 #include "solver/terms/adamss/volume_springs.hpp"
+#include "solver/terms/fem/fem_element.hpp"
+#include "solver/terms/springs/hybmss.hpp"
+#include "solver/terms/springs/lloyd_springs.hpp"
+#include "solver/terms/springs/mass_springs.hpp"
 
 namespace adamss::solver {
 
@@ -217,12 +219,13 @@ double material_volume(const MaterialContext& ctx) {
   return v;
 }
 
-/// Raises the wave modulus to the largest C_iiii of the springs of `term` (an EdgeSpringKernel term).
-void add_spring_wave_modulus(const ForceTerm& term, MaterialContext& ctx) {
-  const auto* springs = dynamic_cast<const StencilTerm<EdgeSpringKernel, 2>*>(&term);
-  if (springs != nullptr)
-    ctx.wave_modulus =
-        std::max(ctx.wave_modulus, spring_set_modulus(springs->kernel(), ctx.mesh.nodes, material_volume(ctx)));
+/// Adds `springs` as a term of the material and raises its wave modulus to their largest
+/// C_iiii (edge_springs.hpp: spring_set_modulus over the material's volume).
+void add_edge_springs(EdgeSpringKernel springs, MaterialContext& ctx) {
+  auto term = std::make_unique<StencilTerm<EdgeSpringKernel, 2>>(std::move(springs));
+  ctx.wave_modulus =
+      std::max(ctx.wave_modulus, spring_set_modulus(term->kernel(), ctx.mesh.nodes, material_volume(ctx)));
+  ctx.model.terms.push_back(std::move(term));
 }
 
 void build_mass_springs(SceneNode& node, MaterialContext& ctx) {
@@ -233,8 +236,7 @@ void build_mass_springs(SceneNode& node, MaterialContext& ctx) {
   if (ctx.mesh.type == preprocess::ElementType::Tet4 && p.diagonals != SpringDiagonals::None)
     throw InputError(node.at("diagonals") + ": '" + d + "' needs a hexahedral mesh; tetrahedra have only edges");
   node.finish();
-  ctx.model.terms.push_back(make_mass_spring_term(ctx.mesh, p, &ctx.elements));
-  add_spring_wave_modulus(*ctx.model.terms.back(), ctx);
+  add_edge_springs(make_mass_spring_kernel(ctx.mesh, p, &ctx.elements), ctx);
 }
 
 void build_hybmss(SceneNode& node, MaterialContext& ctx) {
@@ -249,10 +251,10 @@ void build_hybmss(SceneNode& node, MaterialContext& ctx) {
   node.finish();
   if (ctx.mesh.type != preprocess::ElementType::Hex8)
     throw InputError(node.path() + ": hybmss needs a hexahedral mesh (mesh topology: hex); this mesh has tetrahedra");
-  for (auto& t : make_hybmss_terms(ctx.mesh, p, &ctx.elements)) {
-    add_spring_wave_modulus(*t, ctx);
-    ctx.model.terms.push_back(std::move(t));
-  }
+  // The terms of make_hybmss_terms, built here so the spring kernel stays typed.
+  add_edge_springs(make_hybmss_spring_kernel(ctx.mesh, p, &ctx.elements), ctx);
+  HybmssVolumeKernel vol = make_hybmss_volume_kernel(ctx.mesh, p, &ctx.elements);
+  if (vol.kappa != 0.0) ctx.model.terms.push_back(std::make_unique<StencilTerm<HybmssVolumeKernel, 8>>(std::move(vol)));
   ctx.bulk_modulus += hybmss_kappa(p.youngs_modulus, p.poisson_ratio);  // P-wave modulus 3G + kappa
 }
 
@@ -265,9 +267,13 @@ void build_lloyd_springs(SceneNode& node, MaterialContext& ctx) {
     throw InputError(
         node.path() +
         ": lloyd_springs needs a tetrahedral mesh (a tet topology such as tet6m); this mesh has hexahedra");
-  for (auto& t : make_lloyd_terms(ctx.mesh, p, &ctx.elements)) {
-    add_spring_wave_modulus(*t, ctx);
-    ctx.model.terms.push_back(std::move(t));
+  // The terms of make_lloyd_terms, built here so the spring kernel stays typed.
+  add_edge_springs(make_lloyd_spring_kernel(ctx.mesh, p, &ctx.elements), ctx);
+  if (p.volume_force) {
+    VolumeParams vp;
+    vp.p = lloyd_volume_penalty(p.youngs_modulus);
+    vp.distribution = VolumeDistribution::Isotropic;
+    ctx.model.terms.push_back(make_volume_term(ctx.mesh, nullptr, vp, &ctx.elements));
   }
   if (p.volume_force) ctx.bulk_modulus += 2.0 * lloyd_volume_penalty(p.youngs_modulus);
 }

@@ -1,0 +1,43 @@
+#pragma once
+// The meshing pipeline shared by `adamss mesh` and the scene recipes: image -> volume mesh
+// (voxel lattice or CGAL Mesh_3) -> fibres -> boundary surfaces (label-pair node tags, plane
+// tags, cavities) -> cell fields -> optional checks. The caller writes the mesh and reports.
+#include <optional>
+#include <vector>
+
+#include "preprocess/fibres/fibre_field.hpp"
+#include "preprocess/mesh/mesh_quality.hpp"
+#include "preprocess/pipeline/mesh_request.hpp"
+
+namespace adamss::preprocess {
+
+/// Wall-clock seconds of each stage (fibres: the rule's own total for rule fibres).
+struct MeshStageTimes {
+  double read = 0.0;  ///< reading (or making) the label image
+  double mesh = 0.0;
+  double fibres = 0.0;
+  double surfaces = 0.0;
+  double cell_fields = 0.0;
+  double checks = 0.0;
+};
+
+/// The mesh and what each stage found.
+struct MeshBuild {
+  Mesh mesh;
+  /// Topology::Cgal: the mesher's result (criteria, times, surface patches); its `mesh` member
+  /// is empty (moved into `mesh` above).
+  std::optional<CgalMeshResult> cgal;
+  std::optional<FibreReport> image_fibres;  ///< FibreImages or PhantomFibres
+  std::optional<RuleFibreReport> rule_fibres;
+  std::vector<CavityBuildInfo> cavities;       ///< one per request.cavities
+  std::vector<CellFieldReport> cell_fields;    ///< one per request.cell_fields
+  std::optional<QualitySummary> quality;       ///< request.check only
+  std::optional<ConformityReport> conformity;  ///< request.check only
+  MeshStageTimes times;
+};
+
+/// Runs the pipeline of `request`. InputError for bad inputs (files, labels, planes, cavities);
+/// with request.check, NumericalError for inverted elements or a non-conforming mesh.
+MeshBuild build_mesh(const MeshRequest& request);
+
+}  // namespace adamss::preprocess

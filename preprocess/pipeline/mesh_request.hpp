@@ -1,0 +1,84 @@
+#pragma once
+// What to mesh and what to put on the mesh: the one description that `adamss mesh` fills from
+// its options and a scene's phantom recipe fills from its keys. build_mesh
+// (preprocess/pipeline/mesh_pipeline.hpp) turns it into a mesh.
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "preprocess/fibres/rule_fibres.hpp"
+#include "preprocess/image/phantom.hpp"
+#include "preprocess/mesh/cell_fields.hpp"
+#include "preprocess/meshers/cgal_mesher.hpp"
+#include "preprocess/meshers/lattice_mesher.hpp"
+#include "preprocess/surfaces/cavities.hpp"
+#include "preprocess/surfaces/node_tags.hpp"
+
+namespace adamss::preprocess {
+
+struct MeshBuild;
+
+/// The labelled image is read from a NIfTI file.
+struct ImageFile {
+  std::string path;
+};
+
+/// The labelled image is a synthetic phantom (preprocess/image/phantom.hpp), made in memory.
+struct PhantomImage {
+  std::string kind;  ///< lv, biv, beam or slab
+  PhantomOptions options;
+};
+
+using ImageSource = std::variant<ImageFile, PhantomImage>;
+
+/// No fibres.
+struct NoFibres {};
+
+/// Fibre and sheet vector images on the label image's lattice, sampled at element barycentres.
+struct FibreImages {
+  std::string fiber_file;
+  std::string sheet_file;
+  bool strict = false;  ///< reject elements without a valid sample instead of filling them
+};
+
+/// Rule-based fibres from Laplace transmural coordinates (preprocess/fibres/rule_fibres.hpp).
+struct RuleFibres {
+  RuleFibreOptions options;
+};
+
+/// The analytic fibre and sheet fields of a PhantomImage (none for phantoms without them).
+struct PhantomFibres {};
+
+using FibreSource = std::variant<NoFibres, FibreImages, RuleFibres, PhantomFibres>;
+
+/// A node tag of the nodes on a plane.
+struct PlaneTagRequest {
+  TagPlane plane;
+  /// false: a plane that holds no node, or a name that is already a tag, is an InputError.
+  /// true: a plane that holds no node gives no tag (and the name is not checked).
+  bool skip_if_empty = false;
+};
+
+struct MeshRequest {
+  ImageSource image;
+  std::string source;  ///< mesh.attributes["source"]
+  std::vector<std::int32_t> solid_labels{1};
+  Topology topology = Topology::Tet6m;
+  CgalMeshOptions cgal;  ///< Topology::Cgal only; its solid_labels are replaced by solid_labels
+  FibreSource fibres;
+  std::vector<PlaneTagRequest> tag_planes;
+  std::vector<CavitySpec> cavities;
+  std::vector<CellFieldSpec> cell_fields;  ///< scalar NIfTI files sampled into cell data
+  /// A 0/1 cell field "scar" from preprocess::scar_image of a PhantomImage (lv, biv).
+  std::optional<ScarCone> scar;
+  /// Quality summary and conformity check (NumericalError for inverted elements or faces in
+  /// more than two elements), and mesh.attributes["meshing_seconds"].
+  bool check = false;
+  /// Called once the fibres are on the mesh (to report them before the later stages run).
+  std::function<void(const MeshBuild&)> on_fibres;
+};
+
+}  // namespace adamss::preprocess

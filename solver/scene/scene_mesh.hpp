@@ -1,0 +1,20 @@
+#pragma once
+// The `mesh:` section of a scene: a mesh file, a voxel phantom recipe (meshed by the shared
+// pipeline, preprocess/pipeline/mesh_pipeline.hpp, and cached on disk), or a structured box,
+// cylinder or truncated ellipsoid built in memory; optionally a uniform fibre frame.
+#include <filesystem>
+#include <string>
+
+#include "preprocess/mesh/mesh.hpp"
+#include "solver/scene/scene.hpp"
+#include "solver/scene/scene_node.hpp"
+
+namespace adamss::solver {
+
+/// The mesh of `node` (the scene's `mesh:` mapping); relative file names are resolved against
+/// `base`. `source` receives the file the mesh came from (a recipe's cached file; for meshes
+/// built in memory a description). InputError naming the key for any problem.
+preprocess::Mesh load_scene_mesh(SceneNode node, const std::filesystem::path& base, const SceneOptions& opt,
+                                 std::string& source);
+
+}  // namespace adamss::solver
