@@ -14,8 +14,9 @@
 #include <vector>
 
 #include "common/error.hpp"
-#include "preprocess/surfaces/boundary_labels.hpp"
 #include "preprocess/mesh/element_faces.hpp"
+#include "preprocess/mesh/shape_functions.hpp"
+#include "preprocess/surfaces/boundary_labels.hpp"
 
 namespace adamss::preprocess {
 namespace {
@@ -107,18 +108,10 @@ struct ElementGeometry {
   double volume = 0.0;
 };
 
-/// Trilinear shape-function derivatives w.r.t. (xi, eta, zeta) in [-1, 1]^3 at a point, VTK node order.
+/// Trilinear shape-function derivatives w.r.t. (xi, eta, zeta) in [-1, 1]^3 at a point, VTK node
+/// order, one column per node.
 Eigen::Matrix<double, 3, 8> hex_dshape(const Vector3d& p) {
-  Eigen::Matrix<double, 3, 8> d;
-  for (int a = 0; a < 8; ++a) {
-    const int code = kHexCornerCode[static_cast<std::size_t>(a)];
-    const double s[3] = {(code & 1) ? 1.0 : -1.0, (code & 2) ? 1.0 : -1.0, (code & 4) ? 1.0 : -1.0};
-    const double f[3] = {1.0 + s[0] * p[0], 1.0 + s[1] * p[1], 1.0 + s[2] * p[2]};
-    d(0, a) = 0.125 * s[0] * f[1] * f[2];
-    d(1, a) = 0.125 * f[0] * s[1] * f[2];
-    d(2, a) = 0.125 * f[0] * f[1] * s[2];
-  }
-  return d;
+  return hex_natural_shape_gradients(p).transpose();
 }
 
 Eigen::Matrix<double, 3, 8> hex_nodes(const Mesh& mesh, std::size_t e) {
@@ -150,9 +143,8 @@ ElementGeometry element_geometry(const Mesh& mesh, std::size_t e) {
   const Eigen::Matrix3d j = x * d0.transpose();  // dx/dxi
   const double det = j.determinant();
   if (det != 0.0) g.grad = j.inverse().transpose() * d0;
-  const double gp = 1.0 / std::sqrt(3.0);
   for (int q = 0; q < 8; ++q) {
-    const Vector3d p((q & 1) ? gp : -gp, (q & 2) ? gp : -gp, (q & 4) ? gp : -gp);
+    const Vector3d p = hex_natural_gauss_point(q);
     g.volume += (x * hex_dshape(p).transpose()).determinant();
   }
   return g;
@@ -174,7 +166,6 @@ Assembly assemble(const Mesh& mesh, const std::vector<char>& mask, Coeff&& coeff
   trip.reserve(ne * static_cast<std::size_t>(k * k));
   Assembly out;
   out.b = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(mesh.node_count()));
-  const double gp = 1.0 / std::sqrt(3.0);
   Eigen::Matrix<double, 8, 8> ke;
   Eigen::Matrix<double, 8, 1> be;
   Eigen::Matrix3d dmat;
@@ -193,8 +184,7 @@ Assembly assemble(const Mesh& mesh, const std::vector<char>& mask, Coeff&& coeff
     } else {
       const Eigen::Matrix<double, 3, 8> x = hex_nodes(mesh, e);
       for (int q = 0; q < 8; ++q) {
-        const Vector3d p((q & 1) ? gp : -gp, (q & 2) ? gp : -gp, (q & 4) ? gp : -gp);
-        const Eigen::Matrix<double, 3, 8> d = hex_dshape(p);
+        const Eigen::Matrix<double, 3, 8> d = hex_dshape(hex_natural_gauss_point(q));
         const Eigen::Matrix3d j = x * d.transpose();
         const double det = j.determinant();
         if (det == 0.0) continue;
@@ -322,19 +312,16 @@ struct Transmural {
   Eigen::VectorXd t_node;           ///< coordinate per node (nodes of the masked elements)
 };
 
-Transmural transmural(const Mesh& mesh, const std::vector<char>& mask, const Eigen::VectorXd& phi,
-                      const std::vector<std::uint8_t>& flags, const FieldSpec& spec, const RuleFibreOptions& options,
-                      RuleFibreReport& rep) {
+/// Unit transmural direction per masked element (zero where it vanishes): the element gradients
+/// of phi, recovered at the nodes as the volume-weighted mean of the element gradients around
+/// each node and averaged back over the element's nodes. The P1 gradient alone follows the voxel
+/// staircase of the boundary (measured: 9 deg RMS helix error from directions alone on the
+/// 0.5 mm lv phantom, 1.1 deg with the recovery).
+std::vector<Vector3d> recovered_directions(const Mesh& mesh, const std::vector<char>& mask, const Eigen::VectorXd& phi,
+                                           RuleFibreReport& rep) {
   const int k = nodes_per_element(mesh.type);
   const std::size_t ne = mesh.element_count(), nn = mesh.node_count();
-  Transmural out;
-  out.direction.assign(ne, Vector3d::Zero());
-  out.t_node = phi;
-
-  // Element gradients, then nodal gradients recovered as the volume-weighted mean of the element
-  // gradients around each node, averaged back to the element: the P1 gradient alone follows the
-  // voxel staircase of the boundary (measured: 9 deg RMS helix error from directions alone on the
-  // 0.5 mm lv phantom, 1.1 deg with the recovery).
+  std::vector<Vector3d> direction(ne, Vector3d::Zero());
   std::vector<Vector3d> grad(ne, Vector3d::Zero());
   std::vector<Vector3d> node_grad(nn, Vector3d::Zero());
   std::vector<double> node_w(nn, 0.0);
@@ -363,19 +350,17 @@ Transmural transmural(const Mesh& mesh, const std::vector<char>& mask, const Eig
       if (node_w[i] > 0.0) sum += node_grad[i] / node_w[i];
     }
     if (!(grad[e].norm() > tiny)) ++rep.recovered_gradient_elements;
-    if (sum.norm() > tiny) out.direction[e] = sum.normalized();  // else left zero: filled from neighbours
+    if (sum.norm() > tiny) direction[e] = sum.normalized();  // else left zero: filled from neighbours
   }
-  if (options.coordinate == TransmuralCoordinate::Harmonic) return out;
+  return direction;
+}
 
-  // Streamline thickness (Yezzi & Prince 2003): L0 = distance from the endocardium along the
-  // streamlines of e_t, L1 = distance to the epicardium, t = L0 / (L0 + L1). Each solves
-  // e_t . grad L = 1 (L0; -e_t for L1) in the least-squares sense with a small isotropic
-  // diffusion eps: -div((e_t e_t^T + eps I) grad L) = -div(+-e_t), L = 0 on its own surface.
-  const double eps = options.streamline_diffusion;
-  const Assembly as = assemble(mesh, mask, [&](std::size_t e, Eigen::Matrix3d& d, Vector3d& w) {
-    d = out.direction[e] * out.direction[e].transpose() + eps * Eigen::Matrix3d::Identity();
-    w = out.direction[e];
-  });
+/// Nodes that keep t = phi in the streamline thickness: nodes outside the masked elements and the
+/// nodes of connected parts that miss one of the two surfaces of `spec`.
+std::vector<char> nodes_keeping_phi(const Mesh& mesh, const std::vector<char>& mask,
+                                    const std::vector<std::uint8_t>& flags, const FieldSpec& spec) {
+  const int k = nodes_per_element(mesh.type);
+  const std::size_t ne = mesh.element_count();
   std::size_t parts = 0;
   const std::vector<std::size_t> part = element_parts(mesh, mask, parts);
   std::vector<std::uint8_t> part_flags(parts, 0);
@@ -387,12 +372,28 @@ Transmural transmural(const Mesh& mesh, const std::vector<char>& mask, const Eig
           static_cast<std::uint8_t>(((flags[i] & spec.zero) ? 1 : 0) | ((flags[i] & spec.one) ? 2 : 0));
     }
   }
-  // Nodes outside the region and parts that miss one of the two surfaces keep t = phi.
-  std::vector<char> keep_phi(nn, 1);
+  std::vector<char> keep_phi(mesh.node_count(), 1);
   for (std::size_t e = 0; e < ne; ++e) {
     if (!mask[e] || part_flags[part[e]] != 3) continue;
     for (int a = 0; a < k; ++a) keep_phi[static_cast<std::size_t>(mesh.element(e)[a])] = 0;
   }
+  return keep_phi;
+}
+
+/// Streamline thickness (Yezzi & Prince 2003) into t_node: L0 = distance from the endocardium
+/// along the streamlines of e_t, L1 = distance to the epicardium, t = L0 / (L0 + L1). Each solves
+/// e_t . grad L = 1 (L0; -e_t for L1) in the least-squares sense with a small isotropic diffusion
+/// eps: -div((e_t e_t^T + eps I) grad L) = -div(+-e_t), L = 0 on its own surface.
+void streamline_thickness(const Mesh& mesh, const std::vector<char>& mask, const std::vector<Vector3d>& direction,
+                          const std::vector<std::uint8_t>& flags, const FieldSpec& spec,
+                          const RuleFibreOptions& options, RuleFibreReport& rep, Eigen::VectorXd& t_node) {
+  const std::size_t nn = mesh.node_count();
+  const double eps = options.streamline_diffusion;
+  const Assembly as = assemble(mesh, mask, [&](std::size_t e, Eigen::Matrix3d& d, Vector3d& w) {
+    d = direction[e] * direction[e].transpose() + eps * Eigen::Matrix3d::Identity();
+    w = direction[e];
+  });
+  const std::vector<char> keep_phi = nodes_keeping_phi(mesh, mask, flags, spec);
   std::vector<char> fixed0(nn), fixed1(nn);
   for (std::size_t i = 0; i < nn; ++i) {
     fixed0[i] = (keep_phi[i] || (flags[i] & spec.zero)) ? 1 : 0;
@@ -405,29 +406,47 @@ Transmural transmural(const Mesh& mesh, const std::vector<char>& mask, const Eig
     if (keep_phi[i]) continue;
     const auto ii = static_cast<Eigen::Index>(i);
     const double a0 = std::max(l0[ii], 0.0), a1 = std::max(l1[ii], 0.0);
-    if (a0 + a1 > 0.0) out.t_node[ii] = a0 / (a0 + a1);  // else: a node on both surfaces keeps phi
+    if (a0 + a1 > 0.0) t_node[ii] = a0 / (a0 + a1);  // else: a node on both surfaces keeps phi
   }
+}
+
+Transmural transmural(const Mesh& mesh, const std::vector<char>& mask, const Eigen::VectorXd& phi,
+                      const std::vector<std::uint8_t>& flags, const FieldSpec& spec, const RuleFibreOptions& options,
+                      RuleFibreReport& rep) {
+  Transmural out;
+  out.direction = recovered_directions(mesh, mask, phi, rep);
+  out.t_node = phi;
+  if (options.coordinate == TransmuralCoordinate::Harmonic) return out;
+  streamline_thickness(mesh, mask, out.direction, flags, spec, options, rep, out.t_node);
   return out;
 }
 
-}  // namespace
+// ------------------------------------------------------------------ steps of assign_rule_fibres
 
-RuleFibreReport assign_rule_fibres(Mesh& mesh, const LabelImage& image, const RuleFibreOptions& options) {
-  const auto t_start = Clock::now();
-  check_options(options);
-  const std::size_t ne = mesh.element_count();
-  const std::size_t nn = mesh.node_count();
-  if (ne == 0) fail("the mesh has no elements");
-  const int k = nodes_per_element(mesh.type);
-  RuleFibreReport rep;
+/// The Dirichlet data of phi_lv and phi_rv (see the header).
+constexpr FieldSpec kLvSpec{kLvEndo, static_cast<std::uint8_t>(kEpi | kRvEndo), true};
+constexpr FieldSpec kRvSpec{kRvEndo, static_cast<std::uint8_t>(kEpi | kLvEndo), false};
 
-  // Surfaces.
-  const Opening opening = find_opening(image, options);
-  rep.has_base = opening.found;
-  rep.base_normal = opening.normal;
-  rep.base_point = opening.point;
+/// Whether a background face (corners f.nodes) lies on the base: on the opening's plane within
+/// tol, its area vector within 45 deg of the opening normal.
+bool is_base_face(const Mesh& mesh, const BoundaryFace& f, const Opening& opening, double tol) {
+  const int m = f.corner_count();
+  Vector3d c = Vector3d::Zero();
+  for (int a = 0; a < m; ++a) c += mesh.nodes.col(f.nodes[static_cast<std::size_t>(a)]);
+  c /= m;
+  const Vector3d x0 = mesh.nodes.col(f.nodes[0]), x1 = mesh.nodes.col(f.nodes[1]), x2 = mesh.nodes.col(f.nodes[2]);
+  const Vector3d area =
+      m == 3 ? Vector3d((x1 - x0).cross(x2 - x0)) : Vector3d((x2 - x0).cross(mesh.nodes.col(f.nodes[3]) - x1));
+  return opening.found && std::abs((c - opening.point).dot(opening.normal)) <= tol &&
+         area.dot(opening.normal) >= std::cos(std::numbers::pi / 4) * area.norm();
+}
+
+/// Surface flags per node (kLvEndo | kRvEndo | kEpi) from the image label outside each boundary
+/// face, with the face and node counts in rep; InputError without an endocardium or epicardium.
+std::vector<std::uint8_t> classify_surfaces(const Mesh& mesh, const LabelImage& image, const RuleFibreOptions& options,
+                                            const Opening& opening, RuleFibreReport& rep) {
   const double tol = options.base_tolerance_m >= 0.0 ? options.base_tolerance_m : 0.5 * image.grid.spacing().minCoeff();
-  std::vector<std::uint8_t> flags(nn, 0);
+  std::vector<std::uint8_t> flags(mesh.node_count(), 0);
   for (const BoundaryFace& f : boundary_faces_with_labels(mesh, image)) {
     std::uint8_t flag = 0;
     if (f.outside_label == options.lv_cavity_label) {
@@ -437,16 +456,7 @@ RuleFibreReport assign_rule_fibres(Mesh& mesh, const LabelImage& image, const Ru
       flag = kRvEndo;
       ++rep.rv_endo_faces;
     } else if (f.outside_label == options.background_label) {
-      const int m = f.corner_count();
-      Vector3d c = Vector3d::Zero();
-      for (int a = 0; a < m; ++a) c += mesh.nodes.col(f.nodes[static_cast<std::size_t>(a)]);
-      c /= m;
-      const Vector3d x0 = mesh.nodes.col(f.nodes[0]), x1 = mesh.nodes.col(f.nodes[1]), x2 = mesh.nodes.col(f.nodes[2]);
-      const Vector3d area =
-          m == 3 ? Vector3d((x1 - x0).cross(x2 - x0)) : Vector3d((x2 - x0).cross(mesh.nodes.col(f.nodes[3]) - x1));
-      const bool base = opening.found && std::abs((c - opening.point).dot(opening.normal)) <= tol &&
-                        area.dot(opening.normal) >= std::cos(std::numbers::pi / 4) * area.norm();
-      if (base) {
+      if (is_base_face(mesh, f, opening, tol)) {
         ++rep.base_faces;
       } else {
         flag = kEpi;
@@ -473,25 +483,30 @@ RuleFibreReport assign_rule_fibres(Mesh& mesh, const LabelImage& image, const Ru
     if (fl & kEpi) ++rep.epi_nodes;
     if ((fl & (kLvEndo | kRvEndo)) && (fl & kEpi)) ++rep.conflict_nodes;
   }
+  return flags;
+}
 
-  // Every connected part needs an endocardium and an epicardium.
-  {
-    std::size_t parts = 0;
-    const std::vector<std::size_t> part = element_parts(mesh, {}, parts);
-    std::vector<std::uint8_t> seen(parts, 0);
-    for (std::size_t e = 0; e < ne; ++e)
-      for (int a = 0; a < k; ++a) seen[part[e]] |= flags[static_cast<std::size_t>(mesh.element(e)[a])];
-    for (std::size_t e = 0; e < ne; ++e) {
-      const std::uint8_t s = seen[part[e]];
-      if (!(s & (kLvEndo | kRvEndo)) || !(s & kEpi)) {
-        fail("a connected part of the mesh (containing element " + std::to_string(e) + ") touches " +
-             (!(s & kEpi) ? "no epicardium" : "no endocardium") +
-             "; every part must lie between a cavity and the background");
-      }
+/// InputError unless every connected part of the mesh touches an endocardium and an epicardium.
+void check_every_part_has_walls(const Mesh& mesh, const std::vector<std::uint8_t>& flags) {
+  const int k = nodes_per_element(mesh.type);
+  const std::size_t ne = mesh.element_count();
+  std::size_t parts = 0;
+  const std::vector<std::size_t> part = element_parts(mesh, {}, parts);
+  std::vector<std::uint8_t> seen(parts, 0);
+  for (std::size_t e = 0; e < ne; ++e)
+    for (int a = 0; a < k; ++a) seen[part[e]] |= flags[static_cast<std::size_t>(mesh.element(e)[a])];
+  for (std::size_t e = 0; e < ne; ++e) {
+    const std::uint8_t s = seen[part[e]];
+    if (!(s & (kLvEndo | kRvEndo)) || !(s & kEpi)) {
+      fail("a connected part of the mesh (containing element " + std::to_string(e) + ") touches " +
+           (!(s & kEpi) ? "no epicardium" : "no endocardium") +
+           "; every part must lie between a cavity and the background");
     }
   }
+}
 
-  // Long axis.
+/// The long axis into rep: the given one, else the opening normal; InputError without either.
+void resolve_long_axis(const RuleFibreOptions& options, const Opening& opening, RuleFibreReport& rep) {
   if (options.long_axis) {
     rep.long_axis = options.long_axis->normalized();
   } else if (opening.found) {
@@ -501,25 +516,28 @@ RuleFibreReport assign_rule_fibres(Mesh& mesh, const LabelImage& image, const Ru
     fail("cannot estimate the long axis: no cavity voxel (label " + std::to_string(options.lv_cavity_label) + " or " +
          std::to_string(options.rv_cavity_label) + ") touches the background (no base opening); give --long-axis");
   }
+}
 
-  // Harmonic fields.
-  const auto t_solve = Clock::now();
+/// phi_lv, phi_rv and (biv) sigma, psi into rep: Laplace's equation with the stiffness matrix of
+/// the identity diffusion.
+void solve_harmonic_fields(const Mesh& mesh, const std::vector<std::uint8_t>& flags, RuleFibreReport& rep) {
   const SpMat kmat = assemble(mesh, {}, [](std::size_t, Eigen::Matrix3d& d, Vector3d& w) {
                        d.setIdentity();
                        w.setZero();
                      }).k;
-  const bool has_lv = rep.lv_endo_faces > 0, has_rv = rep.rv_endo_faces > 0;
-  const FieldSpec lv_spec{kLvEndo, static_cast<std::uint8_t>(kEpi | kRvEndo), true};
-  const FieldSpec rv_spec{kRvEndo, static_cast<std::uint8_t>(kEpi | kLvEndo), false};
-  if (has_lv) rep.phi_lv = harmonic(kmat, flags, lv_spec, rep);
-  if (has_rv) rep.phi_rv = harmonic(kmat, flags, rv_spec, rep);
+  if (rep.lv_endo_faces > 0) rep.phi_lv = harmonic(kmat, flags, kLvSpec, rep);
+  if (rep.rv_endo_faces > 0) rep.phi_rv = harmonic(kmat, flags, kRvSpec, rep);
   if (rep.biv) {
     rep.sigma = harmonic(kmat, flags, FieldSpec{kEpi, kLvEndo, false}, rep);
     rep.psi = harmonic(kmat, flags, FieldSpec{kLvEndo, kRvEndo, true}, rep);
   }
+}
 
-  // Ventricle per element (see the septum rule in the header).
-  std::vector<char> use_rv(ne, has_lv ? 0 : 1);
+/// 1 for the elements of the RV free wall (septum rule of the header), 0 for the LV wall.
+std::vector<char> rv_free_wall(const Mesh& mesh, RuleFibreReport& rep) {
+  const int k = nodes_per_element(mesh.type);
+  const std::size_t ne = mesh.element_count();
+  std::vector<char> use_rv(ne, rep.lv_endo_faces > 0 ? 0 : 1);
   if (rep.biv) {
     for (std::size_t e = 0; e < ne; ++e) {
       const Index* en = mesh.element(e);
@@ -532,10 +550,16 @@ RuleFibreReport assign_rule_fibres(Mesh& mesh, const LabelImage& image, const Ru
     }
   }
   for (char r : use_rv) rep.rv_elements += static_cast<std::size_t>(r);
+  return use_rv;
+}
 
-  // Transmural direction and coordinate per ventricle.
-  std::vector<Vector3d> et(ne, Vector3d::Zero());
-  Eigen::VectorXd t_elem = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(ne));
+/// Transmural direction et and coordinate t_elem (element mean of the nodal t, clamped to [0, 1])
+/// per element, each wall from its own phi.
+void transmural_per_wall(const Mesh& mesh, const std::vector<char>& use_rv, const std::vector<std::uint8_t>& flags,
+                         const RuleFibreOptions& options, RuleFibreReport& rep, std::vector<Vector3d>& et,
+                         Eigen::VectorXd& t_elem) {
+  const int k = nodes_per_element(mesh.type);
+  const std::size_t ne = mesh.element_count();
   for (int v = 0; v < 2; ++v) {
     const bool rv = v == 1;
     std::vector<char> mask(ne, 0);
@@ -543,7 +567,7 @@ RuleFibreReport assign_rule_fibres(Mesh& mesh, const LabelImage& image, const Ru
     for (std::size_t e = 0; e < ne; ++e) count += static_cast<std::size_t>(mask[e] = (use_rv[e] != 0) == rv ? 1 : 0);
     if (count == 0) continue;
     const Transmural tr =
-        transmural(mesh, mask, rv ? rep.phi_rv : rep.phi_lv, flags, rv ? rv_spec : lv_spec, options, rep);
+        transmural(mesh, mask, rv ? rep.phi_rv : rep.phi_lv, flags, rv ? kRvSpec : kLvSpec, options, rep);
     (rv ? rep.t_rv : rep.t_lv) = tr.t_node;
     for (std::size_t e = 0; e < ne; ++e) {
       if (!mask[e]) continue;
@@ -553,50 +577,58 @@ RuleFibreReport assign_rule_fibres(Mesh& mesh, const LabelImage& image, const Ru
       t_elem[static_cast<Eigen::Index>(e)] = std::clamp(t / k, 0.0, 1.0);
     }
   }
-  rep.solve_seconds = std::chrono::duration<double>(Clock::now() - t_solve).count();
+}
 
-  // Elements still without a direction (all their node neighbours in the same wall carry one
-  // Dirichlet value, e.g. a one-element-thick sliver) take the mean direction of the elements that
-  // share a node with them, repeatedly.
-  {
-    std::vector<std::size_t> todo;
-    for (std::size_t e = 0; e < ne; ++e)
-      if (et[e].squaredNorm() == 0.0) todo.push_back(e);
-    rep.filled_direction_elements = todo.size();
-    if (!todo.empty()) {
-      std::vector<std::size_t> start(nn + 1, 0), list;
-      for (std::size_t e = 0; e < ne; ++e)
-        for (int a = 0; a < k; ++a) ++start[static_cast<std::size_t>(mesh.element(e)[a]) + 1];
-      for (std::size_t i = 0; i < nn; ++i) start[i + 1] += start[i];
-      list.resize(start[nn]);
-      std::vector<std::size_t> pos(start.begin(), start.end() - 1);
-      for (std::size_t e = 0; e < ne; ++e)
-        for (int a = 0; a < k; ++a) list[pos[static_cast<std::size_t>(mesh.element(e)[a])]++] = e;
-      while (!todo.empty()) {
-        std::vector<std::pair<std::size_t, Vector3d>> found;
-        std::vector<std::size_t> rest;
-        for (std::size_t e : todo) {
-          Vector3d sum = Vector3d::Zero();
-          for (int a = 0; a < k; ++a) {
-            const auto i = static_cast<std::size_t>(mesh.element(e)[a]);
-            for (std::size_t j = start[i]; j < start[i + 1]; ++j) sum += et[list[j]];
-          }
-          if (sum.norm() > 1e-6)
-            found.emplace_back(e, sum.normalized());
-          else
-            rest.push_back(e);
-        }
-        if (found.empty()) {
-          throw NumericalError("rule fibres: no transmural direction at element " + std::to_string(rest.front()) +
-                               " (the harmonic fields are constant around it)");
-        }
-        for (const auto& [e, d] : found) et[e] = d;
-        todo = std::move(rest);
+/// Elements still without a direction (all their node neighbours in the same wall carry one
+/// Dirichlet value, e.g. a one-element-thick sliver) take the mean direction of the elements that
+/// share a node with them, repeatedly. NumericalError when a sweep fills nothing.
+void fill_missing_directions(const Mesh& mesh, std::vector<Vector3d>& et, RuleFibreReport& rep) {
+  const int k = nodes_per_element(mesh.type);
+  const std::size_t ne = mesh.element_count(), nn = mesh.node_count();
+  std::vector<std::size_t> todo;
+  for (std::size_t e = 0; e < ne; ++e)
+    if (et[e].squaredNorm() == 0.0) todo.push_back(e);
+  rep.filled_direction_elements = todo.size();
+  if (todo.empty()) return;
+  // Elements around each node: list[start[i] .. start[i+1]).
+  std::vector<std::size_t> start(nn + 1, 0), list;
+  for (std::size_t e = 0; e < ne; ++e)
+    for (int a = 0; a < k; ++a) ++start[static_cast<std::size_t>(mesh.element(e)[a]) + 1];
+  for (std::size_t i = 0; i < nn; ++i) start[i + 1] += start[i];
+  list.resize(start[nn]);
+  std::vector<std::size_t> pos(start.begin(), start.end() - 1);
+  for (std::size_t e = 0; e < ne; ++e)
+    for (int a = 0; a < k; ++a) list[pos[static_cast<std::size_t>(mesh.element(e)[a])]++] = e;
+  while (!todo.empty()) {
+    std::vector<std::pair<std::size_t, Vector3d>> found;
+    std::vector<std::size_t> rest;
+    for (std::size_t e : todo) {
+      Vector3d sum = Vector3d::Zero();
+      for (int a = 0; a < k; ++a) {
+        const auto i = static_cast<std::size_t>(mesh.element(e)[a]);
+        for (std::size_t j = start[i]; j < start[i + 1]; ++j) sum += et[list[j]];
       }
+      if (sum.norm() > 1e-6)
+        found.emplace_back(e, sum.normalized());
+      else
+        rest.push_back(e);
     }
+    if (found.empty()) {
+      throw NumericalError("rule fibres: no transmural direction at element " + std::to_string(rest.front()) +
+                           " (the harmonic fields are constant around it)");
+    }
+    for (const auto& [e, d] : found) et[e] = d;
+    todo = std::move(rest);
   }
+}
 
-  // Frames.
+/// The fibre, sheet and normal of every element from its transmural direction n_t and coordinate
+/// t: e_l = the long axis projected normal to n_t (any direction normal to n_t at the apex),
+/// e_c = e_l x n_t, helix alpha = a_endo + (a_epi - a_endo) t, f = cos(alpha) e_c + sin(alpha)
+/// e_l, s = cos(beta) n_t + sin(beta) f x n_t, n = f x s.
+void write_frames(Mesh& mesh, const std::vector<Vector3d>& et, const Eigen::VectorXd& t_elem,
+                  const RuleFibreOptions& options, RuleFibreReport& rep) {
+  const std::size_t ne = mesh.element_count();
   mesh.fiber.resize(3, static_cast<Eigen::Index>(ne));
   mesh.sheet.resize(3, static_cast<Eigen::Index>(ne));
   mesh.normal.resize(3, static_cast<Eigen::Index>(ne));
@@ -625,6 +657,12 @@ RuleFibreReport assign_rule_fibres(Mesh& mesh, const LabelImage& image, const Ru
     mesh.sheet.col(col) = s;
     mesh.normal.col(col) = f.cross(s);
   }
+}
+
+/// The cell scalars "transmural" and (biv) "ventricle", and the fibre attributes.
+void write_rule_fields(Mesh& mesh, const Eigen::VectorXd& t_elem, const std::vector<char>& use_rv,
+                       const RuleFibreOptions& options, const RuleFibreReport& rep) {
+  const std::size_t ne = mesh.element_count();
   mesh.cell_scalars["transmural"] = t_elem;
   if (rep.biv) {
     Eigen::VectorXd v(static_cast<Eigen::Index>(ne));
@@ -636,6 +674,36 @@ RuleFibreReport assign_rule_fibres(Mesh& mesh, const LabelImage& image, const Ru
   mesh.attributes["fiber_source"] = "rule";
   mesh.attributes.erase("sheet_source");
   mesh.attributes["fiber_rule"] = describe_rule(options, rep);
+}
+
+}  // namespace
+
+RuleFibreReport assign_rule_fibres(Mesh& mesh, const LabelImage& image, const RuleFibreOptions& options) {
+  const auto t_start = Clock::now();
+  check_options(options);
+  const std::size_t ne = mesh.element_count();
+  if (ne == 0) fail("the mesh has no elements");
+  RuleFibreReport rep;
+
+  const Opening opening = find_opening(image, options);
+  rep.has_base = opening.found;
+  rep.base_normal = opening.normal;
+  rep.base_point = opening.point;
+  const std::vector<std::uint8_t> flags = classify_surfaces(mesh, image, options, opening, rep);
+  check_every_part_has_walls(mesh, flags);
+  resolve_long_axis(options, opening, rep);
+
+  const auto t_solve = Clock::now();
+  solve_harmonic_fields(mesh, flags, rep);
+  const std::vector<char> use_rv = rv_free_wall(mesh, rep);
+  std::vector<Vector3d> et(ne, Vector3d::Zero());
+  Eigen::VectorXd t_elem = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(ne));
+  transmural_per_wall(mesh, use_rv, flags, options, rep, et, t_elem);
+  rep.solve_seconds = std::chrono::duration<double>(Clock::now() - t_solve).count();
+
+  fill_missing_directions(mesh, et, rep);
+  write_frames(mesh, et, t_elem, options, rep);
+  write_rule_fields(mesh, t_elem, use_rv, options, rep);
   rep.total_seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
   return rep;
 }

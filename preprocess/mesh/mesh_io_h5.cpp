@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "common/error.hpp"
+#include "preprocess/mesh/hdf5_handle.hpp"
 #include "preprocess/mesh/mesh_io.hpp"
 
 namespace adamss::preprocess {
@@ -39,59 +40,6 @@ static_assert(sizeof(Index) == 4, "Index is stored as int32");
 
 // ---------------------------------------------------------------------------------------------
 // HDF5 plumbing
-
-/// Owns one hid_t and closes it with the matching H5?close on destruction.
-class Handle {
- public:
-  using Closer = herr_t (*)(hid_t);
-  Handle() = default;
-  Handle(hid_t id, Closer closer) : id_(id), closer_(closer) {}
-  Handle(const Handle&) = delete;
-  Handle& operator=(const Handle&) = delete;
-  Handle(Handle&& other) noexcept : id_(std::exchange(other.id_, -1)), closer_(other.closer_) {}
-  Handle& operator=(Handle&& other) noexcept {
-    if (this != &other) {
-      reset();
-      id_ = std::exchange(other.id_, -1);
-      closer_ = other.closer_;
-    }
-    return *this;
-  }
-  ~Handle() { reset(); }
-
-  [[nodiscard]] hid_t get() const { return id_; }
-  [[nodiscard]] bool valid() const { return id_ >= 0; }
-  /// Closes now; returns false if HDF5 reported an error (used for the file, where the
-  /// close flushes the data and a failure matters).
-  bool close() {
-    const hid_t id = std::exchange(id_, -1);
-    return id < 0 || closer_ == nullptr || closer_(id) >= 0;
-  }
-  void reset() { (void)close(); }
-
- private:
-  hid_t id_ = -1;
-  Closer closer_ = nullptr;
-};
-
-/// Switches HDF5's automatic error-stack printing off for the current scope.
-class SilenceHdf5Errors {
- public:
-  SilenceHdf5Errors() {
-    saved_ok_ = H5Eget_auto2(H5E_DEFAULT, &func_, &data_) >= 0;
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  }
-  ~SilenceHdf5Errors() {
-    if (saved_ok_) H5Eset_auto2(H5E_DEFAULT, func_, data_);
-  }
-  SilenceHdf5Errors(const SilenceHdf5Errors&) = delete;
-  SilenceHdf5Errors& operator=(const SilenceHdf5Errors&) = delete;
-
- private:
-  H5E_auto2_t func_ = nullptr;
-  void* data_ = nullptr;
-  bool saved_ok_ = false;
-};
 
 /// Error context: the file name that prefixes every message.
 struct Ctx {
@@ -157,24 +105,24 @@ std::vector<std::string> attribute_names(const Ctx& ctx, hid_t obj, const std::s
 // ---------------------------------------------------------------------------------------------
 // Writing
 
-Handle make_space(std::initializer_list<hsize_t> dims) {
-  if (dims.size() == 0) return Handle(H5Screate(H5S_SCALAR), H5Sclose);
-  return Handle(H5Screate_simple(static_cast<int>(dims.size()), std::data(dims), nullptr), H5Sclose);
+Hdf5Handle make_space(std::initializer_list<hsize_t> dims) {
+  if (dims.size() == 0) return Hdf5Handle(H5Screate(H5S_SCALAR), H5Sclose);
+  return Hdf5Handle(H5Screate_simple(static_cast<int>(dims.size()), std::data(dims), nullptr), H5Sclose);
 }
 
-Handle create_group(const Ctx& ctx, hid_t loc, const std::string& name, const std::string& full) {
-  Handle g(H5Gcreate2(loc, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+Hdf5Handle create_group(const Ctx& ctx, hid_t loc, const std::string& name, const std::string& full) {
+  Hdf5Handle g(H5Gcreate2(loc, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
   if (!g.valid()) ctx.fail("group " + full + ": cannot create");
   return g;
 }
 
 void write_dataset(const Ctx& ctx, hid_t loc, const std::string& name, const std::string& full, hid_t file_type,
                    hid_t mem_type, std::initializer_list<hsize_t> dims, const void* data) {
-  const Handle space = make_space(dims);
+  const Hdf5Handle space = make_space(dims);
   if (!space.valid())
     ctx.fail("dataset " + full + ": cannot create dataspace " + dims_string(std::vector<hsize_t>(dims)));
-  const Handle ds(H5Dcreate2(loc, name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                  H5Dclose);
+  const Hdf5Handle ds(H5Dcreate2(loc, name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                      H5Dclose);
   if (!ds.valid()) ctx.fail("dataset " + full + ": cannot create");
   hsize_t count = 1;
   for (const hsize_t d : dims) count *= d;
@@ -184,8 +132,8 @@ void write_dataset(const Ctx& ctx, hid_t loc, const std::string& name, const std
 
 void write_attribute(const Ctx& ctx, hid_t obj, const std::string& name, const std::string& where, hid_t file_type,
                      hid_t mem_type, const void* data) {
-  const Handle space = make_space({});
-  const Handle attr(H5Acreate2(obj, name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+  const Hdf5Handle space = make_space({});
+  const Hdf5Handle attr(H5Acreate2(obj, name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
   if (!attr.valid()) ctx.fail("attribute " + where + name + ": cannot create");
   if (H5Awrite(attr.get(), mem_type, data) < 0) ctx.fail("attribute " + where + name + ": cannot write");
 }
@@ -196,7 +144,7 @@ void write_string_attribute(const Ctx& ctx, hid_t obj, const std::string& name, 
   // Fixed-length (NUL-padded) UTF-8: no variable-length data, so the file has no global heap.
   // (Fuzzing found that libhdf5 1.10 can loop forever reading a variable-length attribute whose
   // global-heap entry is corrupted; files we write never take that path. fuzz/README.md.)
-  const Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+  const Hdf5Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
   if (!type.valid() || H5Tset_size(type.get(), std::max<std::size_t>(value.size(), 1)) < 0 ||
       H5Tset_strpad(type.get(), H5T_STR_NULLPAD) < 0 || H5Tset_cset(type.get(), H5T_CSET_UTF8) < 0)
     ctx.fail("attribute " + where + name + ": cannot create string type");
@@ -334,7 +282,7 @@ void write_contents(const Ctx& ctx, hid_t file, const Mesh& mesh) {
 
   // Elements.
   {
-    const Handle elements = create_group(ctx, file, "elements", "/elements");
+    const Hdf5Handle elements = create_group(ctx, file, "elements", "/elements");
     write_string_attribute(ctx, elements.get(), "type", "/elements/", element_type_name(mesh.type));
     write_dataset(ctx, elements.get(), "connectivity", "/elements/connectivity", H5T_STD_I32LE, H5T_NATIVE_INT32,
                   {E, k}, mesh.connectivity.data());
@@ -348,7 +296,7 @@ void write_contents(const Ctx& ctx, hid_t file, const Mesh& mesh) {
       write_dataset(ctx, elements.get(), "normal", "/elements/normal", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {E, 3},
                     mesh.normal.data());
     }
-    const Handle scalars = create_group(ctx, elements.get(), "scalars", "/elements/scalars");
+    const Hdf5Handle scalars = create_group(ctx, elements.get(), "scalars", "/elements/scalars");
     for (const auto& [name, values] : mesh.cell_scalars) {
       write_dataset(ctx, scalars.get(), name, "/elements/scalars/" + name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {E},
                     values.data());
@@ -357,7 +305,7 @@ void write_contents(const Ctx& ctx, hid_t file, const Mesh& mesh) {
 
   // Node tags.
   {
-    const Handle tags = create_group(ctx, file, "node_tags", "/node_tags");
+    const Hdf5Handle tags = create_group(ctx, file, "node_tags", "/node_tags");
     for (const auto& [name, tag] : mesh.node_tags) {
       write_dataset(ctx, tags.get(), name, "/node_tags/" + name, H5T_STD_I32LE, H5T_NATIVE_INT32, {tag.size()},
                     tag.data());
@@ -366,10 +314,10 @@ void write_contents(const Ctx& ctx, hid_t file, const Mesh& mesh) {
 
   // Cavities.
   {
-    const Handle cavities = create_group(ctx, file, "cavities", "/cavities");
+    const Hdf5Handle cavities = create_group(ctx, file, "cavities", "/cavities");
     for (const auto& [name, cavity] : mesh.cavities) {
       const std::string where = "/cavities/" + name;
-      const Handle g = create_group(ctx, cavities.get(), name, where);
+      const Hdf5Handle g = create_group(ctx, cavities.get(), name, where);
       write_dataset(ctx, g.get(), "faces", where + "/faces", H5T_STD_I32LE, H5T_NATIVE_INT32, {cavity.faces.size(), 3},
                     cavity.faces.data());
       if (!cavity.quads.empty()) {  // hexahedral walls only: tetrahedral files stay as they were
@@ -388,8 +336,8 @@ void write_contents(const Ctx& ctx, hid_t file, const Mesh& mesh) {
 // Reading
 
 struct DatasetInfo {
-  Handle dataset;
-  Handle type;
+  Hdf5Handle dataset;
+  Hdf5Handle type;
   H5T_class_t type_class = H5T_NO_CLASS;
   std::size_t type_size = 0;
   bool is_signed = true;
@@ -417,10 +365,10 @@ struct DatasetInfo {
 DatasetInfo open_dataset(const Ctx& ctx, hid_t file, const std::string& path) {
   if (!path_exists(file, path)) ctx.fail("dataset " + path + ": missing");
   DatasetInfo info;
-  info.dataset = Handle(H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose);
+  info.dataset = Hdf5Handle(H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose);
   if (!info.dataset.valid()) ctx.fail("dataset " + path + ": cannot open (not a dataset?)");
-  info.type = Handle(H5Dget_type(info.dataset.get()), H5Tclose);
-  const Handle space(H5Dget_space(info.dataset.get()), H5Sclose);
+  info.type = Hdf5Handle(H5Dget_type(info.dataset.get()), H5Tclose);
+  const Hdf5Handle space(H5Dget_space(info.dataset.get()), H5Sclose);
   if (!info.type.valid() || !space.valid()) ctx.fail("dataset " + path + ": cannot query type and shape");
   info.type_class = H5Tget_class(info.type.get());
   info.type_size = H5Tget_size(info.type.get());
@@ -437,7 +385,7 @@ DatasetInfo open_dataset(const Ctx& ctx, hid_t file, const std::string& path) {
   double values = 1.0;
   for (const hsize_t d : info.dims) values *= static_cast<double>(d);
   hsize_t file_size = 0;
-  const Handle file_id(H5Iget_file_id(info.dataset.get()), H5Fclose);
+  const Hdf5Handle file_id(H5Iget_file_id(info.dataset.get()), H5Fclose);
   if (!file_id.valid() || H5Fget_filesize(file_id.get(), &file_size) < 0) ctx.fail("cannot query the file size");
   if (values * 8.0 > 1100.0 * static_cast<double>(file_size) + 1048576.0)
     ctx.fail("dataset " + path + ": claims " + dims_string(info.dims) + " values, more than a file of " +
@@ -522,8 +470,8 @@ Eigen::Matrix3Xd read_vectors(const Ctx& ctx, hid_t file, const std::string& pat
 }
 
 struct AttributeInfo {
-  Handle attr;
-  Handle type;
+  Hdf5Handle attr;
+  Hdf5Handle type;
   H5T_class_t type_class = H5T_NO_CLASS;
 };
 
@@ -537,10 +485,10 @@ AttributeInfo open_attribute(const Ctx& ctx, hid_t obj, const std::string& name,
     if (required) ctx.fail("attribute " + full + ": missing");
     return a;
   }
-  a.attr = Handle(H5Aopen(obj, name.c_str(), H5P_DEFAULT), H5Aclose);
+  a.attr = Hdf5Handle(H5Aopen(obj, name.c_str(), H5P_DEFAULT), H5Aclose);
   if (!a.attr.valid()) ctx.fail("attribute " + full + ": cannot open");
-  a.type = Handle(H5Aget_type(a.attr.get()), H5Tclose);
-  const Handle space(H5Aget_space(a.attr.get()), H5Sclose);
+  a.type = Hdf5Handle(H5Aget_type(a.attr.get()), H5Tclose);
+  const Hdf5Handle space(H5Aget_space(a.attr.get()), H5Sclose);
   if (!a.type.valid() || !space.valid()) ctx.fail("attribute " + full + ": cannot query type");
   a.type_class = H5Tget_class(a.type.get());
   if (H5Sget_simple_extent_npoints(space.get()) != 1)
@@ -554,7 +502,7 @@ std::string read_string_value(const Ctx& ctx, const AttributeInfo& a, const std:
   const htri_t is_vlen = H5Tis_variable_str(a.type.get());
   if (is_vlen < 0) ctx.fail("attribute " + full + ": cannot query string type");
   if (is_vlen > 0) {
-    const Handle mem(H5Tcopy(H5T_C_S1), H5Tclose);
+    const Hdf5Handle mem(H5Tcopy(H5T_C_S1), H5Tclose);
     if (!mem.valid() || H5Tset_size(mem.get(), H5T_VARIABLE) < 0 ||
         H5Tset_cset(mem.get(), H5Tget_cset(a.type.get())) < 0)
       ctx.fail("attribute " + full + ": cannot create string type");
@@ -600,8 +548,8 @@ double read_double_attribute(const Ctx& ctx, hid_t obj, const std::string& name,
   return value;
 }
 
-Handle open_group(const Ctx& ctx, hid_t loc, const std::string& path) {
-  Handle g(H5Gopen2(loc, path.c_str(), H5P_DEFAULT), H5Gclose);
+Hdf5Handle open_group(const Ctx& ctx, hid_t loc, const std::string& path) {
+  Hdf5Handle g(H5Gopen2(loc, path.c_str(), H5P_DEFAULT), H5Gclose);
   if (!g.valid()) ctx.fail("group " + path + ": cannot open (not a group?)");
   return g;
 }
@@ -618,45 +566,34 @@ std::vector<std::array<Index, K>> read_polygons(const Ctx& ctx, hid_t file, cons
   return tris;
 }
 
-Mesh read_contents(const Ctx& ctx, hid_t file) {
-  Mesh mesh;
+/// Checks /format and /version (the identification comes first: nothing else means anything in a
+/// foreign file) and reads /voxel_size_m.
+void read_format(const Ctx& ctx, hid_t file, Mesh& mesh) {
+  const AttributeInfo a = open_attribute(ctx, file, "format", "/format", false);
+  if (!a.attr.valid()) ctx.fail("attribute /format: missing (not an adamss mesh file)");
+  const std::string fmt = read_string_value(ctx, a, "/format");
+  if (fmt != kFormatName)
+    ctx.fail("attribute /format: expected \"" + std::string(kFormatName) + "\", found \"" + fmt + "\"");
+  const std::int64_t version = read_int_attribute(ctx, file, "version", "/version", true, 0);
+  if (version > kMeshFormatVersion)
+    ctx.fail("attribute /version: file format version " + std::to_string(version) +
+             " is newer than the supported version " + std::to_string(kMeshFormatVersion) + " (upgrade adamss)");
+  if (version < 1) ctx.fail("attribute /version: invalid format version " + std::to_string(version));
+  mesh.voxel_size_m = read_double_attribute(ctx, file, "voxel_size_m", "/voxel_size_m", false, 0.0);
+}
 
-  // Format identification first: anything else is meaningless for a foreign file.
-  {
-    const AttributeInfo a = open_attribute(ctx, file, "format", "/format", false);
-    if (!a.attr.valid()) ctx.fail("attribute /format: missing (not an adamss mesh file)");
-    const std::string fmt = read_string_value(ctx, a, "/format");
-    if (fmt != kFormatName)
-      ctx.fail("attribute /format: expected \"" + std::string(kFormatName) + "\", found \"" + fmt + "\"");
-    const std::int64_t version = read_int_attribute(ctx, file, "version", "/version", true, 0);
-    if (version > kMeshFormatVersion)
-      ctx.fail("attribute /version: file format version " + std::to_string(version) +
-               " is newer than the supported version " + std::to_string(kMeshFormatVersion) + " (upgrade adamss)");
-    if (version < 1) ctx.fail("attribute /version: invalid format version " + std::to_string(version));
-    mesh.voxel_size_m = read_double_attribute(ctx, file, "voxel_size_m", "/voxel_size_m", false, 0.0);
-  }
+/// The element type named by the attribute /elements/type.
+ElementType read_element_type(const Ctx& ctx, hid_t elements) {
+  const std::string type = read_string_attribute(ctx, elements, "type", "/elements/type");
+  if (type == "tet4") return ElementType::Tet4;
+  if (type == "hex8") return ElementType::Hex8;
+  ctx.fail("attribute /elements/type: unknown element type \"" + type + "\" (expected \"tet4\" or \"hex8\")");
+}
 
-  // Element type.
-  if (!path_exists(file, "/elements")) ctx.fail("group /elements: missing");
-  const Handle elements = open_group(ctx, file, "/elements");
-  {
-    const std::string type = read_string_attribute(ctx, elements.get(), "type", "/elements/type");
-    if (type == "tet4") {
-      mesh.type = ElementType::Tet4;
-    } else if (type == "hex8") {
-      mesh.type = ElementType::Hex8;
-    } else {
-      ctx.fail("attribute /elements/type: unknown element type \"" + type + "\" (expected \"tet4\" or \"hex8\")");
-    }
-  }
+/// /elements/connectivity and /elements/label into mesh (type and nodes already read); returns the
+/// element count E.
+std::int64_t read_connectivity_and_labels(const Ctx& ctx, hid_t file, Mesh& mesh) {
   const int k = nodes_per_element(mesh.type);
-
-  // Nodes.
-  mesh.nodes = read_vectors(ctx, file, "/nodes", -1, "N");
-  check_nodes_finite(ctx, mesh.nodes);
-  const std::size_t N = mesh.node_count();
-
-  // Connectivity and labels.
   std::int64_t E = 0;
   {
     const std::string path = "/elements/connectivity";
@@ -665,7 +602,7 @@ Mesh read_contents(const Ctx& ctx, hid_t file) {
                 "E x " + std::to_string(k) + " int32 (" + element_type_name(mesh.type) + ")");
     E = static_cast<std::int64_t>(info.dims[0]);
     mesh.connectivity = read_ints(ctx, info, path);
-    check_connectivity(ctx, mesh.connectivity, k, N);
+    check_connectivity(ctx, mesh.connectivity, k, mesh.node_count());
   }
   {
     const std::string path = "/elements/label";
@@ -673,75 +610,98 @@ Mesh read_contents(const Ctx& ctx, hid_t file) {
     check_shape(ctx, info, path, E, 0, H5T_INTEGER, shape_desc("E", E, 0, "int32 (one label per element)"));
     mesh.labels = read_ints(ctx, info, path);
   }
+  return E;
+}
 
-  // Fibres: all three or none.
-  {
-    const char* names[] = {"fiber", "sheet", "normal"};
-    int present = 0;
-    for (const char* n : names) present += path_exists(file, std::string("/elements/") + n) ? 1 : 0;
-    if (present != 0 && present != 3) {
-      std::string missing;
-      for (const char* n : names) {
-        if (!path_exists(file, std::string("/elements/") + n)) missing += std::string(missing.empty() ? "" : ", ") + n;
-      }
-      ctx.fail("group /elements: fibre fields are partial (missing " + missing + "; need fiber, sheet and normal)");
+/// /elements/{fiber,sheet,normal}: all three or none.
+void read_fibres(const Ctx& ctx, hid_t file, std::int64_t E, Mesh& mesh) {
+  const char* names[] = {"fiber", "sheet", "normal"};
+  int present = 0;
+  for (const char* n : names) present += path_exists(file, std::string("/elements/") + n) ? 1 : 0;
+  if (present != 0 && present != 3) {
+    std::string missing;
+    for (const char* n : names) {
+      if (!path_exists(file, std::string("/elements/") + n)) missing += std::string(missing.empty() ? "" : ", ") + n;
     }
-    if (present == 3) {
-      mesh.fiber = read_vectors(ctx, file, "/elements/fiber", E, "E");
-      mesh.sheet = read_vectors(ctx, file, "/elements/sheet", E, "E");
-      mesh.normal = read_vectors(ctx, file, "/elements/normal", E, "E");
-    }
+    ctx.fail("group /elements: fibre fields are partial (missing " + missing + "; need fiber, sheet and normal)");
   }
-
-  // Extra per-element scalars.
-  if (path_exists(file, "/elements/scalars")) {
-    const Handle g = open_group(ctx, file, "/elements/scalars");
-    for (const std::string& name : link_names(ctx, g.get(), "/elements/scalars")) {
-      const std::string path = "/elements/scalars/" + name;
-      const DatasetInfo info = open_dataset(ctx, file, path);
-      check_shape(ctx, info, path, E, 0, H5T_FLOAT, shape_desc("E", E, 0, "float64"));
-      Eigen::VectorXd values(static_cast<Eigen::Index>(E));
-      read_doubles(ctx, info, path, values.data());
-      mesh.cell_scalars.emplace(name, std::move(values));
-    }
+  if (present == 3) {
+    mesh.fiber = read_vectors(ctx, file, "/elements/fiber", E, "E");
+    mesh.sheet = read_vectors(ctx, file, "/elements/sheet", E, "E");
+    mesh.normal = read_vectors(ctx, file, "/elements/normal", E, "E");
   }
+}
 
-  // Node tags.
-  if (path_exists(file, "/node_tags")) {
-    const Handle g = open_group(ctx, file, "/node_tags");
-    for (const std::string& name : link_names(ctx, g.get(), "/node_tags")) {
-      const std::string path = "/node_tags/" + name;
-      const DatasetInfo info = open_dataset(ctx, file, path);
-      check_shape(ctx, info, path, -1, 0, H5T_INTEGER, "1-D int32 node indices");
-      std::vector<Index> tag = read_ints(ctx, info, path);
-      check_indices(ctx, tag.data(), tag.size(), N, path, 1, "");
-      mesh.node_tags.emplace(name, std::move(tag));
-    }
+/// The extra per-element scalars of /elements/scalars, if any.
+void read_cell_scalars(const Ctx& ctx, hid_t file, std::int64_t E, Mesh& mesh) {
+  if (!path_exists(file, "/elements/scalars")) return;
+  const Hdf5Handle g = open_group(ctx, file, "/elements/scalars");
+  for (const std::string& name : link_names(ctx, g.get(), "/elements/scalars")) {
+    const std::string path = "/elements/scalars/" + name;
+    const DatasetInfo info = open_dataset(ctx, file, path);
+    check_shape(ctx, info, path, E, 0, H5T_FLOAT, shape_desc("E", E, 0, "float64"));
+    Eigen::VectorXd values(static_cast<Eigen::Index>(E));
+    read_doubles(ctx, info, path, values.data());
+    mesh.cell_scalars.emplace(name, std::move(values));
   }
+}
 
-  // Cavities.
-  if (path_exists(file, "/cavities")) {
-    const Handle g = open_group(ctx, file, "/cavities");
-    for (const std::string& name : link_names(ctx, g.get(), "/cavities")) {
-      const std::string where = "/cavities/" + name;
-      const Handle cg = open_group(ctx, file, where);
-      Cavity cavity;
-      cavity.faces = read_polygons<3>(ctx, file, where + "/faces", N);
-      if (path_exists(file, where + "/quads")) cavity.quads = read_polygons<4>(ctx, file, where + "/quads", N);
-      if (path_exists(file, where + "/lid")) cavity.lid = read_polygons<3>(ctx, file, where + "/lid", N);
-      cavity.volume_m3 = read_double_attribute(ctx, cg.get(), "volume_m3", where + "/volume_m3", false, 0.0);
-      cavity.closed = read_int_attribute(ctx, cg.get(), "closed", where + "/closed", false, 0) != 0;
-      mesh.cavities.emplace(name, std::move(cavity));
-    }
+/// The node tags of /node_tags, if any.
+void read_node_tags(const Ctx& ctx, hid_t file, Mesh& mesh) {
+  if (!path_exists(file, "/node_tags")) return;
+  const Hdf5Handle g = open_group(ctx, file, "/node_tags");
+  for (const std::string& name : link_names(ctx, g.get(), "/node_tags")) {
+    const std::string path = "/node_tags/" + name;
+    const DatasetInfo info = open_dataset(ctx, file, path);
+    check_shape(ctx, info, path, -1, 0, H5T_INTEGER, "1-D int32 node indices");
+    std::vector<Index> tag = read_ints(ctx, info, path);
+    check_indices(ctx, tag.data(), tag.size(), mesh.node_count(), path, 1, "");
+    mesh.node_tags.emplace(name, std::move(tag));
   }
+}
 
-  // Free-form root string attributes.
+/// The cavities of /cavities, if any.
+void read_cavities(const Ctx& ctx, hid_t file, Mesh& mesh) {
+  if (!path_exists(file, "/cavities")) return;
+  const std::size_t N = mesh.node_count();
+  const Hdf5Handle g = open_group(ctx, file, "/cavities");
+  for (const std::string& name : link_names(ctx, g.get(), "/cavities")) {
+    const std::string where = "/cavities/" + name;
+    const Hdf5Handle cg = open_group(ctx, file, where);
+    Cavity cavity;
+    cavity.faces = read_polygons<3>(ctx, file, where + "/faces", N);
+    if (path_exists(file, where + "/quads")) cavity.quads = read_polygons<4>(ctx, file, where + "/quads", N);
+    if (path_exists(file, where + "/lid")) cavity.lid = read_polygons<3>(ctx, file, where + "/lid", N);
+    cavity.volume_m3 = read_double_attribute(ctx, cg.get(), "volume_m3", where + "/volume_m3", false, 0.0);
+    cavity.closed = read_int_attribute(ctx, cg.get(), "closed", where + "/closed", false, 0) != 0;
+    mesh.cavities.emplace(name, std::move(cavity));
+  }
+}
+
+/// The free-form string attributes of the root group (foreign numeric attributes are ignored).
+void read_root_attributes(const Ctx& ctx, hid_t file, Mesh& mesh) {
   for (const std::string& name : attribute_names(ctx, file, "group /")) {
     if (is_reserved_root_attribute(name)) continue;
     const AttributeInfo a = open_attribute(ctx, file, name, "/" + name, true);
-    if (a.type_class != H5T_STRING) continue;  // foreign numeric attributes are not ours: ignore
+    if (a.type_class != H5T_STRING) continue;
     mesh.attributes.emplace(name, read_string_value(ctx, a, "/" + name));
   }
+}
+
+Mesh read_contents(const Ctx& ctx, hid_t file) {
+  Mesh mesh;
+  read_format(ctx, file, mesh);
+  if (!path_exists(file, "/elements")) ctx.fail("group /elements: missing");
+  const Hdf5Handle elements = open_group(ctx, file, "/elements");
+  mesh.type = read_element_type(ctx, elements.get());
+  mesh.nodes = read_vectors(ctx, file, "/nodes", -1, "N");
+  check_nodes_finite(ctx, mesh.nodes);
+  const std::int64_t E = read_connectivity_and_labels(ctx, file, mesh);
+  read_fibres(ctx, file, E, mesh);
+  read_cell_scalars(ctx, file, E, mesh);
+  read_node_tags(ctx, file, mesh);
+  read_cavities(ctx, file, mesh);
+  read_root_attributes(ctx, file, mesh);
   return mesh;
 }
 
@@ -767,7 +727,7 @@ void write_mesh_h5(const std::filesystem::path& path, const Mesh& mesh) {
   const fs::path tmp = fs::path(path.string() + ".tmp");
   const SilenceHdf5Errors silence;
   try {
-    Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+    Hdf5Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
     if (!file.valid()) ctx.fail("cannot create " + tmp.string() + " (permissions? directory missing?)");
     write_contents(ctx, file.get(), mesh);
     if (!file.close()) ctx.fail("cannot finish writing " + tmp.string() + " (disk full?)");
@@ -788,7 +748,7 @@ Mesh read_mesh_h5(const std::filesystem::path& path) {
 
   const SilenceHdf5Errors silence;
   if (!is_hdf5_file(ctx.file)) ctx.fail("cannot read: not an HDF5 file");
-  const Handle file(H5Fopen(ctx.file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  const Hdf5Handle file(H5Fopen(ctx.file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   if (!file.valid()) ctx.fail("cannot open as HDF5 (corrupt or locked by another process?)");
   return read_contents(ctx, file.get());
 }

@@ -85,23 +85,25 @@ vtkSmartPointer<vtkDoubleArray> scalar_array(const char* name, const double* val
   return a;
 }
 
-}  // namespace
+[[noreturn]] void fail(const std::string& file, const std::string& what) {
+  throw InputError(file + ": " + what);
+}
 
-void write_mesh_vtu(const std::filesystem::path& path, const Mesh& mesh, const std::vector<double>& element_volume,
-                    const std::vector<double>& element_quality) {
+/// InputError unless every cell array has one value per element, no cell scalar takes a built-in
+/// name, every node index is in range and the target directory exists.
+void check_vtu_input(const std::filesystem::path& path, const Mesh& mesh, const std::vector<double>& element_volume,
+                     const std::vector<double>& element_quality) {
   const std::string file = path.string();
-  auto fail = [&file](const std::string& what) { throw InputError(file + ": " + what); };
-
   const int k = nodes_per_element(mesh.type);
   if (mesh.connectivity.size() % static_cast<std::size_t>(k) != 0)
-    fail("connectivity has " + std::to_string(mesh.connectivity.size()) + " entries, not a multiple of " +
-         std::to_string(k));
+    fail(file, "connectivity has " + std::to_string(mesh.connectivity.size()) + " entries, not a multiple of " +
+                   std::to_string(k));
   const auto E = static_cast<vtkIdType>(mesh.element_count());
   const auto N = static_cast<vtkIdType>(mesh.node_count());
   auto check_count = [&](const char* what, std::size_t n) {
     if (static_cast<vtkIdType>(n) != E)
-      fail(std::string("cell array ") + what + ": " + std::to_string(n) + " values for " + std::to_string(E) +
-           " elements");
+      fail(file, std::string("cell array ") + what + ": " + std::to_string(n) + " values for " + std::to_string(E) +
+                     " elements");
   };
   check_count("label", mesh.labels.size());
   check_count("volume", element_volume.size());
@@ -114,26 +116,28 @@ void write_mesh_vtu(const std::filesystem::path& path, const Mesh& mesh, const s
   for (const auto& [name, values] : mesh.cell_scalars) {
     if (name == "label" || name == "volume" || name == "quality" || name == "fiber" || name == "sheet" ||
         name == "normal")
-      fail("cell scalar '" + name + "' collides with a built-in cell array name");
+      fail(file, "cell scalar '" + name + "' collides with a built-in cell array name");
     check_count(name.c_str(), static_cast<std::size_t>(values.size()));
   }
   for (std::size_t i = 0; i < mesh.connectivity.size(); ++i) {
     if (mesh.connectivity[i] < 0 || mesh.connectivity[i] >= N)
-      fail("element " + std::to_string(i / static_cast<std::size_t>(k)) + " references node " +
-           std::to_string(mesh.connectivity[i]) + " but the mesh has " + std::to_string(N) + " nodes");
+      fail(file, "element " + std::to_string(i / static_cast<std::size_t>(k)) + " references node " +
+                     std::to_string(mesh.connectivity[i]) + " but the mesh has " + std::to_string(N) + " nodes");
   }
-
   const fs::path parent = path.parent_path();
   std::error_code ec;
   if (!parent.empty() && !fs::is_directory(parent, ec))
-    fail("cannot write: directory " + parent.string() + " does not exist");
+    fail(file, "cannot write: directory " + parent.string() + " does not exist");
+}
 
-  // Points (Matrix3Xd is x,y,z per node, contiguous: the layout vtkPoints wants).
+/// The grid's points and cells: one offsets array and one connectivity array (VTK node order
+/// already; Matrix3Xd is x,y,z per node, contiguous: the layout vtkPoints wants).
+vtkSmartPointer<vtkUnstructuredGrid> grid_geometry(const Mesh& mesh) {
+  const int k = nodes_per_element(mesh.type);
+  const auto E = static_cast<vtkIdType>(mesh.element_count());
   auto coords = vector_array("Points", mesh.nodes);
   vtkNew<vtkPoints> points;
   points->SetData(coords);
-
-  // Cells: one offsets array and one connectivity array (VTK node order already).
   vtkNew<vtkIdTypeArray> offsets;
   offsets->SetNumberOfValues(E + 1);
   vtkIdType* off = offsets->GetPointer(0);
@@ -143,13 +147,17 @@ void write_mesh_vtu(const std::filesystem::path& path, const Mesh& mesh, const s
   if (!mesh.connectivity.empty()) std::copy(mesh.connectivity.begin(), mesh.connectivity.end(), conn->GetPointer(0));
   vtkNew<vtkCellArray> cells;
   cells->SetData(offsets, conn);
-
-  vtkNew<vtkUnstructuredGrid> grid;
+  auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
   grid->SetPoints(points);
   grid->SetCells(mesh.type == ElementType::Tet4 ? VTK_TETRA : VTK_HEXAHEDRON, cells);
+  return grid;
+}
 
-  // Cell data.
-  vtkCellData* cd = grid->GetCellData();
+/// Cell data in file order: label, volume, quality, the fibre frame, then the cell scalars.
+void add_cell_data(vtkUnstructuredGrid& grid, const Mesh& mesh, const std::vector<double>& element_volume,
+                   const std::vector<double>& element_quality) {
+  const auto E = static_cast<vtkIdType>(mesh.element_count());
+  vtkCellData* cd = grid.GetCellData();
   {
     vtkNew<vtkIntArray> label;
     label->SetName("label");
@@ -165,8 +173,12 @@ void write_mesh_vtu(const std::filesystem::path& path, const Mesh& mesh, const s
     cd->AddArray(vector_array("normal", mesh.normal));
   }
   for (const auto& [name, values] : mesh.cell_scalars) cd->AddArray(scalar_array(name.c_str(), values.data(), E));
+}
 
-  // Write to a temporary name, then rename over the target.
+/// Writes the grid binary appended, uncompressed, to a temporary name, then renames it over path.
+void write_grid(const std::filesystem::path& path, vtkUnstructuredGrid* grid) {
+  const std::string file = path.string();
+  std::error_code ec;
   const fs::path tmp = fs::path(file + ".tmp");
   vtkNew<vtkXMLUnstructuredGridWriter> writer;
   auto catcher = vtkSmartPointer<ErrorCatcher>::New();
@@ -190,14 +202,24 @@ void write_mesh_vtu(const std::filesystem::path& path, const Mesh& mesh, const s
     fs::remove(tmp, ec);
     std::string why = catcher->message;
     if (why.empty()) why = describe_vtk_error(code);
-    fail("cannot write .vtu: " + why);
+    fail(file, "cannot write .vtu: " + why);
   }
   fs::rename(tmp, path, ec);
   if (ec) {
     std::error_code ignored;
     fs::remove(tmp, ignored);
-    fail("cannot rename " + tmp.string() + " to " + file + ": " + ec.message());
+    fail(file, "cannot rename " + tmp.string() + " to " + file + ": " + ec.message());
   }
+}
+
+}  // namespace
+
+void write_mesh_vtu(const std::filesystem::path& path, const Mesh& mesh, const std::vector<double>& element_volume,
+                    const std::vector<double>& element_quality) {
+  check_vtu_input(path, mesh, element_volume, element_quality);
+  const vtkSmartPointer<vtkUnstructuredGrid> grid = grid_geometry(mesh);
+  add_cell_data(*grid, mesh, element_volume, element_quality);
+  write_grid(path, grid);
 }
 
 }  // namespace adamss::preprocess

@@ -62,38 +62,6 @@ double hex_min_dihedral(const Mesh& m, const Index* n) {
 
 }  // namespace
 
-double element_volume(const Mesh& mesh, std::size_t e) {
-  const Index* n = mesh.element(e);
-  if (mesh.type == ElementType::Tet4) {
-    const Eigen::Vector3d x0 = node(mesh, n[0]);
-    return (node(mesh, n[1]) - x0).dot((node(mesh, n[2]) - x0).cross(node(mesh, n[3]) - x0)) / 6.0;
-  }
-  // Hexahedron: 2x2x2 Gauss integral of det J over the unit parameter cube.
-  // det J of a trilinear map has degree <= 2 in each parameter, so this is exact.
-  static const std::array<std::array<Eigen::Vector3d, 8>, 8> grads = [] {
-    std::array<std::array<Eigen::Vector3d, 8>, 8> g{};
-    const double o = 0.5 / std::sqrt(3.0);
-    for (int q = 0; q < 8; ++q) {
-      const double r = 0.5 + ((q & 1) ? o : -o), s = 0.5 + ((q & 2) ? o : -o), t = 0.5 + ((q & 4) ? o : -o);
-      for (int a = 0; a < 8; ++a) {
-        const int c = kHexCornerCode[static_cast<std::size_t>(a)];
-        const bool cx = c & 1, cy = c & 2, cz = c & 4;
-        const double nx = cx ? r : 1 - r, ny = cy ? s : 1 - s, nz = cz ? t : 1 - t;
-        g[static_cast<std::size_t>(q)][static_cast<std::size_t>(a)] =
-            Eigen::Vector3d((cx ? 1 : -1) * ny * nz, nx * (cy ? 1 : -1) * nz, nx * ny * (cz ? 1 : -1));
-      }
-    }
-    return g;
-  }();
-  double v = 0.0;
-  for (std::size_t q = 0; q < 8; ++q) {
-    Eigen::Matrix3d jac = Eigen::Matrix3d::Zero();
-    for (std::size_t a = 0; a < 8; ++a) jac += node(mesh, n[a]) * grads[q][a].transpose();
-    v += jac.determinant();
-  }
-  return v / 8.0;
-}
-
 double element_min_dihedral_deg(const Mesh& mesh, std::size_t e) {
   return mesh.type == ElementType::Tet4 ? tet_min_dihedral(mesh, mesh.element(e))
                                         : hex_min_dihedral(mesh, mesh.element(e));

@@ -1,17 +1,13 @@
 #pragma once
-// Geometric checks on a Mesh: element volumes, dihedral angles, conformity.
+// Geometric checks on a Mesh: dihedral angles, conformity (element volumes: element_volume.hpp,
+// included here).
 #include <cstddef>
 #include <vector>
 
+#include "preprocess/mesh/element_volume.hpp"
 #include "preprocess/mesh/mesh.hpp"
 
 namespace adamss::preprocess {
-
-/// Signed volume (m^3) of element e; positive for a correctly oriented element.
-/// Tet: (x1-x0).((x2-x0)x(x3-x0))/6. Hex: the exact volume of the trilinear
-/// element, the 2x2x2 Gauss integral of det J (exact: det J has degree <= 2 in
-/// each parameter).
-[[nodiscard]] double element_volume(const Mesh& mesh, std::size_t e);
 
 /// Smallest dihedral angle of element e in degrees. Tet: the six angles between
 /// face pairs at the edges. Hex: at each corner, the three angles between the

@@ -223,6 +223,205 @@ std::string format_length(double m) {
   return os.str();
 }
 
+/// The solid labels of options (sorted, unique) as Mesh_3's "outside" test, after the input
+/// checks of mesh_cgal (see the header).
+NotSolid solid_labels(const LabelImage& image, const CgalMeshOptions& options) {
+  if (options.solid_labels.empty()) throw InputError("--solid: no solid label given");
+  NotSolid not_solid;
+  not_solid.solid.assign(options.solid_labels.begin(), options.solid_labels.end());
+  std::sort(not_solid.solid.begin(), not_solid.solid.end());
+  not_solid.solid.erase(std::unique(not_solid.solid.begin(), not_solid.solid.end()), not_solid.solid.end());
+  if (std::binary_search(not_solid.solid.begin(), not_solid.solid.end(), 0)) {
+    throw InputError("--solid: label 0 cannot be meshed with --topology cgal (it is the background)");
+  }
+  const auto& d = image.grid.dims;
+  if (d[0] < 1 || d[1] < 1 || d[2] < 1 || image.labels.size() != image.grid.voxel_count()) {
+    throw InputError("mesh_cgal: the label image is empty or its size does not match its dims");
+  }
+  if (std::none_of(image.labels.begin(), image.labels.end(), [&](std::int32_t l) { return !not_solid(l); })) {
+    throw InputError("--solid: no voxel carries the solid label(s) " + join_labels(options.solid_labels) +
+                     "; labels present: " + describe_labels(image));
+  }
+  return not_solid;
+}
+
+/// The local frame of the padded image for the unit length h.
+LocalFrame local_frame(const Grid& grid, double h) {
+  LocalFrame frame;
+  frame.v = grid.spacing() / h;
+  frame.world_lin = grid.index_to_world.topLeftCorner<3, 3>();
+  frame.world_off = grid.index_to_world.topRightCorner<3, 1>();
+  return frame;
+}
+
+/// The padded image as a CGAL::Image_3 (which owns its copy of the buffer), voxel sizes frame.v.
+CGAL::Image_3 cgal_image(const PaddedImage& padded, const LocalFrame& frame) {
+  _image* raw = ::_createImage(static_cast<std::size_t>(padded.dims[0]), static_cast<std::size_t>(padded.dims[1]),
+                               static_cast<std::size_t>(padded.dims[2]), 1, frame.v.x(), frame.v.y(), frame.v.z(),
+                               sizeof(std::int32_t), WK_FIXED, SGN_SIGNED);
+  if (raw == nullptr || raw->data == nullptr) throw NumericalError("mesh_cgal: cannot allocate the CGAL image");
+  std::memcpy(raw->data, padded.labels.data(), padded.labels.size() * sizeof(std::int32_t));
+  return CGAL::Image_3(raw);
+}
+
+/// Initial points on every connected component of the surface: for each seed face, the domain
+/// boundary on the segment between the two voxel centres, inserted as a surface (dimension 2)
+/// vertex. Returns the number of vertices; NumericalError when they do not span 3D.
+std::size_t insert_seed_points(C3t3& c3t3, const Domain& domain, const PaddedImage& padded, const LocalFrame& frame,
+                               const NotSolid& not_solid) {
+  Tr& tr = c3t3.triangulation();
+  const auto construct_intersection = domain.construct_intersection_object();
+  const auto cwp = tr.geom_traits().construct_weighted_point_3_object();
+  const std::array<std::int64_t, 3> stride{1, padded.dims[0], padded.dims[0] * padded.dims[1]};
+  for (const SeedFace& f : seed_faces(padded, not_solid, 3)) {
+    const Point a = frame.centre(padded, f.voxel);
+    const auto other = static_cast<std::size_t>(static_cast<std::int64_t>(f.voxel) +
+                                                f.step * stride[static_cast<std::size_t>(f.axis)]);
+    const Point b = frame.centre(padded, other);
+    const Domain::Intersection x = construct_intersection(K::Segment_3(a, b));
+    if (std::get<2>(x) == 0) continue;
+    const Tr::Vertex_handle vh = tr.insert(cwp(std::get<0>(x)));
+    if (vh == Tr::Vertex_handle()) continue;
+    c3t3.set_dimension(vh, 2);
+    c3t3.set_index(vh, std::get<1>(x));
+  }
+  const std::size_t count = tr.number_of_vertices();
+  if (tr.dimension() < 3) {
+    throw NumericalError("mesh_cgal: the " + std::to_string(count) +
+                         " initial surface points do not span 3D (is the solid region degenerate?)");
+  }
+  return count;
+}
+
+/// The optional optimisers after refinement (ODT, Lloyd, perturbation, exudation), without
+/// wall-clock limits (time_limit = 0) so the result does not depend on load; their times and
+/// the perturbation counters go to result.
+void optimise(C3t3& c3t3, const Domain& domain, const CgalMeshOptions& options, CgalMeshResult& result) {
+  namespace p = CGAL::parameters;
+  auto t = Clock::now();
+  if (options.odt) {
+    CGAL::odt_optimize_mesh_3(c3t3, domain, p::time_limit = 0,
+                              p::max_iteration_number = options.max_smoothing_iterations);
+  }
+  if (options.lloyd) {
+    CGAL::lloyd_optimize_mesh_3(c3t3, domain, p::time_limit = 0,
+                                p::max_iteration_number = options.max_smoothing_iterations);
+  }
+  result.smooth_seconds = since(t);
+  t = Clock::now();
+  if (options.perturb) {
+    PerturbCounters counters;
+    counters.cap =
+        std::max<std::size_t>(1, options.perturb_attempts_per_vertex) * c3t3.triangulation().number_of_vertices();
+    perturb_capped(c3t3, domain, counters);
+    result.perturb_attempts = counters.attempts;
+    result.perturb_capped = counters.attempts >= counters.cap;
+    result.perturb_bound_deg = counters.bound_reached_deg;
+  }
+  result.perturb_seconds = since(t);
+  t = Clock::now();
+  if (options.exude) CGAL::exude_mesh_3(c3t3, p::time_limit = 0);
+  result.exude_seconds = since(t);
+}
+
+using NodeOf = std::unordered_map<Tr::Vertex_handle, Index>;
+
+/// Nodes of mesh: the vertices of the cells in the complex, numbered in order of first use, in
+/// world coordinates. Returns the vertex -> node map. NumericalError for an empty complex,
+/// InputError when the elements exceed the index range.
+NodeOf extract_nodes(C3t3& c3t3, const LocalFrame& frame, Mesh& mesh) {
+  const std::size_t n_cells = static_cast<std::size_t>(c3t3.number_of_cells_in_complex());
+  if (n_cells == 0) throw NumericalError("mesh_cgal: CGAL Mesh_3 produced no element (solid region too thin?)");
+  if (n_cells > static_cast<std::size_t>(std::numeric_limits<Index>::max()) / 4) {
+    throw InputError("mesh_cgal: " + std::to_string(n_cells) + " elements exceed the index range");
+  }
+  NodeOf node_of;
+  std::vector<Tr::Vertex_handle> vertices;
+  for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c)
+    for (int i = 0; i < 4; ++i) {
+      const Tr::Vertex_handle vh = c->vertex(i);
+      if (node_of.emplace(vh, static_cast<Index>(vertices.size())).second) vertices.push_back(vh);
+    }
+  Tr& tr = c3t3.triangulation();
+  const auto cp = tr.geom_traits().construct_point_3_object();
+  mesh.nodes.resize(3, static_cast<Eigen::Index>(vertices.size()));
+  for (std::size_t v = 0; v < vertices.size(); ++v) {
+    mesh.nodes.col(static_cast<Eigen::Index>(v)) = frame.to_world(cp(tr.point(vertices[v])));
+  }
+  return node_of;
+}
+
+/// label_out of the face of cell c opposite CGAL vertex i, whose far side is not meshed: the
+/// non-solid member of the facet's surface patch. Counts the face in
+/// result.inconsistent_patch_faces when the facet is not in the complex or its patch does not
+/// pair `label` with one non-solid label (label_out is then that member, or 0).
+template <class CellIt>
+std::int32_t unmeshed_far_label(C3t3& c3t3, const CellIt& c, int i, int label, const NotSolid& not_solid,
+                                CgalMeshResult& result) {
+  std::int32_t out = 0;
+  bool known = false;
+  if (c3t3.is_in_complex(c, i)) {
+    const auto sp = c3t3.surface_patch_index(c, i);
+    const bool first_out = not_solid(sp.first), second_out = not_solid(sp.second);
+    if (first_out != second_out) {
+      out = first_out ? sp.first : sp.second;
+      known = sp.first == label || sp.second == label;
+    }
+  }
+  if (!known) ++result.inconsistent_patch_faces;
+  return out;
+}
+
+/// Elements of result.mesh (positive volume in world coordinates; CGAL's labels) and their
+/// boundary and interface faces into result.patches, in the order of the complex's cells.
+void extract_elements(C3t3& c3t3, const NodeOf& node_of, const NotSolid& not_solid, CgalMeshResult& result) {
+  // Local face of a VTK tet opposite to local vertex j (kTetFaces).
+  constexpr std::array<std::uint8_t, 4> kFaceOpposite{2, 3, 1, 0};
+  Mesh& mesh = result.mesh;
+  const std::size_t n_cells = static_cast<std::size_t>(c3t3.number_of_cells_in_complex());
+  mesh.connectivity.reserve(4 * n_cells);
+  mesh.labels.reserve(n_cells);
+  for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c) {
+    const auto e = static_cast<std::uint32_t>(mesh.labels.size());
+    const int label = c3t3.subdomain_index(c);
+    std::array<Index, 4> n{};
+    for (int i = 0; i < 4; ++i) n[static_cast<std::size_t>(i)] = node_of.at(c->vertex(i));
+    const Eigen::Vector3d x0 = mesh.nodes.col(n[0]);
+    const double vol = (mesh.nodes.col(n[1]) - x0).dot((mesh.nodes.col(n[2]) - x0).cross(mesh.nodes.col(n[3]) - x0));
+    std::array<int, 4> slot{0, 1, 2, 3};  // CGAL vertex i -> local node slot[i]
+    if (vol < 0.0) {
+      std::swap(n[0], n[1]);
+      std::swap(slot[0], slot[1]);
+    }
+    mesh.connectivity.insert(mesh.connectivity.end(), n.begin(), n.end());
+    mesh.labels.push_back(label);
+    for (int i = 0; i < 4; ++i) {
+      const Tr::Cell_handle nb = c->neighbor(i);
+      if (c3t3.is_in_complex(nb) && c3t3.subdomain_index(nb) == label) continue;
+      SurfacePatchFace f;
+      const auto& lf = kTetFaces[kFaceOpposite[static_cast<std::size_t>(slot[static_cast<std::size_t>(i)])]];
+      for (int q = 0; q < 3; ++q) f.nodes[static_cast<std::size_t>(q)] = n[static_cast<std::size_t>(lf[q])];
+      f.element = e;
+      f.label_in = label;
+      // An interface between two solid labels: the mesh decides; else the surface patch does.
+      f.label_out =
+          c3t3.is_in_complex(nb) ? c3t3.subdomain_index(nb) : unmeshed_far_label(c3t3, c, i, label, not_solid, result);
+      result.patches.push_back(f);
+    }
+  }
+}
+
+/// The "cgal_criteria" mesh attribute: the criteria and options that made the mesh.
+std::string criteria_attribute(const CgalCriteria& crit, const CgalMeshOptions& options) {
+  std::ostringstream os;
+  os << "facet_angle=" << crit.facet_angle_deg << "deg facet_size=" << format_length(crit.facet_size_m)
+     << " facet_distance=" << format_length(crit.facet_distance_m)
+     << " cell_radius_edge_ratio=" << crit.cell_radius_edge_ratio << " cell_size=" << format_length(crit.cell_size_m)
+     << (options.odt ? " odt" : "") << (options.lloyd ? " lloyd" : "") << (options.perturb ? " perturb" : "")
+     << (options.exude ? " exude" : "") << " seed=" << options.seed;
+  return os.str();
+}
+
 }  // namespace
 
 CgalCriteria resolve_cgal_criteria(const Grid& grid, const CgalMeshOptions& options) {
@@ -267,184 +466,43 @@ CgalCriteria resolve_cgal_criteria(const Grid& grid, const CgalMeshOptions& opti
 }
 
 CgalMeshResult mesh_cgal(const LabelImage& image, const CgalMeshOptions& options) {
-  if (options.solid_labels.empty()) throw InputError("--solid: no solid label given");
-  NotSolid not_solid;
-  not_solid.solid.assign(options.solid_labels.begin(), options.solid_labels.end());
-  std::sort(not_solid.solid.begin(), not_solid.solid.end());
-  not_solid.solid.erase(std::unique(not_solid.solid.begin(), not_solid.solid.end()), not_solid.solid.end());
-  if (std::binary_search(not_solid.solid.begin(), not_solid.solid.end(), 0)) {
-    throw InputError("--solid: label 0 cannot be meshed with --topology cgal (it is the background)");
-  }
-  const auto& d = image.grid.dims;
-  if (d[0] < 1 || d[1] < 1 || d[2] < 1 || image.labels.size() != image.grid.voxel_count()) {
-    throw InputError("mesh_cgal: the label image is empty or its size does not match its dims");
-  }
-  if (std::none_of(image.labels.begin(), image.labels.end(), [&](std::int32_t l) { return !not_solid(l); })) {
-    throw InputError("--solid: no voxel carries the solid label(s) " + join_labels(options.solid_labels) +
-                     "; labels present: " + describe_labels(image));
-  }
+  const NotSolid not_solid = solid_labels(image, options);
   CgalMeshResult result;
   result.criteria = resolve_cgal_criteria(image.grid, options);
   const CgalCriteria& crit = result.criteria;
   const double h = crit.voxel_size_m;
 
-  // The padded image in CGAL's layout; CGAL::Image_3 owns the buffer.
   const PaddedImage padded = pad(image);
-  LocalFrame frame;
-  frame.v = image.grid.spacing() / h;
-  frame.world_lin = image.grid.index_to_world.topLeftCorner<3, 3>();
-  frame.world_off = image.grid.index_to_world.topRightCorner<3, 1>();
-  _image* raw = ::_createImage(static_cast<std::size_t>(padded.dims[0]), static_cast<std::size_t>(padded.dims[1]),
-                               static_cast<std::size_t>(padded.dims[2]), 1, frame.v.x(), frame.v.y(), frame.v.z(),
-                               sizeof(std::int32_t), WK_FIXED, SGN_SIGNED);
-  if (raw == nullptr || raw->data == nullptr) throw NumericalError("mesh_cgal: cannot allocate the CGAL image");
-  std::memcpy(raw->data, padded.labels.data(), padded.labels.size() * sizeof(std::int32_t));
-  const CGAL::Image_3 cgal_image(raw);
+  const LocalFrame frame = local_frame(image.grid, h);
+  const CGAL::Image_3 image_3 = cgal_image(padded, frame);
 
   // Determinism: CGAL's global generator (used by Mesh_3's random points on spheres) and the
   // domain's own generator both start from the seed.
   CGAL::get_default_random() = CGAL::Random(options.seed);
   CGAL::Random domain_rng(options.seed);
   namespace p = CGAL::parameters;
-  const Domain domain = Domain::create_labeled_image_mesh_domain(
-      cgal_image, p::value_outside = 0, p::p_rng = &domain_rng, p::null_subdomain_index = not_solid);
+  const Domain domain = Domain::create_labeled_image_mesh_domain(image_3, p::value_outside = 0, p::p_rng = &domain_rng,
+                                                                 p::null_subdomain_index = not_solid);
 
   const Criteria criteria(p::facet_angle = crit.facet_angle_deg, p::facet_size = crit.facet_size_m / h,
                           p::facet_distance = crit.facet_distance_m / h,
                           p::cell_radius_edge_ratio = crit.cell_radius_edge_ratio, p::cell_size = crit.cell_size_m / h);
 
-  // Initial points on every connected component of the surface.
-  auto t = Clock::now();
+  const auto t = Clock::now();
   C3t3 c3t3;
-  Tr& tr = c3t3.triangulation();
-  {
-    const auto construct_intersection = domain.construct_intersection_object();
-    const auto cwp = tr.geom_traits().construct_weighted_point_3_object();
-    const std::array<std::int64_t, 3> stride{1, padded.dims[0], padded.dims[0] * padded.dims[1]};
-    for (const SeedFace& f : seed_faces(padded, not_solid, 3)) {
-      const Point a = frame.centre(padded, f.voxel);
-      const auto other = static_cast<std::size_t>(static_cast<std::int64_t>(f.voxel) +
-                                                  f.step * stride[static_cast<std::size_t>(f.axis)]);
-      const Point b = frame.centre(padded, other);
-      const Domain::Intersection x = construct_intersection(K::Segment_3(a, b));
-      if (std::get<2>(x) == 0) continue;
-      const Tr::Vertex_handle vh = tr.insert(cwp(std::get<0>(x)));
-      if (vh == Tr::Vertex_handle()) continue;
-      c3t3.set_dimension(vh, 2);
-      c3t3.set_index(vh, std::get<1>(x));
-    }
-    result.initial_points = tr.number_of_vertices();
-    if (tr.dimension() < 3) {
-      throw NumericalError("mesh_cgal: the " + std::to_string(result.initial_points) +
-                           " initial surface points do not span 3D (is the solid region degenerate?)");
-    }
-  }
+  result.initial_points = insert_seed_points(c3t3, domain, padded, frame, not_solid);
   CGAL::refine_mesh_3(c3t3, domain, criteria, p::no_perturb(), p::no_exude(), p::no_odt(), p::no_lloyd(),
                       p::no_reset_c3t3());
   result.refine_seconds = since(t);
+  optimise(c3t3, domain, options, result);
 
-  // Optimisers without wall-clock limits (time_limit = 0), so the result does not depend on load.
-  t = Clock::now();
-  if (options.odt) {
-    CGAL::odt_optimize_mesh_3(c3t3, domain, p::time_limit = 0,
-                              p::max_iteration_number = options.max_smoothing_iterations);
-  }
-  if (options.lloyd) {
-    CGAL::lloyd_optimize_mesh_3(c3t3, domain, p::time_limit = 0,
-                                p::max_iteration_number = options.max_smoothing_iterations);
-  }
-  result.smooth_seconds = since(t);
-  t = Clock::now();
-  if (options.perturb) {
-    PerturbCounters counters;
-    counters.cap = std::max<std::size_t>(1, options.perturb_attempts_per_vertex) * tr.number_of_vertices();
-    perturb_capped(c3t3, domain, counters);
-    result.perturb_attempts = counters.attempts;
-    result.perturb_capped = counters.attempts >= counters.cap;
-    result.perturb_bound_deg = counters.bound_reached_deg;
-  }
-  result.perturb_seconds = since(t);
-  t = Clock::now();
-  if (options.exude) CGAL::exude_mesh_3(c3t3, p::time_limit = 0);
-  result.exude_seconds = since(t);
-
-  // Nodes: the vertices of the cells in the complex, numbered in order of first use.
   Mesh& mesh = result.mesh;
   mesh.type = ElementType::Tet4;
-  const std::size_t n_cells = static_cast<std::size_t>(c3t3.number_of_cells_in_complex());
-  if (n_cells == 0) throw NumericalError("mesh_cgal: CGAL Mesh_3 produced no element (solid region too thin?)");
-  if (n_cells > static_cast<std::size_t>(std::numeric_limits<Index>::max()) / 4) {
-    throw InputError("mesh_cgal: " + std::to_string(n_cells) + " elements exceed the index range");
-  }
-  std::unordered_map<Tr::Vertex_handle, Index> node_of;
-  std::vector<Tr::Vertex_handle> vertices;
-  for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c)
-    for (int i = 0; i < 4; ++i) {
-      const Tr::Vertex_handle vh = c->vertex(i);
-      if (node_of.emplace(vh, static_cast<Index>(vertices.size())).second) vertices.push_back(vh);
-    }
-  const auto cp = tr.geom_traits().construct_point_3_object();
-  mesh.nodes.resize(3, static_cast<Eigen::Index>(vertices.size()));
-  for (std::size_t v = 0; v < vertices.size(); ++v) {
-    mesh.nodes.col(static_cast<Eigen::Index>(v)) = frame.to_world(cp(tr.point(vertices[v])));
-  }
-
-  // Elements (positive volume in world coordinates) and their boundary/interface faces.
-  // Local face of a VTK tet opposite to local vertex j (kTetFaces).
-  constexpr std::array<std::uint8_t, 4> kFaceOpposite{2, 3, 1, 0};
-  mesh.connectivity.reserve(4 * n_cells);
-  mesh.labels.reserve(n_cells);
-  for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c) {
-    const auto e = static_cast<std::uint32_t>(mesh.labels.size());
-    const int label = c3t3.subdomain_index(c);
-    std::array<Index, 4> n{};
-    for (int i = 0; i < 4; ++i) n[static_cast<std::size_t>(i)] = node_of.at(c->vertex(i));
-    const Eigen::Vector3d x0 = mesh.nodes.col(n[0]);
-    const double vol = (mesh.nodes.col(n[1]) - x0).dot((mesh.nodes.col(n[2]) - x0).cross(mesh.nodes.col(n[3]) - x0));
-    std::array<int, 4> slot{0, 1, 2, 3};  // CGAL vertex i -> local node slot[i]
-    if (vol < 0.0) {
-      std::swap(n[0], n[1]);
-      std::swap(slot[0], slot[1]);
-    }
-    mesh.connectivity.insert(mesh.connectivity.end(), n.begin(), n.end());
-    mesh.labels.push_back(label);
-    for (int i = 0; i < 4; ++i) {
-      const Tr::Cell_handle nb = c->neighbor(i);
-      if (c3t3.is_in_complex(nb) && c3t3.subdomain_index(nb) == label) continue;
-      SurfacePatchFace f;
-      const auto& lf = kTetFaces[kFaceOpposite[static_cast<std::size_t>(slot[static_cast<std::size_t>(i)])]];
-      for (int q = 0; q < 3; ++q) f.nodes[static_cast<std::size_t>(q)] = n[static_cast<std::size_t>(lf[q])];
-      f.element = e;
-      f.label_in = label;
-      if (c3t3.is_in_complex(nb)) {
-        f.label_out = c3t3.subdomain_index(nb);  // an interface between two solid labels: the mesh decides
-      } else {
-        // The far side is not meshed: its label comes from the facet's surface patch, whose
-        // non-solid member it must be.
-        bool known = false;
-        if (c3t3.is_in_complex(c, i)) {
-          const auto sp = c3t3.surface_patch_index(c, i);
-          const bool first_out = not_solid(sp.first), second_out = not_solid(sp.second);
-          if (first_out != second_out) {
-            f.label_out = first_out ? sp.first : sp.second;
-            known = sp.first == label || sp.second == label;
-          }
-        }
-        if (!known) ++result.inconsistent_patch_faces;  // label_out stays the non-solid member, or 0
-      }
-      result.patches.push_back(f);
-    }
-  }
-
+  const NodeOf node_of = extract_nodes(c3t3, frame, mesh);
+  extract_elements(c3t3, node_of, not_solid, result);
   mesh.voxel_size_m = h;
   mesh.attributes["topology"] = "cgal";
-  std::ostringstream os;
-  os << "facet_angle=" << crit.facet_angle_deg << "deg facet_size=" << format_length(crit.facet_size_m)
-     << " facet_distance=" << format_length(crit.facet_distance_m)
-     << " cell_radius_edge_ratio=" << crit.cell_radius_edge_ratio << " cell_size=" << format_length(crit.cell_size_m)
-     << (options.odt ? " odt" : "") << (options.lloyd ? " lloyd" : "") << (options.perturb ? " perturb" : "")
-     << (options.exude ? " exude" : "") << " seed=" << options.seed;
-  mesh.attributes["cgal_criteria"] = os.str();
+  mesh.attributes["cgal_criteria"] = criteria_attribute(crit, options);
   return result;
 }
 

@@ -70,25 +70,22 @@ struct Shell {
   }
 };
 
-}  // namespace
-
-double truncated_ellipsoid_volume(double r_s, double r_l, double base_z) {
-  return kPi * r_s * r_s * ((base_z + r_l) - (base_z * base_z * base_z + r_l * r_l * r_l) / (3.0 * r_l * r_l));
-}
-
-Mesh make_land_ellipsoid(const EllipsoidMeshOptions& o) {
-  check_options(o);
-  const Shell sh{o};
-  const int nv = o.n_v, nu = o.n_u, nt = o.n_t;
-  const Index per_layer = 1 + static_cast<Index>(nu) * nv;
-  auto node = [&](int k, int i, int j) -> Index {
+/// Node numbers of the structured shell: layer k (t = k / n_t) holds the apex (i = 0), then the
+/// rings i = 1..n_u of n_v nodes each (j taken modulo n_v).
+struct NodeNumbering {
+  int nv;
+  Index per_layer;
+  Index operator()(int k, int i, int j) const {
     if (i == 0) return static_cast<Index>(k) * per_layer;
     return static_cast<Index>(k) * per_layer + 1 + static_cast<Index>(i - 1) * nv + static_cast<Index>(j % nv);
-  };
+  }
+};
 
-  Mesh mesh;
-  mesh.type = o.tetrahedra ? ElementType::Tet4 : ElementType::Hex8;
-  mesh.nodes.resize(3, static_cast<Eigen::Index>(nt + 1) * per_layer);
+/// Node positions: the apex at (0, 0, -r_l(t)) and ring i at u_at(t, i / n_u), the last ring
+/// exactly on the base plane.
+void place_nodes(const EllipsoidMeshOptions& o, const Shell& sh, const NodeNumbering& node, Mesh& mesh) {
+  const int nv = o.n_v, nu = o.n_u, nt = o.n_t;
+  mesh.nodes.resize(3, static_cast<Eigen::Index>(nt + 1) * node.per_layer);
   for (int k = 0; k <= nt; ++k) {
     const double t = static_cast<double>(k) / nt;
     mesh.nodes.col(node(k, 0, 0)) = Eigen::Vector3d(0.0, 0.0, -sh.r_l(t));
@@ -101,10 +98,15 @@ Mesh make_land_ellipsoid(const EllipsoidMeshOptions& o) {
       }
     }
   }
+}
 
-  // Cells (k, i, j) in that order; VTK corners (r, s, t) = (v, u, t).
+/// Elements of the cells (k, i, j) in that order, VTK corners (r, s, t) = (v, u, t): one
+/// hexahedron per cell, or its Kuhn tetrahedra without the degenerate ones. Returns the cell
+/// centre parameters (t_c, u-fraction a_c, v_c) per element.
+std::vector<std::array<double, 3>> make_elements(const EllipsoidMeshOptions& o, const NodeNumbering& node, Mesh& mesh) {
+  const int nv = o.n_v, nu = o.n_u, nt = o.n_t;
   const auto& tets = kuhn_tets();
-  std::vector<std::array<double, 3>> cell_centre;  // (t_c, u-fraction a_c, v_c) per element
+  std::vector<std::array<double, 3>> cell_centre;
   for (int k = 0; k < nt; ++k) {
     for (int i = 0; i < nu; ++i) {
       for (int j = 0; j < nv; ++j) {
@@ -129,51 +131,57 @@ Mesh make_land_ellipsoid(const EllipsoidMeshOptions& o) {
       }
     }
   }
+  return cell_centre;
+}
+
+/// Fibre frame at each element's cell-centre parameters: helix angle alpha = pi/2 - t pi between
+/// the normalised du and dv directions, sheet = the outward ellipsoid normal made normal to f.
+void assign_fibres(const Shell& sh, const std::vector<std::array<double, 3>>& cell_centre, Mesh& mesh) {
   const std::size_t ne = mesh.element_count();
-  mesh.labels.assign(ne, 1);
-
-  // Fibre frame at each element's cell-centre parameters.
-  if (o.fibres) {
-    mesh.fiber.resize(3, static_cast<Eigen::Index>(ne));
-    mesh.sheet.resize(3, static_cast<Eigen::Index>(ne));
-    mesh.normal.resize(3, static_cast<Eigen::Index>(ne));
-    for (std::size_t e = 0; e < ne; ++e) {
-      const double t = cell_centre[e][0];
-      const double u = sh.u_at(t, cell_centre[e][1]);
-      const double v = cell_centre[e][2];
-      const double rs = sh.r_s(t), rl = sh.r_l(t);
-      const Eigen::Vector3d du(rs * std::cos(u) * std::cos(v), rs * std::cos(u) * std::sin(v), -rl * std::sin(u));
-      const Eigen::Vector3d dv(-rs * std::sin(u) * std::sin(v), rs * std::sin(u) * std::cos(v), 0.0);
-      const Eigen::Vector3d x = sh.point(t, u, v);
-      const double alpha = 0.5 * kPi - t * kPi;
-      const Eigen::Vector3d f = (std::sin(alpha) * du.normalized() + std::cos(alpha) * dv.normalized()).normalized();
-      Eigen::Vector3d s(x.x() / (rs * rs), x.y() / (rs * rs), x.z() / (rl * rl));  // outward surface normal
-      s = (s - s.dot(f) * f).normalized();
-      const auto col = static_cast<Eigen::Index>(e);
-      mesh.fiber.col(col) = f;
-      mesh.sheet.col(col) = s;
-      mesh.normal.col(col) = f.cross(s);
-    }
+  mesh.fiber.resize(3, static_cast<Eigen::Index>(ne));
+  mesh.sheet.resize(3, static_cast<Eigen::Index>(ne));
+  mesh.normal.resize(3, static_cast<Eigen::Index>(ne));
+  for (std::size_t e = 0; e < ne; ++e) {
+    const double t = cell_centre[e][0];
+    const double u = sh.u_at(t, cell_centre[e][1]);
+    const double v = cell_centre[e][2];
+    const double rs = sh.r_s(t), rl = sh.r_l(t);
+    const Eigen::Vector3d du(rs * std::cos(u) * std::cos(v), rs * std::cos(u) * std::sin(v), -rl * std::sin(u));
+    const Eigen::Vector3d dv(-rs * std::sin(u) * std::sin(v), rs * std::sin(u) * std::cos(v), 0.0);
+    const Eigen::Vector3d x = sh.point(t, u, v);
+    const double alpha = 0.5 * kPi - t * kPi;
+    const Eigen::Vector3d f = (std::sin(alpha) * du.normalized() + std::cos(alpha) * dv.normalized()).normalized();
+    Eigen::Vector3d s(x.x() / (rs * rs), x.y() / (rs * rs), x.z() / (rl * rl));  // outward surface normal
+    s = (s - s.dot(f) * f).normalized();
+    const auto col = static_cast<Eigen::Index>(e);
+    mesh.fiber.col(col) = f;
+    mesh.sheet.col(col) = s;
+    mesh.normal.col(col) = f.cross(s);
   }
+}
 
-  // Node tags.
+/// Node tags endo (layer 0), epi (layer n_t), base (last ring of every layer) and the two apices.
+void add_node_tags(const EllipsoidMeshOptions& o, const NodeNumbering& node, Mesh& mesh) {
   std::vector<Index> endo, epi, base;
-  for (Index n = 0; n < per_layer; ++n) {
+  for (Index n = 0; n < node.per_layer; ++n) {
     endo.push_back(node(0, 0, 0) + n);
-    epi.push_back(node(nt, 0, 0) + n);
+    epi.push_back(node(o.n_t, 0, 0) + n);
   }
-  for (int k = 0; k <= nt; ++k)
-    for (int j = 0; j < nv; ++j) base.push_back(node(k, nu, j));
+  for (int k = 0; k <= o.n_t; ++k)
+    for (int j = 0; j < o.n_v; ++j) base.push_back(node(k, o.n_u, j));
   mesh.node_tags["endo"] = std::move(endo);
   mesh.node_tags["epi"] = std::move(epi);
   mesh.node_tags["base"] = std::move(base);
   mesh.node_tags["endo_apex"] = {node(0, 0, 0)};
-  mesh.node_tags["epi_apex"] = {node(nt, 0, 0)};
+  mesh.node_tags["epi_apex"] = {node(o.n_t, 0, 0)};
+}
 
-  // Cavity "lv": the outward (t = 0) face of the first layer, VTK hex face (0, 3, 2, 1).
+/// Cavity "lv": the outward (t = 0) face of the first layer, VTK hex face (0, 3, 2, 1), closed
+/// with a lid over the base opening.
+Cavity lv_cavity(const EllipsoidMeshOptions& o, const NodeNumbering& node, const Mesh& mesh) {
   Cavity lv;
-  for (int i = 0; i < nu; ++i) {
-    for (int j = 0; j < nv; ++j) {
+  for (int i = 0; i < o.n_u; ++i) {
+    for (int j = 0; j < o.n_v; ++j) {
       const Index c0 = node(0, i, j), c1 = node(0, i, j + 1), c2 = node(0, i + 1, j + 1), c3 = node(0, i + 1, j);
       if (!o.tetrahedra && i > 0) {
         lv.quads.push_back({c0, c3, c2, c1});
@@ -188,8 +196,27 @@ Mesh make_land_ellipsoid(const EllipsoidMeshOptions& o) {
   lv.closed = check_cavity(lv).watertight();
   lv.volume_m3 = cavity_volume(lv, mesh.nodes);
   if (!lv.closed) throw InputError("ellipsoid mesh: cavity lv is not watertight");  // cannot happen
-  mesh.cavities["lv"] = std::move(lv);
+  return lv;
+}
 
+}  // namespace
+
+double truncated_ellipsoid_volume(double r_s, double r_l, double base_z) {
+  return kPi * r_s * r_s * ((base_z + r_l) - (base_z * base_z * base_z + r_l * r_l * r_l) / (3.0 * r_l * r_l));
+}
+
+Mesh make_land_ellipsoid(const EllipsoidMeshOptions& o) {
+  check_options(o);
+  const Shell sh{o};
+  const NodeNumbering node{o.n_v, 1 + static_cast<Index>(o.n_u) * o.n_v};
+  Mesh mesh;
+  mesh.type = o.tetrahedra ? ElementType::Tet4 : ElementType::Hex8;
+  place_nodes(o, sh, node, mesh);
+  const std::vector<std::array<double, 3>> cell_centre = make_elements(o, node, mesh);
+  mesh.labels.assign(mesh.element_count(), 1);
+  if (o.fibres) assign_fibres(sh, cell_centre, mesh);
+  add_node_tags(o, node, mesh);
+  mesh.cavities["lv"] = lv_cavity(o, node, mesh);
   mesh.attributes["source"] = "land ellipsoid (structured)";
   mesh.attributes["topology"] = o.tetrahedra ? "tet" : "hex";
   return mesh;

@@ -9,6 +9,7 @@
 #include <unordered_map>
 
 #include "common/error.hpp"
+#include "preprocess/mesh/open_edges.hpp"
 
 namespace adamss::preprocess {
 namespace {
@@ -24,51 +25,13 @@ std::string mm_point(const Eigen::Vector3d& x) {
   return os.str();
 }
 
-/// One use of an undirected edge: sign +1 when traversed lo -> hi.
-struct EdgeUse {
-  Index lo, hi;
-  int sign;
-};
-
-template <std::size_t K>
-void add_edge_uses(const std::vector<std::array<Index, K>>& polys, std::vector<EdgeUse>& out) {
-  for (const auto& p : polys) {
-    for (std::size_t i = 0; i < K; ++i) {
-      const Index a = p[i], b = p[(i + 1) % K];
-      out.push_back(a < b ? EdgeUse{a, b, +1} : EdgeUse{b, a, -1});
-    }
-  }
-}
-
 std::vector<EdgeUse> sorted_edge_uses(const Cavity& c) {
-  std::vector<EdgeUse> uses;
-  uses.reserve(3 * (c.faces.size() + c.lid.size()) + 4 * c.quads.size());
-  add_edge_uses(c.faces, uses);
-  add_edge_uses(c.quads, uses);
-  add_edge_uses(c.lid, uses);
-  std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
-    return x.lo != y.lo ? x.lo < y.lo : (x.hi != y.hi ? x.hi < y.hi : x.sign < y.sign);
-  });
-  return uses;
+  return preprocess::sorted_edge_uses(c.faces, c.quads, c.lid);
 }
-
-struct DirectedEdge {
-  Index a, b;
-};
 
 /// Directed edges left after cancelling opposite orientations (with multiplicity).
 std::vector<DirectedEdge> open_edges(const Cavity& c) {
-  const std::vector<EdgeUse> uses = sorted_edge_uses(c);
-  std::vector<DirectedEdge> out;
-  for (std::size_t i = 0; i < uses.size();) {
-    std::size_t j = i;
-    int net = 0;
-    while (j < uses.size() && uses[j].lo == uses[i].lo && uses[j].hi == uses[i].hi) net += uses[j++].sign;
-    for (int k = 0; k < std::abs(net); ++k)
-      out.push_back(net > 0 ? DirectedEdge{uses[i].lo, uses[i].hi} : DirectedEdge{uses[i].hi, uses[i].lo});
-    i = j;
-  }
-  return out;
+  return preprocess::open_edges(sorted_edge_uses(c));
 }
 
 /// Splits the open directed edges into vertex-simple loops (each a list of vertices
@@ -123,11 +86,20 @@ double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return a.x() * b.y() - a.y() * b.x();
 }
 
-/// Ear-clips the polygon `poly` (node ids, in lid order) after projecting it onto its mean
-/// plane. Appends the triangles to `out`.
-void triangulate_loop(const std::vector<Index>& poly, const Eigen::Matrix3Xd& nodes, const std::string& what,
-                      std::size_t loop_no, std::size_t loop_count, std::vector<std::array<Index, 3>>& out,
-                      double& max_deviation) {
+/// An opening projected onto its mean plane: 2-D vertices q (relative to the centroid, in an
+/// orthonormal basis of the plane normal to the Newell area vector), the polygon's area, the
+/// tolerance eps for the orientation tests and `where` for the messages.
+struct ProjectedLoop {
+  std::vector<Eigen::Vector2d> q;
+  double poly_area = 0.0;
+  double eps = 0.0;
+  std::string where;
+};
+
+/// Projects the polygon `poly` (node ids) onto its mean plane; max_deviation grows to the largest
+/// distance of a vertex from that plane. InputError when the opening encloses no area.
+ProjectedLoop project_loop(const std::vector<Index>& poly, const Eigen::Matrix3Xd& nodes, const std::string& what,
+                           std::size_t loop_no, std::size_t loop_count, double& max_deviation) {
   const std::size_t n = poly.size();
   std::vector<Eigen::Vector3d> p(n);
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
@@ -142,25 +114,35 @@ void triangulate_loop(const std::vector<Index>& poly, const Eigen::Matrix3Xd& no
     area += 0.5 * (p[i] - c).cross(p[(i + 1) % n] - c);
     scale = std::max(scale, (p[i] - c).norm());
   }
-  const std::string where = what + ": opening " + std::to_string(loop_no + 1) + " of " + std::to_string(loop_count) +
-                            " (" + std::to_string(n) + " edges, centred at " + mm_point(c) + ")";
+  ProjectedLoop loop;
+  loop.where = what + ": opening " + std::to_string(loop_no + 1) + " of " + std::to_string(loop_count) + " (" +
+               std::to_string(n) + " edges, centred at " + mm_point(c) + ")";
   if (n < 3 || !(area.norm() > 1e-12 * scale * scale)) {
-    throw InputError(where + " encloses no area and cannot be closed by a lid");
+    throw InputError(loop.where + " encloses no area and cannot be closed by a lid");
   }
   const Eigen::Vector3d nz = area.normalized();
   Eigen::Index axis = 0;  // the coordinate axis least aligned with the normal
   nz.cwiseAbs().minCoeff(&axis);
   const Eigen::Vector3d u = Eigen::Vector3d::Unit(axis).cross(nz).normalized();
   const Eigen::Vector3d v = nz.cross(u);
-  std::vector<Eigen::Vector2d> q(n);
+  loop.q.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const Eigen::Vector3d d = p[i] - c;
-    q[i] = Eigen::Vector2d(d.dot(u), d.dot(v));
+    loop.q[i] = Eigen::Vector2d(d.dot(u), d.dot(v));
     max_deviation = std::max(max_deviation, std::abs(d.dot(nz)));
   }
-  const double poly_area = area.norm();
-  const double eps = 1e-10 * scale * scale;
+  loop.poly_area = area.norm();
+  loop.eps = 1e-10 * scale * scale;
+  return loop;
+}
 
+/// Ear-clips the projected polygon (vertex i = node poly[i]) and appends the triangles to `out`.
+/// InputError when no ear is left or the triangles cover more than the polygon's area (the
+/// projection crosses itself).
+void clip_ears(const std::vector<Index>& poly, const ProjectedLoop& loop, std::vector<std::array<Index, 3>>& out) {
+  const std::size_t n = poly.size();
+  const std::vector<Eigen::Vector2d>& q = loop.q;
+  const double eps = loop.eps;
   std::vector<std::size_t> prev(n), next(n);
   for (std::size_t i = 0; i < n; ++i) {
     prev[i] = (i + n - 1) % n;
@@ -215,15 +197,24 @@ void triangulate_loop(const std::vector<Index>& poly, const Eigen::Matrix3Xd& no
     } else {
       i = next[i];
       if (++misses > remaining) {
-        throw InputError(where + " cannot be closed by a lid: no ear left to clip (the opening crosses itself " +
+        throw InputError(loop.where + " cannot be closed by a lid: no ear left to clip (the opening crosses itself " +
                          "when projected onto its mean plane)");
       }
     }
   }
   emit(prev[i], i, next[i]);
-  if (sum_abs > poly_area * (1.0 + 1e-9) + eps) {
-    throw InputError(where + " cannot be closed by a lid: it crosses itself when projected onto its mean plane");
+  if (sum_abs > loop.poly_area * (1.0 + 1e-9) + eps) {
+    throw InputError(loop.where + " cannot be closed by a lid: it crosses itself when projected onto its mean plane");
   }
+}
+
+/// Ear-clips the polygon `poly` (node ids, in lid order) after projecting it onto its mean
+/// plane. Appends the triangles to `out`.
+void triangulate_loop(const std::vector<Index>& poly, const Eigen::Matrix3Xd& nodes, const std::string& what,
+                      std::size_t loop_no, std::size_t loop_count, std::vector<std::array<Index, 3>>& out,
+                      double& max_deviation) {
+  const ProjectedLoop loop = project_loop(poly, nodes, what, loop_no, loop_count, max_deviation);
+  clip_ears(poly, loop, out);
 }
 
 std::set<std::int32_t> solid_labels(const Mesh& mesh) {

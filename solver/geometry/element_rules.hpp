@@ -1,67 +1,24 @@
 #pragma once
-// Shape-function gradients and quadrature rules of the mesh's own interpolation
-// (linear tetrahedron, trilinear hexahedron), in parameter space. One place for the
-// formulas that the FEM-style terms (solver/terms/fem/fem_element.hpp), the exact element volume
-// (solver/core/model.cpp) and the output (solver/run/results.cpp) need.
-//
-// Hexahedron: parameter cube [0,1]^3, VTK corner order
-//   0 (000), 1 (100), 2 (110), 3 (010), 4 (001), 5 (101), 6 (111), 7 (011),
-// shape functions N_a = n_x n_y n_z with n_d = r_d (corner bit set) or 1 - r_d, so
-// dN_a/dr_d flips the sign of one factor. The 2x2x2 Gauss rule on [0,1]^3 has points
-// 1/2 +- 1/(2 sqrt 3) and weights 1/8 (times the unit-cube volume 1). It integrates
-// polynomials of degree <= 3 per direction exactly; det J of a trilinear map has degree
-// <= 2 per direction, so the rule gives the exact volume.
-// Tetrahedron: parameter simplex, N = (1 - r - s - t, r, s, t), constant gradients,
-// one point, weight 1/6.
-#include <Eigen/Core>
-#include <array>
-#include <cmath>
-
-#include "preprocess/mesh/element_faces.hpp"
+// Shape-function gradients and quadrature rules of the mesh's own interpolation (linear
+// tetrahedron, trilinear hexahedron) for the solver: the FEM-style terms
+// (solver/terms/fem/fem_element.hpp), the exact element volume (solver/core/model.cpp), the
+// output (solver/run/results.cpp), the hourglass control, volume preservation and the hybrid
+// mass-spring cell. The formulas, their parameter cubes and Gauss rules are documented where they
+// live, in preprocess/mesh/shape_functions.hpp (shared with the preprocessing); this header
+// names them in the solver namespace.
+#include "preprocess/mesh/shape_functions.hpp"
 
 namespace adamss::solver {
 
-/// dN_a/dr (row a, 8 x 3) of the trilinear hexahedron at parameter point (r, s, t) in [0,1]^3.
-[[nodiscard]] inline Eigen::Matrix<double, 8, 3> hex_shape_gradients(double r, double s, double t) {
-  Eigen::Matrix<double, 8, 3> g;
-  for (int a = 0; a < 8; ++a) {
-    const int c = preprocess::kHexCornerCode[static_cast<std::size_t>(a)];
-    const bool cx = (c & 1) != 0, cy = (c & 2) != 0, cz = (c & 4) != 0;
-    const double nx = cx ? r : 1 - r, ny = cy ? s : 1 - s, nz = cz ? t : 1 - t;
-    g(a, 0) = (cx ? 1 : -1) * ny * nz;
-    g(a, 1) = nx * (cy ? 1 : -1) * nz;
-    g(a, 2) = nx * ny * (cz ? 1 : -1);
-  }
-  return g;
-}
-
-/// Parameter coordinates of Gauss point q (0..7) of the 2x2x2 rule on [0,1]^3; bit d of q
-/// selects the + point in direction d. Each point has weight 1/8.
-[[nodiscard]] inline Eigen::Vector3d hex_gauss_point(int q) {
-  const double o = 0.5 / std::sqrt(3.0);
-  return {0.5 + ((q & 1) ? o : -o), 0.5 + ((q & 2) ? o : -o), 0.5 + ((q & 4) ? o : -o)};
-}
-inline constexpr double kHexGaussWeight = 1.0 / 8.0;
-
-/// dN/dr of the eight hexahedron shape functions at the eight Gauss points (cached).
-[[nodiscard]] inline const std::array<Eigen::Matrix<double, 8, 3>, 8>& hex_gauss_gradients() {
-  static const std::array<Eigen::Matrix<double, 8, 3>, 8> grads = [] {
-    std::array<Eigen::Matrix<double, 8, 3>, 8> g{};
-    for (int q = 0; q < 8; ++q) {
-      const Eigen::Vector3d p = hex_gauss_point(q);
-      g[static_cast<std::size_t>(q)] = hex_shape_gradients(p.x(), p.y(), p.z());
-    }
-    return g;
-  }();
-  return grads;
-}
-
-/// dN/dr (4 x 3) of the linear tetrahedron: rows (-1,-1,-1), e_0, e_1, e_2.
-[[nodiscard]] inline Eigen::Matrix<double, 4, 3> tet_shape_gradients() {
-  Eigen::Matrix<double, 4, 3> g;
-  g << -1, -1, -1, 1, 0, 0, 0, 1, 0, 0, 0, 1;
-  return g;
-}
-inline constexpr double kTetWeight = 1.0 / 6.0;
+using preprocess::hex_centre_gradient;
+using preprocess::hex_gauss_gradients;
+using preprocess::hex_gauss_point;
+using preprocess::hex_natural_corner;
+using preprocess::hex_natural_gauss_point;
+using preprocess::hex_natural_shape_gradients;
+using preprocess::hex_shape_gradients;
+using preprocess::kHexGaussWeight;
+using preprocess::kTetWeight;
+using preprocess::tet_shape_gradients;
 
 }  // namespace adamss::solver

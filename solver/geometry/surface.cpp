@@ -8,6 +8,7 @@
 #include "common/error.hpp"
 #include "preprocess/mesh/element_faces.hpp"
 #include "preprocess/mesh/face_table.hpp"
+#include "preprocess/mesh/open_edges.hpp"
 
 namespace adamss::solver {
 namespace {
@@ -72,40 +73,11 @@ void check_faces(const std::vector<std::array<Index, N>>& faces, const char* wha
   }
 }
 
-/// Directed edge (a -> b) with multiplicity.
-struct Edge {
-  Index a, b;
-};
+using Edge = preprocess::DirectedEdge;
 
 /// Boundary edges: for each undirected edge the net count of its two orientations.
 std::vector<Edge> boundary_edges(const Surface& s) {
-  struct Rec {
-    Index lo, hi;
-    int sign;
-  };
-  std::vector<Rec> recs;
-  recs.reserve(3 * (s.triangles.size() + s.lid.size()) + 4 * s.quads.size());
-  const auto add_loop = [&recs](const Index* n, int k) {
-    for (int i = 0; i < k; ++i) {
-      const Index a = n[i], b = n[(i + 1) % k];
-      recs.push_back(a < b ? Rec{a, b, +1} : Rec{b, a, -1});
-    }
-  };
-  for (const auto& t : s.triangles) add_loop(t.data(), 3);
-  for (const auto& q : s.quads) add_loop(q.data(), 4);
-  for (const auto& t : s.lid) add_loop(t.data(), 3);
-  std::sort(recs.begin(), recs.end(),
-            [](const Rec& x, const Rec& y) { return x.lo != y.lo ? x.lo < y.lo : x.hi < y.hi; });
-  std::vector<Edge> out;
-  for (std::size_t i = 0; i < recs.size();) {
-    std::size_t j = i;
-    int net = 0;
-    while (j < recs.size() && recs[j].lo == recs[i].lo && recs[j].hi == recs[i].hi) net += recs[j++].sign;
-    for (int k = 0; k < std::abs(net); ++k)
-      out.push_back(net > 0 ? Edge{recs[i].lo, recs[i].hi} : Edge{recs[i].hi, recs[i].lo});
-    i = j;
-  }
-  return out;
+  return preprocess::open_edges(preprocess::sorted_edge_uses(s.triangles, s.quads, s.lid));
 }
 
 /// Integral of x . n dA over a triangle (positions relative to the origin used).

@@ -159,7 +159,7 @@ AxialSpringKernel<K> make_axial_spring_kernel(const preprocess::Mesh& mesh, cons
     for (int a = 0; a < K; ++a) st[static_cast<std::size_t>(a)] = n[a];
     kern.element.push_back(e);
     kern.nodes.push_back(st);
-    kern.chord.push_back(chord_coefficients<K>(frames.coefficients<K>()[k]));
+    kern.chord.push_back(chord_matrix<K>(frames.coefficients<K>()[k]));
     kern.length0.push_back(frames.length0[k]);
     kern.unit.push_back(virt ? frames.length0[k] : Eigen::Vector3d::Ones());
     kern.weight.push_back(virt ? frames.volume0[k] : 1.0);

@@ -1,6 +1,7 @@
 #pragma once
 // Small helpers shared by the terms that act on the axis chords of the axis frame
-// (material friction, active fibre tension): the assembly of chord-space Jacobian blocks into nodal blocks.
+// (material friction, active fibre tension; the axial and torsion springs use the chord matrix):
+// the chord matrix and the assembly of chord-space Jacobian blocks into nodal blocks.
 //
 // Chord matrix. With C the K x 6 coefficient matrix (x_q = X C) the axis chords are
 //   zeta_l = x_{2l} - x_{2l+1} = X d_l,   d_l = C e_{2l} - C e_{2l+1}   (eq. 2.5, 2.18/2.25)

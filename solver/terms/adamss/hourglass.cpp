@@ -6,6 +6,7 @@
 #include <string>
 
 #include "common/error.hpp"
+#include "solver/geometry/element_rules.hpp"
 
 namespace adamss::solver {
 namespace {
@@ -16,26 +17,27 @@ std::string fmt(double v) {
   return b;
 }
 
-/// Natural corner coordinates of the VTK hexahedron: 0 (---), 1 (+--), 2 (++-), 3 (-+-),
-/// 4 (--+), 5 (+-+), 6 (+++), 7 (-++).
-constexpr double kXi[8] = {-1, 1, 1, -1, -1, 1, 1, -1};
-constexpr double kEta[8] = {-1, -1, 1, 1, -1, -1, 1, 1};
-constexpr double kZeta[8] = {-1, -1, -1, -1, 1, 1, 1, 1};
+/// Reference volume V0 = the 2x2x2 Gauss integral of det(dX/dxi) over the natural cube
+/// (exact for the trilinear element).
+double reference_volume(const Mat3N<8>& x) {
+  double v0 = 0.0;
+  for (int q = 0; q < 8; ++q) v0 += (x * hex_natural_shape_gradients(hex_natural_gauss_point(q))).determinant();
+  return v0;
+}
 
 }  // namespace
 
 Eigen::Matrix<double, 8, 4> hourglass_vectors(const Mat3N<8>& x_ref) {
   Eigen::Matrix<double, 8, 4> h;
-  Eigen::Matrix<double, 8, 3> dn;  // dN_a/dxi at the centre: xi_a / 8, ...
   for (int a = 0; a < 8; ++a) {
-    h(a, 0) = kXi[a] * kEta[a];
-    h(a, 1) = kEta[a] * kZeta[a];
-    h(a, 2) = kZeta[a] * kXi[a];
-    h(a, 3) = kXi[a] * kEta[a] * kZeta[a];
-    dn(a, 0) = kXi[a] / 8.0;
-    dn(a, 1) = kEta[a] / 8.0;
-    dn(a, 2) = kZeta[a] / 8.0;
+    const Eigen::Vector3d c = hex_natural_corner(a);  // (xi_a, eta_a, zeta_a)
+    h(a, 0) = c[0] * c[1];
+    h(a, 1) = c[1] * c[2];
+    h(a, 2) = c[2] * c[0];
+    h(a, 3) = c[0] * c[1] * c[2];
   }
+  // dN_a/dxi at the centre: xi_a / 8, ...
+  const Eigen::Matrix<double, 8, 3> dn = hex_natural_shape_gradients(Eigen::Vector3d::Zero());
   const Eigen::Matrix3d jac = x_ref * dn;  // dX/dxi at the centre
   const double det = jac.determinant();
   if (!std::isfinite(det) || !(det > 0.0)) {
@@ -105,23 +107,7 @@ HourglassKernel make_hourglass_kernel(const preprocess::Mesh& mesh, const Hourgl
     } catch (const InputError& err) {
       throw InputError(std::string(err.what()) + " at element " + std::to_string(e));
     }
-    // V0 = the 2x2x2 Gauss integral of det(dX/dxi) (exact for the trilinear element).
-    double v0 = 0.0;
-    const double gp = 1.0 / std::sqrt(3.0);
-    for (int q = 0; q < 8; ++q) {
-      const double s[3] = {(q & 1) ? gp : -gp, (q & 2) ? gp : -gp, (q & 4) ? gp : -gp};
-      Eigen::Matrix<double, 8, 3> dn;
-      for (int a = 0; a < 8; ++a) {
-        const double n[3] = {kXi[a], kEta[a], kZeta[a]};
-        for (int d = 0; d < 3; ++d) {
-          double v = n[d] / 8.0;
-          for (int o = 0; o < 3; ++o)
-            if (o != d) v *= 1.0 + n[o] * s[o];
-          dn(a, d) = v;
-        }
-      }
-      v0 += (x * dn).determinant();
-    }
+    const double v0 = reference_volume(x);
     if (!std::isfinite(v0) || !(v0 > 0.0)) {
       throw InputError("hourglass: element " + std::to_string(e) + " has reference volume " + fmt(v0) +
                        " m^3 (must be > 0)");

@@ -19,7 +19,8 @@
 //   the coefficient "k[l][i]").
 // * The chord-space -> node-space mapping: both spring kinds depend on the nodes
 //   only through the three axis chords zeta_l = x_{2l} - x_{2l+1} = X d_l, with
-//   d_l = C e_{2l} - C e_{2l+1} (K-vector, C the axis-frame coefficient matrix).
+//   d_l = C e_{2l} - C e_{2l+1} (K-vector, C the axis-frame coefficient matrix;
+//   D = chord_matrix(C) of solver/terms/adamss/axis_term_support.hpp).
 //   If g_l = dE/dzeta_l and H_{lm} = d^2 E/dzeta_l dzeta_m (3 x 3 blocks of a 9 x 9
 //   matrix), then with D = [d_0 d_1 d_2] (K x 3):
 //     f = -dE/dX = -[g_0 g_1 g_2] D^T                       (3 x K, column a = node a)
@@ -34,9 +35,10 @@
 
 #include "preprocess/mesh/element_faces.hpp"
 #include "preprocess/mesh/mesh.hpp"
+#include "solver/core/stencil_term.hpp"
 #include "solver/geometry/axis_frame.hpp"
 #include "solver/geometry/axis_frame_geometry.hpp"
-#include "solver/core/stencil_term.hpp"
+#include "solver/terms/adamss/axis_term_support.hpp"
 
 namespace adamss::solver {
 
@@ -73,14 +75,6 @@ using SpringPolynomial = std::array<double, 3>;
 /// `variable` the argument ("strain", "elongation (m)").
 void validate_spring_polynomial(const std::string& term, int row, const std::string& what, const SpringPolynomial& k,
                                 double range, const std::string& variable);
-
-/// d_l = C e_{2l} - C e_{2l+1} for the three axes: the K x 3 matrix D with zeta_l = X D e_l.
-template <int K>
-[[nodiscard]] Eigen::Matrix<double, K, 3> chord_coefficients(const Eigen::Matrix<double, K, 6>& c) {
-  Eigen::Matrix<double, K, 3> d;
-  for (int l = 0; l < 3; ++l) d.col(l) = c.col(2 * l) - c.col(2 * l + 1);
-  return d;
-}
 
 /// Adds -(T H T^T) to the local Jacobian (see the header comment), H the 9 x 9 chord Hessian.
 template <int K>

@@ -223,7 +223,7 @@ TorsionSpringKernel<K> make_torsion_spring_kernel(const preprocess::Mesh& mesh, 
     const std::size_t e = frames.element[k];
     kern.element.push_back(e);
     kern.nodes.push_back(stencil_of<K>(mesh, e));
-    kern.chord.push_back(chord_coefficients<K>(frames.coefficients<K>()[k]));
+    kern.chord.push_back(chord_matrix<K>(frames.coefficients<K>()[k]));
     kern.length0.push_back(frames.length0[k]);
     kern.rest.push_back(params.form == TorsionForm::Angle ? frames.angle0[k] : frames.cos_angle0[k]);
     kern.weight.push_back(virt ? frames.volume0[k] : 1.0);

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "common/error.hpp"
+#include "solver/geometry/element_rules.hpp"
 
 namespace adamss::solver {
 namespace {
@@ -47,51 +48,16 @@ void add_determinant_term(double c, const Eigen::Matrix<double, K, 3>& gamma, co
   }
 }
 
-/// Parameter-space gradients Gamma (K x 3) and weights of the exact volume quadrature:
-/// tet: one term, (x1-x0, x2-x0, x3-x0), weight 1/6; hex: the trilinear shape-function
-/// gradients at the 2x2x2 Gauss points of the unit cube, weight 1/8 each.
-struct TetRule {
-  Eigen::Matrix<double, 4, 3> gamma;
-  TetRule() { gamma << -1, -1, -1, 1, 0, 0, 0, 1, 0, 0, 0, 1; }
-};
-struct HexRule {
-  std::array<Eigen::Matrix<double, 8, 3>, 8> gamma;
-  HexRule() {
-    // VTK corners: 0 (000), 1 (100), 2 (110), 3 (010), 4 (001), 5 (101), 6 (111), 7 (011).
-    constexpr int kCorner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
-                                   {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
-    const double o = 0.5 / std::sqrt(3.0);
-    for (int q = 0; q < 8; ++q) {
-      const double r[3] = {0.5 + ((q & 1) ? o : -o), 0.5 + ((q & 2) ? o : -o), 0.5 + ((q & 4) ? o : -o)};
-      for (int a = 0; a < 8; ++a) {
-        double n[3], dn[3];
-        for (int d = 0; d < 3; ++d) {
-          n[d] = kCorner[a][d] ? r[d] : 1.0 - r[d];
-          dn[d] = kCorner[a][d] ? 1.0 : -1.0;
-        }
-        gamma[static_cast<std::size_t>(q)](a, 0) = dn[0] * n[1] * n[2];
-        gamma[static_cast<std::size_t>(q)](a, 1) = n[0] * dn[1] * n[2];
-        gamma[static_cast<std::size_t>(q)](a, 2) = n[0] * n[1] * dn[2];
-      }
-    }
-  }
-};
-const TetRule& tet_rule() {
-  static const TetRule r;
-  return r;
-}
-const HexRule& hex_rule() {
-  static const HexRule r;
-  return r;
-}
-
 /// Adds scale * V(x) to J and scale * dV/dx to dJ (and the Hessian when hess).
 template <int K>
 void add_volume(double scale, const Mat3N<K>& x, double& J, Mat3N<K>& dJ, MatJ<K>* hess) {
+  // The exact volume quadrature of element_rules.hpp: tet one term, X Gamma = (x1-x0, x2-x0, x3-x0),
+  // weight 1/6; hex the shape-function gradients at the 2x2x2 Gauss points of [0,1]^3, 1/8 each.
   if constexpr (K == 4) {
-    add_determinant_term<4>(scale / 6.0, tet_rule().gamma, x, J, dJ, hess);
+    static const Eigen::Matrix<double, 4, 3> tet_gamma = tet_shape_gradients();
+    add_determinant_term<4>(scale / 6.0, tet_gamma, x, J, dJ, hess);
   } else {
-    for (const auto& g : hex_rule().gamma) add_determinant_term<8>(scale / 8.0, g, x, J, dJ, hess);
+    for (const auto& g : hex_gauss_gradients()) add_determinant_term<8>(scale / 8.0, g, x, J, dJ, hess);
   }
 }
 

@@ -4,15 +4,9 @@
 #include <cmath>
 
 #include "common/error.hpp"
+#include "preprocess/mesh/element_faces.hpp"
 
 namespace adamss::solver {
-// Local VTK tetrahedron and hexahedron edges, and the hexahedron's diagonals.
-const std::array<std::array<int, 2>, 6> kTetEdgePairs{{{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}}};
-const std::array<std::array<int, 2>, 12> kHexEdgePairs{
-    {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6}, {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}}};
-const std::array<std::array<int, 2>, 12> kHexFaceDiagonalPairs{
-    {{0, 2}, {1, 3}, {4, 6}, {5, 7}, {0, 5}, {1, 4}, {1, 6}, {2, 5}, {2, 7}, {3, 6}, {3, 4}, {0, 7}}};
-const std::array<std::array<int, 2>, 4> kHexCellDiagonalPairs{{{0, 6}, {1, 7}, {2, 4}, {3, 5}}};
 
 double EdgeSpringKernel::energy(std::size_t i, const Mat3N<2>& x, const Mat3N<2>& /*v*/, double /*t*/) const {
   const double stretch = (x.col(1) - x.col(0)).norm() - rest_length[i];
@@ -57,14 +51,14 @@ std::vector<std::array<Index, 2>> mesh_edges(const preprocess::Mesh& mesh, bool 
     }
     const Index* n = mesh.element(e);
     if (tet) {
-      for (const auto& p : kTetEdgePairs) push(n[p[0]], n[p[1]]);
+      for (const auto& p : preprocess::kTetEdges) push(n[p[0]], n[p[1]]);
       continue;
     }
-    for (const auto& p : kHexEdgePairs) push(n[p[0]], n[p[1]]);
+    for (const auto& p : preprocess::kHexEdges) push(n[p[0]], n[p[1]]);
     if (face_diagonals)
-      for (const auto& p : kHexFaceDiagonalPairs) push(n[p[0]], n[p[1]]);
+      for (const auto& p : preprocess::kHexFaceDiagonals) push(n[p[0]], n[p[1]]);
     if (cell_diagonals)
-      for (const auto& p : kHexCellDiagonalPairs) push(n[p[0]], n[p[1]]);
+      for (const auto& p : preprocess::kHexCellDiagonals) push(n[p[0]], n[p[1]]);
   }
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());

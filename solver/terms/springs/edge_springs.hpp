@@ -54,13 +54,6 @@ struct EdgeSpringKernel {
 std::vector<std::array<Index, 2>> mesh_edges(const preprocess::Mesh& mesh, bool face_diagonals, bool cell_diagonals,
                                              const std::vector<std::size_t>* element_subset = nullptr);
 
-/// Local VTK node pairs: the 6 tetrahedron edges, the 12 hexahedron edges, the 12
-/// hexahedron face diagonals (two per face) and the 4 hexahedron cell diagonals.
-extern const std::array<std::array<int, 2>, 6> kTetEdgePairs;
-extern const std::array<std::array<int, 2>, 12> kHexEdgePairs;
-extern const std::array<std::array<int, 2>, 12> kHexFaceDiagonalPairs;
-extern const std::array<std::array<int, 2>, 4> kHexCellDiagonalPairs;
-
 /// Effective elastic modulus of a spring set for the critical-step estimate (Pa): the
 /// largest C_iiii = (1/V) sum_s k_s (r_s)_i^4 / L_s^2 (i = x, y, z) of the rari-constant
 /// stiffness tensor (seed 001 eq. 4.4 / 5.2) of the springs at rest, r_s = x0_b - x0_a,

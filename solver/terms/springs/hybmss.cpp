@@ -5,14 +5,18 @@
 #include <map>
 
 #include "common/error.hpp"
+#include "preprocess/mesh/element_faces.hpp"
+#include "solver/geometry/element_rules.hpp"
 
 namespace adamss::solver {
 namespace {
 
-// alpha, beta, gamma of eq. 5.14 for VTK order: +-1/4 by the x, y, z bit of each corner.
-constexpr std::array<double, 8> kAlpha{-0.25, 0.25, 0.25, -0.25, -0.25, 0.25, 0.25, -0.25};
-constexpr std::array<double, 8> kBeta{-0.25, -0.25, 0.25, 0.25, -0.25, -0.25, 0.25, 0.25};
-constexpr std::array<double, 8> kGamma{-0.25, -0.25, -0.25, -0.25, 0.25, 0.25, 0.25, 0.25};
+// alpha, beta, gamma of eq. 5.14 for VTK order: +-1/4 by the x, y, z bit of each corner, the
+// trilinear shape-function gradients at the cell centre (element_rules.hpp).
+constexpr std::array<double, 8> kAlpha = hex_centre_gradient(0);
+constexpr std::array<double, 8> kBeta = hex_centre_gradient(1);
+constexpr std::array<double, 8> kGamma = hex_centre_gradient(2);
+static_assert(kAlpha[1] == 0.25 && kBeta[3] == 0.25 && kGamma[0] == -0.25);
 
 Eigen::Matrix3d cross_matrix(const Eigen::Vector3d& v) {
   Eigen::Matrix3d m;
@@ -115,10 +119,10 @@ EdgeSpringKernel make_hybmss_spring_kernel(const preprocess::Mesh& mesh, const H
     const HybmssSpringConstants k =
         hybmss_spring_constants(hybmss_shear_modulus(params.youngs_modulus, params.poisson_ratio), params.A, le);
     const Index* n = mesh.element(e);
-    for (const auto& p : kHexEdgePairs) add(n[p[0]], n[p[1]], 0.25 * k.k_e);
+    for (const auto& p : preprocess::kHexEdges) add(n[p[0]], n[p[1]], 0.25 * k.k_e);
     if (params.A > 0.0)
-      for (const auto& p : kHexFaceDiagonalPairs) add(n[p[0]], n[p[1]], 0.5 * k.k_f);
-    for (const auto& p : kHexCellDiagonalPairs) add(n[p[0]], n[p[1]], k.k_c);
+      for (const auto& p : preprocess::kHexFaceDiagonals) add(n[p[0]], n[p[1]], 0.5 * k.k_f);
+    for (const auto& p : preprocess::kHexCellDiagonals) add(n[p[0]], n[p[1]], k.k_c);
   }
   EdgeSpringKernel kern;
   kern.label = "hybmss_springs";

@@ -4,6 +4,7 @@
 #include <map>
 
 #include "common/error.hpp"
+#include "preprocess/mesh/element_faces.hpp"
 #include "solver/terms/adamss/volume_preservation.hpp"
 
 namespace adamss::solver {
@@ -67,7 +68,7 @@ EdgeSpringKernel make_lloyd_spring_kernel(const preprocess::Mesh& mesh, const Ll
                        std::to_string(vol) + " m^3");
     }
     const double k = lloyd_spring_constant(params.youngs_modulus, lloyd_equivalent_length(vol), params.volume_force);
-    for (const auto& p : kTetEdgePairs) springs[{std::min(n[p[0]], n[p[1]]), std::max(n[p[0]], n[p[1]])}] += k;
+    for (const auto& p : preprocess::kTetEdges) springs[{std::min(n[p[0]], n[p[1]]), std::max(n[p[0]], n[p[1]])}] += k;
   }
   EdgeSpringKernel kern;
   kern.label = "lloyd_springs";

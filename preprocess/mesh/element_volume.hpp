@@ -1,0 +1,43 @@
+#pragma once
+// Element volumes: the one home of the tetrahedron and trilinear-hexahedron volume formulas.
+//
+// Tetrahedron: (x1-x0).((x2-x0)x(x3-x0))/6. Hexahedron: the exact volume of the trilinear
+// element, the 2x2x2 Gauss integral of det J over [0,1]^3 (det J has degree <= 2 in each
+// parameter; preprocess/mesh/shape_functions.hpp), with weight 1/8 per point.
+//
+// The hexahedron comes in two roundings of the same formula, each kept because results were
+// made with it: element_volume (the mesh summary and .vtu, masses, axis-frame volumes, region
+// volumes) accumulates J_q as the sum over the corners of x_a (dN_a/dr)^T; hex_volume (the
+// solver's volume of a deformed state, e.g. the globals' total volume) forms J_q = X G_q as one
+// 3 x 8 by 8 x 3 product. Do not swap one for the other: the last bits differ.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstddef>
+
+#include "preprocess/mesh/mesh.hpp"
+#include "preprocess/mesh/shape_functions.hpp"
+
+namespace adamss::preprocess {
+
+/// Signed volume of the tetrahedron with node indices n[0..3] at the positions x (columns).
+[[nodiscard]] inline double tet_volume(const Eigen::Matrix3Xd& x, const Index* n) {
+  const Eigen::Vector3d x0 = x.col(n[0]);
+  return (x.col(n[1]) - x0).dot((x.col(n[2]) - x0).cross(x.col(n[3]) - x0)) / 6.0;
+}
+
+/// Volume of the trilinear hexahedron with node indices n[0..7] at the positions x, with
+/// J_q = X G_q (the corners gathered once into X, 3 x 8: fixed-size products that Eigen unrolls).
+[[nodiscard]] inline double hex_volume(const Eigen::Matrix3Xd& x, const Index* n) {
+  const auto& grads = hex_gauss_gradients();
+  Eigen::Matrix<double, 3, 8> corners;
+  for (Eigen::Index a = 0; a < 8; ++a) corners.col(a) = x.col(n[a]);
+  double v = 0.0;
+  for (std::size_t q = 0; q < 8; ++q) v += (corners * grads[q]).determinant();
+  return v / 8.0;
+}
+
+/// Signed volume (m^3) of element e at the mesh's own nodes; positive for a correctly oriented
+/// element (hexahedron: J_q accumulated corner by corner, see the header comment).
+[[nodiscard]] double element_volume(const Mesh& mesh, std::size_t e);
+
+}  // namespace adamss::preprocess
