@@ -15,7 +15,7 @@ export CCACHE_BASEDIR
 
 FUZZ_SECONDS ?= 60
 
-.PHONY: all deps configure build test heart bench fuzz sanitize sanitize-ci clean format
+.PHONY: all deps configure build test heart bench fuzz sanitize sanitize-ci clean format lint
 
 all: build
 
@@ -87,6 +87,12 @@ sanitize-ci: deps
 	  echo "== $$t (ASan + UBSan)"; \
 	  (cd build-asan/tests && ASAN_OPTIONS=$(SANITIZE_CI_ASAN) UBSAN_OPTIONS=print_stacktrace=1 ./$$t --gtest_brief=1); \
 	  done
+
+# clang-tidy-14 with the committed .clang-tidy over the library (scripts/lint; any warning fails;
+# no build needed, only compile_commands.json). LINT_ARGS="--changed origin/main": only the changes.
+LINT_ARGS ?=
+lint: configure
+	@BUILD_DIR=$(BUILD_DIR) LINT_JOBS=$(JOBS) scripts/lint $(LINT_ARGS)
 
 format:
 	@git ls-files '*.cpp' '*.hpp' | xargs clang-format -i

@@ -71,18 +71,20 @@ void add_fit_command(CLI::App& app) {
     o.max_strain = args->max_strain;
     o.samples = args->samples;
     o.powers = parse_powers(*args);
-    if (args->norm == "max")
+    if (args->norm == "max") {
       o.norm = verify::FitNorm::Max;
-    else if (args->norm == "l2")
+    } else if (args->norm == "l2") {
       o.norm = verify::FitNorm::L2;
-    else
+    } else {
       throw InputError("--norm: '" + args->norm + "' is not one of max, l2");
-    if (args->error == "full-scale")
+    }
+    if (args->error == "full-scale") {
       o.scale = verify::FitScale::FullScale;
-    else if (args->error == "relative")
+    } else if (args->error == "relative") {
       o.scale = verify::FitScale::Relative;
-    else
+    } else {
       throw InputError("--error: '" + args->error + "' is not one of full-scale, relative");
+    }
     const auto law = materials::make_law(args->law, {});
     const verify::SpringFitResult r = verify::fit_springs(*law, o);
     const bool hunter = args->law == "hunter_canine";
@@ -92,13 +94,15 @@ void add_fit_command(CLI::App& app) {
     std::printf(" axial (nominal stress P(eps) of uniaxial stress along the axis):\n");
     static const char* const kAxes[3] = {"fibre", "sheet", "normal"};
     static const char* const kPairs[3] = {"fibre_sheet", "fibre_normal", "sheet_normal"};
-    for (int l = 0; l < 3; ++l)
+    for (int l = 0; l < 3; ++l) {
       print_row(kAxes[l], r.set.axial.k[static_cast<std::size_t>(l)], r.axial[static_cast<std::size_t>(l)],
                 hunter ? &table.axial.k[static_cast<std::size_t>(l)] : nullptr);
+    }
     std::printf(" torsion, cosine form (q(Delta) = S_lm at pure shear E_lm = Delta/2, Delta = 2 E_lm):\n");
-    for (int l = 0; l < 3; ++l)
+    for (int l = 0; l < 3; ++l) {
       print_row(kPairs[l], r.set.torsion.k[static_cast<std::size_t>(l)], r.torsion[static_cast<std::size_t>(l)],
                 hunter ? &table.torsion.k[static_cast<std::size_t>(l)] : nullptr);
+    }
     std::printf("\nScene terms:\n%s", verify::spring_terms_yaml(r.set, "      ").c_str());
   });
 }

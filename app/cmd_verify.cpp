@@ -66,12 +66,14 @@ void add_verify_command(CLI::App& app) {
       int failed = 0;
       for (const auto& r : results.back().rows) failed += r.pass ? 0 : 1;
       std::printf(" %zu rows, %d failed, %.1f s\n", results.back().rows.size(), failed, results.back().seconds);
-      for (const auto& r : results.back().rows)
-        if (r.comparison == "report")
+      for (const auto& r : results.back().rows) {
+        if (r.comparison == "report") {
           std::printf("    %-4s %-44s %10.4g (report)    %s\n", "info", r.metric.c_str(), r.value, r.note.c_str());
-        else
+        } else {
           std::printf("    %-4s %-44s %10.4g %s %-8.3g %s\n", r.pass ? "ok" : "FAIL", r.metric.c_str(), r.value,
                       r.comparison.c_str(), r.tolerance, r.note.c_str());
+        }
+      }
     }
     const auto files = verify::write_report(results, args->output);
     std::cout << "wrote " << files.json.string() << ", " << files.markdown.string() << ", " << files.plots.size()

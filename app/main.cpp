@@ -5,6 +5,7 @@
 #include "app/commands.hpp"
 #include "common/error.hpp"
 
+// NOLINTNEXTLINE(bugprone-exception-escape): outside the try only building the option tables throws (a bug: abort)
 int main(int argc, char** argv) {
   CLI::App app{
       "adamss - anisotropic mass-spring system for cardiac mechanics.\n"

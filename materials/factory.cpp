@@ -96,6 +96,7 @@ std::unique_ptr<Law> make_law(const std::string& name, const std::map<std::strin
 
 std::vector<std::string_view> known_laws() {
   std::vector<std::string_view> names;
+  names.reserve(kLaws.size());
   for (const Entry& entry : kLaws) names.push_back(entry.name);
   return names;
 }

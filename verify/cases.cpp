@@ -113,12 +113,13 @@ Eigen::Matrix3d mean_nominal_stress(const Eigen::Matrix3Xd& f, const Eigen::Matr
 Eigen::Matrix3d frame_with_axis_along_z(int axis) {
   // columns f, s, n (right-handed)
   Eigen::Matrix3d b;
-  if (axis == 0)
+  if (axis == 0) {
     b << 0, 1, 0, 0, 0, 1, 1, 0, 0;  // f = z, s = x, n = y
-  else if (axis == 1)
+  } else if (axis == 1) {
     b << 1, 0, 0, 0, 0, -1, 0, 1, 0;  // f = x, s = z, n = -y
-  else
+  } else {
     b << 1, 0, 0, 0, 1, 0, 0, 0, 1;  // f = x, s = y, n = z
+  }
   return b;
 }
 
@@ -162,10 +163,11 @@ StretchCurve run_stretch(const StretchSpec& sp, const std::string& terms, const 
           bottom || top || p.x() < tol || p.x() > sp.size.x() - tol || p.y() < tol || p.y() > sp.size.y() - tol;
       if (!boundary) continue;
       m.constraints.fix(i, 3, "verify");
-      if (bottom)
+      if (bottom) {
         m.constraints.fix(i, 4, "verify");
-      else
+      } else {
         m.constraints.control(i, 2, solver::TimeCourse::ramp(0.0, emax * p.z(), 0.0, 1.0), false, "verify");
+      }
       continue;
     }
     if (bottom) m.constraints.fix(i, 4, "verify");
@@ -501,7 +503,7 @@ CaseResult cost_case(const VerifyOptions& o) {
 }
 
 const std::map<std::string, std::function<CaseResult(const VerifyOptions&)>>& registry() {
-  static const std::map<std::string, std::function<CaseResult(const VerifyOptions&)>> r = {
+  static const std::map<std::string, std::function<CaseResult(const VerifyOptions&)>> kRegistry = {
       {"uniaxial-voxel-tet6",
        [](const VerifyOptions& o) {
          StretchSpec sp;
@@ -556,7 +558,7 @@ const std::map<std::string, std::function<CaseResult(const VerifyOptions&)>>& re
       {"lloyd-cylinder", lloyd_cylinder_case},
       {"cost", cost_case},
   };
-  return r;
+  return kRegistry;
 }
 
 }  // namespace

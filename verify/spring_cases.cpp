@@ -138,12 +138,12 @@ std::string pct(double v) {
 
 /// Tables 2-3 of seed 001 (%): HybMSS-FD, HybMSS, FEM, keyed by test, nu, strain.
 std::array<double, 3> paper_volume(bool tension, double nu, int strain) {
-  static const std::map<std::string, std::array<double, 3>> t = {
+  static const std::map<std::string, std::array<double, 3>> kTables = {
       {"c0_5", {5.37, 5.61, 5.00}},     {"c0.25_5", {3.25, 3.17, 3.10}},     {"c0.499_5", {0.00, 0.01, 0.02}},
       {"c0_20", {23.62, 19.88, 20.00}}, {"c0.25_20", {15.99, 13.52, 12.70}}, {"c0.499_20", {0.01, 0.00, 0.10}},
       {"t0_5", {7.46, 4.40, 5.00}},     {"t0.25_5", {0.85, 2.54, 2.61}},     {"t0.499_5", {0.00, 0.00, 0.00}},
       {"t0_20", {24.92, 20.00, 19.99}}, {"t0.25_20", {3.15, 8.90, 10.11}},   {"t0.499_20", {0.00, 0.00, 0.00}}};
-  return t.at(std::string(tension ? "t" : "c") + fmt("%g", nu) + "_" + std::to_string(strain));
+  return kTables.at(std::string(tension ? "t" : "c") + fmt("%g", nu) + "_" + std::to_string(strain));
 }
 
 }  // namespace
@@ -154,9 +154,10 @@ double euler_bernoulli_tip(double rho, double g, double length, double width, do
 }
 
 NodeErrors node_errors(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& y) {
-  if (x.cols() != y.cols() || x.cols() == 0)
+  if (x.cols() != y.cols() || x.cols() == 0) {
     throw InputError("node_errors: configurations of " + std::to_string(x.cols()) + " and " + std::to_string(y.cols()) +
                      " nodes");
+  }
   const Eigen::VectorXd d = (x - y).colwise().norm().transpose();
   return {d.maxCoeff(), d.mean()};
 }

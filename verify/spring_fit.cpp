@@ -24,9 +24,10 @@ PolynomialFit fit_polynomial(const std::vector<double>& x, const std::vector<dou
   Eigen::VectorXd b(n);
   for (Eigen::Index j = 0; j < n; ++j) {
     const double yj = y[static_cast<std::size_t>(j)];
-    if (!(std::abs(yj) > 0.0) || !std::isfinite(yj))
+    if (!(std::abs(yj) > 0.0) || !std::isfinite(yj)) {
       throw InputError("fit: target value " + std::to_string(yj) +
                        " at x = " + std::to_string(x[static_cast<std::size_t>(j)]) + " (need finite, non-zero values)");
+    }
     const double d = scale == FitScale::Relative ? yj : ymax;
     for (Eigen::Index c = 0; c < m; ++c)
       a(j, c) = std::pow(x[static_cast<std::size_t>(j)], powers[static_cast<std::size_t>(c)]) / d;

@@ -149,10 +149,12 @@ class StencilTerm final : public ForceTerm {
         kx.setZero();
         kv.setZero();
         kernel_.jacobian(i, x, v, s.t, kx, kv);
-        for (int a = 0; a < N; ++a)
-          for (int b = 0; b < N; ++b)
+        for (int a = 0; a < N; ++a) {
+          for (int b = 0; b < N; ++b) {
             sink.add_block(st[static_cast<std::size_t>(a)], st[static_cast<std::size_t>(b)],
                            kx.template block<3, 3>(3 * a, 3 * b), kv.template block<3, 3>(3 * a, 3 * b));
+          }
+        }
       }
     } else {
       throw std::logic_error("force term '" + name() + "' has no Jacobian (explicit integrators only)");

@@ -138,9 +138,10 @@ TimeCourse TimeCourse::twitch(double peak, double onset, double rise, double dec
                               double period) {
   if (!(rise > 0.0) || !(decay > 0.0)) throw InputError(what + ": twitch rise and decay times must be > 0");
   if (!(period >= 0.0)) throw InputError(what + ".period: must be >= 0 s (0: one twitch)");
-  if (period > 0.0 && period < rise + decay)
+  if (period > 0.0 && period < rise + decay) {
     throw InputError(what + ".period: " + std::to_string(period) + " s is shorter than rise + decay (" +
                      std::to_string(rise + decay) + " s); the twitches would overlap");
+  }
   TimeCourse tc;
   tc.kind = Kind::Twitch;
   tc.peak = peak;
