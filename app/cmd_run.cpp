@@ -11,6 +11,7 @@
 
 #include "app/commands.hpp"
 #include "common/error.hpp"
+#include "solver/run/checkpoint.hpp"
 #include "solver/run/results.hpp"
 #include "solver/run/run.hpp"
 #include "solver/scene/scene.hpp"
