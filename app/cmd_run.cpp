@@ -1,6 +1,5 @@
 // adamss run SCENE.yaml -o OUT/: load and validate a scene, integrate, write results.
 #include <chrono>
-#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -11,8 +10,10 @@
 
 #include "app/commands.hpp"
 #include "common/error.hpp"
+#include "solver/run/checkpoint.hpp"
 #include "solver/run/results.hpp"
 #include "solver/run/run.hpp"
+#include "solver/run/summary.hpp"
 #include "solver/scene/scene.hpp"
 
 namespace adamss::app {
@@ -35,14 +36,57 @@ nlohmann::json vec(const Eigen::Vector3d& v) {
   return nlohmann::json::array({v.x(), v.y(), v.z()});
 }
 
-void write_summary(const fs::path& file, const solver::LoadedScene& sc, const solver::RunOutcome& out,
-                   const solver::State& initial, const solver::ResultsWriter& writer) {
+/// "cavities": {NAME: {...}} keyed by the cavity name (`name` repeated inside each entry).
+nlohmann::json cavities_json(const std::vector<solver::CavitySummary>& cavities) {
   using nlohmann::json;
+  json cav = json::object();
+  for (const auto& c : cavities) {
+    json one = {{"name", c.name}};
+    for (const auto& [key, value] : c.values) one[key] = value;
+    if (!c.per_beat.empty()) {
+      json per_beat = json::array();
+      for (const auto& b : c.per_beat) {
+        json e = json::object();
+        for (const auto& [key, value] : b) e[key] = value;
+        per_beat.push_back(e);
+      }
+      one["per_beat"] = per_beat;
+    }
+    cav[c.name] = one;
+  }
+  return cav;
+}
+
+/// "probes": {NAME: [x, y, z]} (final positions, m) and "probe_details" beside it.
+void add_probes(nlohmann::json& j, const std::vector<solver::ProbeSummary>& probes) {
+  using nlohmann::json;
+  json positions = json::object(), details = json::object();
+  for (const auto& p : probes) {
+    positions[p.name] = vec(p.final_position);
+    details[p.name] = {{"node", p.node}, {"reference_m", vec(p.reference)}, {"displacement_m", vec(p.displacement)}};
+    if (p.twist_about_z_deg) details[p.name]["twist_about_z_deg"] = *p.twist_about_z_deg;
+  }
+  j["probes"] = positions;
+  j["probe_details"] = details;
+}
+
+nlohmann::json reactions_json(const std::vector<solver::ReactionSummary>& reactions) {
+  nlohmann::json groups = nlohmann::json::array();
+  for (const auto& g : reactions)
+    groups.push_back({{"entry", g.entry},
+                      {"nodes", g.nodes},
+                      {"reaction_force_N", vec(g.force)},
+                      {"reaction_moment_Nm", vec(g.moment)},
+                      {"moment_point_m", vec(g.moment_point)}});
+  return groups;
+}
+
+/// summary.json (docs/file-formats.md): the scene's description, the run's counters and the
+/// numbers of solver::summarize_run.
+nlohmann::json summary_json(const solver::LoadedScene& sc, const solver::RunOutcome& out,
+                            const solver::RunSummary& sum) {
   const solver::Model& m = sc.model;
-  const solver::State& s = out.final_state;
-  const double v0 = solver::total_volume(*m.mesh, m.x_ref);
-  const double v1 = solver::total_volume(*m.mesh, s.x);
-  json j;
+  nlohmann::json j;
   j["status"] = out.status;
   j["reason"] = out.reason;
   j["scene"] = sc.file.string();
@@ -64,101 +108,29 @@ void write_summary(const fs::path& file, const solver::LoadedScene& sc, const so
                {"min_used", out.dt_min_used},
                {"max_used", out.dt_max_used},
                {"critical_estimate", sc.critical_dt}};
-  const double elem_steps = static_cast<double>(m.mesh->element_count()) * static_cast<double>(out.force_evaluations);
-  j["ns_per_element_evaluation"] = elem_steps > 0 ? 1e9 * out.wall_seconds / elem_steps : 0.0;
-  j["total_volume_m3"] = {{"initial", v0},
-                          {"final", v1},
-                          {"relative_change", (v1 - v0) / v0},
-                          {"max_abs_relative_change", writer.max_volume_change()}};
-  j["kinetic_energy_final_J"] = solver::kinetic_energy(m.mass, s.v);
-  j["mass_kg"] = m.mass.sum();
-  // "cavities": {NAME: {...}} keyed by the cavity name (`name` repeated inside each entry).
-  json cav = json::object();
-  for (std::size_t k = 0; k < m.cavities.size(); ++k) {
-    const auto& c = m.cavities[k];
-    json one = {{"name", c->name()},
-                {"volume_initial_m3", c->volume(initial.x)},
-                {"volume_final_m3", c->volume(s.x)},
-                {"pressure_final_Pa", c->pressure(s.t)}};
-    if (k < writer.cavity_extrema().size()) {
-      const auto& e = writer.cavity_extrema()[k];
-      one["volume_max_m3"] = e.max;
-      one["volume_max_t_s"] = e.t_max;
-      one["volume_min_m3"] = e.min;
-      one["volume_min_t_s"] = e.t_min;
-      one["ejection_fraction"] = e.max > 0 ? (e.max - e.min) / e.max : 0.0;
-      // Beat metrics: from the volume extrema by default (EDV = largest, ESV = smallest volume,
-      // the pressures at those times); a circulation overrides them with its valve-event values.
-      one["edv_m3"] = e.max;
-      one["esv_m3"] = e.min;
-      one["edp_Pa"] = e.p_at_max;
-      one["esp_Pa"] = e.p_at_min;
-      one["stroke_volume_m3"] = e.max - e.min;
-      one["peak_pressure_Pa"] = e.p_max;
-    }
-    for (const auto& [key, value] : c->metrics()) one[key] = value;
-    const auto beats = c->beat_metrics();
-    if (!beats.empty()) {
-      json per_beat = json::array();
-      for (const auto& b : beats) {
-        json e = json::object();
-        for (const auto& [key, value] : b) e[key] = value;
-        per_beat.push_back(e);
-      }
-      one["per_beat"] = per_beat;
-    }
-    cav[c->name()] = one;
-  }
-  j["cavities"] = cav;
-  j["fiber_stretch_max"] = writer.fibre_stretch_max();
-  j["fiber_stretch_min"] = writer.fibre_stretch_min();
-  // "probes": {NAME: [x, y, z]} (final positions, m); the details beside it.
-  json probes = json::object(), details = json::object();
-  for (const auto& p : m.probes) {
-    probes[p.name] = vec(s.x.col(p.node));
-    details[p.name] = {{"node", p.node},
-                       {"reference_m", vec(m.x_ref.col(p.node))},
-                       {"displacement_m", vec(s.x.col(p.node) - m.x_ref.col(p.node))}};
-    // Rotation about the z axis (deg, counter-clockwise seen from +z) of the point's (x, y)
-    // position: the twist of Land et al. 2015 problem 3. Omitted on the axis itself.
-    const Eigen::Vector3d a = m.x_ref.col(p.node), b = s.x.col(p.node);
-    if (a.head<2>().norm() > 1e-9 && b.head<2>().norm() > 1e-9) {
-      const double cross = a.x() * b.y() - a.y() * b.x(), dot = a.x() * b.x() + a.y() * b.y();
-      details[p.name]["twist_about_z_deg"] = std::atan2(cross, dot) * 180.0 / M_PI;
-    }
-  }
-  j["probes"] = probes;
-  j["probe_details"] = details;
-  // Reactions: what each boundary entry's supports exert on the body in the final state,
-  // R = -(sum of all term forces) on its particles (exact at equilibrium; in dynamics it also
-  // carries the inertia of those particles), and its moment about the entry's reference centroid.
-  {
-    Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, s.x.cols());
-    for (const auto& t : m.terms) t->add_forces({s.x, s.v, s.t}, f);
-    json groups = json::array();
-    for (const auto& g : m.boundary_groups) {
-      Eigen::Vector3d c = Eigen::Vector3d::Zero(), r = Eigen::Vector3d::Zero(), mo = Eigen::Vector3d::Zero();
-      for (const auto n : g.nodes) c += m.x_ref.col(n);
-      if (!g.nodes.empty()) c /= static_cast<double>(g.nodes.size());
-      for (const auto n : g.nodes) {
-        const Eigen::Vector3d rn = -f.col(n);
-        r += rn;
-        mo += (s.x.col(n) - c).cross(rn);
-      }
-      groups.push_back({{"entry", g.name},
-                        {"nodes", g.nodes.size()},
-                        {"reaction_force_N", vec(r)},
-                        {"reaction_moment_Nm", vec(mo)},
-                        {"moment_point_m", vec(c)}});
-    }
-    j["reactions"] = groups;
-  }
+  j["ns_per_element_evaluation"] = sum.ns_per_element_evaluation;
+  j["total_volume_m3"] = {{"initial", sum.volume_initial},
+                          {"final", sum.volume_final},
+                          {"relative_change", sum.volume_relative_change},
+                          {"max_abs_relative_change", sum.volume_max_abs_relative_change}};
+  j["kinetic_energy_final_J"] = sum.kinetic_energy_final;
+  j["mass_kg"] = sum.mass;
+  j["cavities"] = cavities_json(sum.cavities);
+  j["fiber_stretch_max"] = sum.fibre_stretch_max;
+  j["fiber_stretch_min"] = sum.fibre_stretch_min;
+  add_probes(j, sum.probes);
+  j["reactions"] = reactions_json(sum.reactions);
   if (out.bad_element) j["bad_element"] = *out.bad_element;
   j["terms"] = sc.term_summary;
   j["axis_frame_elements"] = sc.axis_frame_elements;
   j["warnings"] = sc.warnings;
   j["boundary"] = {{"fixed_dofs", m.constraints.fixed_dof_count()},
                    {"controlled_dofs", m.constraints.controlled_dof_count()}};
+  return j;
+}
+
+/// Writes `j` to `file` via `file`.tmp renamed over it.
+void write_json(const fs::path& file, const nlohmann::json& j) {
   const fs::path tmp = file.string() + ".tmp";
   {
     std::ofstream o(tmp);
@@ -210,7 +182,8 @@ int run_scene(const RunArgs& a) {
   sc.run.stop_after_steps = a.stop_after_steps;
   const solver::RunOutcome out =
       solver::run_simulation(sc.model, s, sc.run, writer, checkpoint ? &*checkpoint : nullptr);
-  write_summary(writer.dir() / "summary.json", sc, out, initial, writer);
+  write_json(writer.dir() / "summary.json",
+             summary_json(sc, out, solver::summarize_run(sc.model, out, initial, writer)));
   if (!a.quiet) {
     std::cout << out.status << " (" << out.reason << "): " << out.steps << " steps to t = " << out.t << " s in "
               << out.wall_seconds << " s wall, " << writer.frame_count() << " frames; results in " << output.string()

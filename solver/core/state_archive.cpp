@@ -51,6 +51,17 @@ bool StateArchive::has(const std::string& key) const {
   return st_->entries.count(full(key)) != 0;
 }
 
+std::vector<std::string> StateArchive::keys() const {
+  std::vector<std::string> out;
+  for (const auto& [key, e] : st_->entries)
+    if (key.compare(0, prefix_.size(), prefix_) == 0) out.push_back(key.substr(prefix_.size()));
+  return out;
+}
+
+void StateArchive::erase(const std::string& key) {
+  st_->entries.erase(full(key));
+}
+
 const std::string& StateArchive::source() const {
   return st_->source;
 }

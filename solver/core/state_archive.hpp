@@ -36,6 +36,10 @@ class StateArchive {
   void put_ints(const std::string& key, const std::vector<std::int64_t>& values);
 
   [[nodiscard]] bool has(const std::string& key) const;
+  /// The keys under this view's prefix (without it), sorted.
+  [[nodiscard]] std::vector<std::string> keys() const;
+  /// Removes `key` if present (tests build incomplete checkpoints with it).
+  void erase(const std::string& key);
   /// The values under `key`; InputError naming the file and the key if it is missing or has the
   /// wrong type. scalar/integer also require exactly one value.
   [[nodiscard]] const std::vector<double>& doubles(const std::string& key) const;

@@ -3,403 +3,307 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
-#include <csignal>
+#include <cmath>
 #include <cstdio>
+#include <memory>
 #include <sstream>
-#include <vector>
 
 #include "common/error.hpp"
-#include "solver/simd/volume_check.hpp"
+#include "solver/run/checkpoint.hpp"
+#include "solver/run/loop_state.hpp"
+#include "solver/run/stability_check.hpp"
+#include "solver/run/stop_signals.hpp"
 
 namespace adamss::solver {
 
 namespace {
 
-std::atomic<bool> g_stop{false};
-std::atomic<int> g_signal{0};
-
-extern "C" void on_stop_signal(int sig) {
-  g_signal.store(sig);
-  g_stop.store(true);
-}
-
-/// Installs the SIGINT and SIGTERM handler for the lifetime of the run and restores the old ones.
-class SignalGuard {
- public:
-  SignalGuard() {
-    struct sigaction sa {};
-    sa.sa_handler = on_stop_signal;
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, &old_int_);
-    sigaction(SIGTERM, &sa, &old_term_);
-  }
-  ~SignalGuard() {
-    sigaction(SIGINT, &old_int_, nullptr);
-    sigaction(SIGTERM, &old_term_, nullptr);
-  }
-  SignalGuard(const SignalGuard&) = delete;
-  SignalGuard& operator=(const SignalGuard&) = delete;
-
- private:
-  struct sigaction old_int_ {};
-  struct sigaction old_term_ {};
-};
-
-/// The integrator's row in integrator_table(): the checkpoint stores the index.
-std::int64_t integrator_code(const std::string& name) {
-  const auto& table = integrator_table();
-  for (std::size_t i = 0; i < table.size(); ++i)
-    if (name == table[i].name) return static_cast<std::int64_t>(i);
-  return -1;
-}
-
 using Clock = std::chrono::steady_clock;
 
-/// First problem found in state s, or an empty string. Sets `element` for a flat element.
-/// The gate skips the screen (and the finiteness scan) while it holds: no node has moved far
-/// enough since the last screen to flag an element, and x, v are finite.
-/// On return, `copy` holds s (x, v, t), whatever the outcome.
-std::string check_state(const Model& model, const State& s, const std::vector<double>& vref, double flat,
-                        const SignedVolumeScreen& screen, MotionGate& gate, State& copy,
-                        std::optional<std::size_t>& element) {
-  copy.t = s.t;
-  if (gate.quiet(s.x, s.v, copy.x, copy.v)) return {};
-  if (!s.x.allFinite() || !s.v.allFinite()) {
-    for (Eigen::Index i = 0; i < s.x.cols(); ++i) {
-      if (!s.x.col(i).allFinite() || !s.v.col(i).allFinite()) {
-        return "node " + std::to_string(i) + " has a non-finite position or velocity";
-      }
-    }
+/// One run of the loop of seed 000 sec. 2.2 (run.hpp): set-up (start or resume), then per
+/// iteration the stop tests and periodic checkpoint, one step with its instability check, and
+/// the outputs it makes due; finish writes the final row and frame. Everything the loop carries
+/// from one iteration to the next that a checkpoint must keep is in loop_ (RunLoopState).
+class RunLoop {
+ public:
+  RunLoop(Model& model, const RunSettings& settings, ResultsWriter& writer);
+  RunOutcome run(State& s, const StateArchive* resume);
+
+ private:
+  void start(State& s);
+  [[nodiscard]] bool stop_before_step(const State& s);
+  [[nodiscard]] bool step(State& s);
+  void count(const StepReport& rep);
+  [[nodiscard]] bool check(State& s);
+  [[nodiscard]] bool record(const State& s);
+  void write_globals_row(const State& s, double ke);
+  void write_frame(const State& s);
+  void show_progress(const State& s, double ke);
+  void stop(const std::string& status, const std::string& reason);
+  void fail(State& s, const std::string& status, const std::string& why);
+  void checkpoint(const State& s);
+  RunOutcome finish(State& s);
+  [[nodiscard]] double wall() const { return std::chrono::duration<double>(Clock::now() - wall0_).count(); }
+  [[nodiscard]] RunParts parts() { return {model_, set_, sys_, *integ_}; }
+
+  Model& model_;
+  const RunSettings& set_;
+  ResultsWriter& writer_;
+  const StopSignals signals_;
+  Clock::time_point wall0_ = Clock::now();
+  System sys_;
+  std::unique_ptr<Integrator> integ_;
+  StabilityCheck check_;
+  const bool clips_last_step_;  ///< the last step is shortened to land on t_end
+  const double t_eps_;          ///< times within this of a due time count as reaching it
+  const bool tty_;              ///< progress line on a terminal
+  Clock::time_point last_progress_;
+  RunLoopState loop_;
+  RunOutcome out_;      ///< status, reason and bad element; the counters are loop_'s until finish
+  State spare_;         ///< the instability check copies s here; swapped with loop_.good when it passes
+  Eigen::Matrix3Xd f_;  ///< forces for the frames
+  GlobalsRow row_;
+};
+
+RunLoop::RunLoop(Model& model, const RunSettings& settings, ResultsWriter& writer)
+    : model_(model),
+      set_(settings),
+      writer_(writer),
+      sys_(model),
+      integ_(make_integrator(settings.integrator, sys_, settings.abm3, &settings.implicit)),
+      check_(model, settings.flat_fraction),
+      clips_last_step_(integrator_info(settings.integrator).clips_last_step),
+      t_eps_(1e-12 * settings.t_end),
+      tty_(settings.progress && isatty(fileno(stderr)) != 0) {}
+
+RunOutcome RunLoop::run(State& s, const StateArchive* resume) {
+  loop_.dt = set_.dt;
+  if (resume == nullptr) {
+    start(s);
+  } else {
+    // Everything the uninterrupted run had in memory at the top of the loop (see checkpoint()).
+    loop_ = restore_checkpoint(parts(), *resume, s);
+    wall0_ -= std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(loop_.wall_seconds));
   }
-  double slack = 0.0;
-  if (!screen.any_flagged(s.x, slack)) {
-    gate.arm(s.x, slack);
-    return {};
+  last_progress_ = Clock::now();
+  for (;;) {
+    if (stop_before_step(s)) break;
+    if (!step(s)) break;
+    if (record(s)) break;
   }
-  gate.disarm();
-  const preprocess::Mesh& mesh = *model.mesh;
-  for (std::size_t e = 0; e < vref.size(); ++e) {
-    const double v = element_signed_volume_check(mesh, s.x, e);
-    if (!(v > flat * vref[e])) {
-      element = e;
-      std::ostringstream os;
-      os << "element " << e << " (label " << mesh.labels[e] << ") " << (v <= 0.0 ? "inverted" : "became flat")
-         << ": its signed-volume check (eq. 2.154) is " << v << " m^3 against " << vref[e]
-         << " m^3 in the reference state";
-      return os.str();
-    }
+  return finish(s);
+}
+
+/// A fresh run: hold the fixed coordinates where they start, impose the boundary conditions,
+/// write frame 0 and the first globals row, and schedule the next outputs.
+void RunLoop::start(State& s) {
+  sys_.set_fixed_positions(s.x);
+  sys_.impose(s);
+  loop_.good = s;
+  sys_.forces(s.x, s.v, s.t, f_);
+  writer_.write_frame(s, f_);
+  row_.kinetic_energy = kinetic_energy(model_.mass, s.v);
+  writer_.write_globals(s, row_);
+  loop_.next_frame_t = s.t + (set_.export_interval > 0.0 ? set_.export_interval : set_.t_end + 1.0);
+  loop_.next_globals_t = s.t + set_.globals_interval;
+  loop_.next_checkpoint_t = s.t + set_.checkpoint_interval;
+  loop_.last_logged_t = loop_.last_frame_t = s.t;
+}
+
+/// The stop tests at the top of the loop (a signal, t_end, max_steps, --stop-after-steps), in
+/// that order; true to stop. A periodic checkpoint is due here too: between two accepted steps.
+bool RunLoop::stop_before_step(const State& s) {
+  if (signals_.requested()) {
+    stop("interrupted", "interrupted by " + signals_.name() + " at t = " + std::to_string(s.t) + " s");
+    checkpoint(s);
+    return true;
   }
-  return {};
+  if (s.t >= set_.t_end - t_eps_) {
+    stop("completed", "t_end");
+    return true;
+  }
+  if (set_.max_steps > 0 && loop_.steps >= set_.max_steps) {
+    stop("max_steps",
+         "stopped after max_steps = " + std::to_string(set_.max_steps) + " steps at t = " + std::to_string(s.t));
+    return true;
+  }
+  if (set_.stop_after_steps > 0 && loop_.steps >= set_.stop_after_steps) {
+    stop("interrupted", "stopped after " + std::to_string(loop_.steps) +
+                            " steps (--stop-after-steps) at t = " + std::to_string(s.t) + " s");
+    checkpoint(s);
+    return true;
+  }
+  if (set_.checkpoint_interval > 0.0 && s.t >= loop_.next_checkpoint_t - t_eps_) {
+    while (loop_.next_checkpoint_t <= s.t + t_eps_) loop_.next_checkpoint_t += set_.checkpoint_interval;
+    checkpoint(s);
+  }
+  return false;
+}
+
+/// One accepted step (the integrator's retries included), the terms' end-of-step updates and,
+/// every check_every steps, the instability check. False when the run failed (status set).
+bool RunLoop::step(State& s) {
+  const double h = clips_last_step_ ? std::min(loop_.dt, set_.t_end - s.t) : loop_.dt;
+  StepReport& rep = loop_.last_report;
+  try {
+    rep = integ_->step(s, h);
+  } catch (const NumericalError& e) {
+    fail(s, "failed", std::string(e.what()) + " (at t = " + std::to_string(s.t) + " s)");
+    return false;
+  }
+  count(rep);
+  {
+    const StateView view{s.x, s.v, s.t};
+    for (auto& term : model_.terms) term->end_step(view, rep.dt);
+  }
+  return loop_.steps % set_.check_every != 0 || check(s);
+}
+
+/// Adds an accepted step's report to the counters; an adaptive integrator's proposal becomes
+/// the next step size.
+void RunLoop::count(const StepReport& rep) {
+  ++loop_.steps;
+  loop_.force_evaluations += static_cast<std::size_t>(rep.evaluations);
+  loop_.rejected_steps += static_cast<std::size_t>(rep.rejected);
+  loop_.newton_iterations += static_cast<std::size_t>(rep.newton_iterations);
+  loop_.linear_iterations += static_cast<std::size_t>(rep.linear_iterations);
+  loop_.dt_min_used = std::min(loop_.dt_min_used, rep.dt);
+  loop_.dt_max_used = std::max(loop_.dt_max_used, rep.dt);
+  if (integ_->adaptive()) loop_.dt = rep.next_dt;
+}
+
+/// The instability check of s: on success s becomes the last good state; otherwise the run
+/// stops "unstable" with the last good state as its final frame and checkpoint.
+bool RunLoop::check(State& s) {
+  std::optional<std::size_t> bad;
+  const std::string problem = check_.check(s, spare_, bad);
+  if (problem.empty()) {
+    std::swap(loop_.good, spare_);  // spare_ held a copy of s (StabilityCheck::check): no second copy
+    loop_.good_step = loop_.steps;
+    return true;
+  }
+  out_.bad_element = bad;
+  std::ostringstream os;
+  os << problem << " at t = " << s.t << " s (step " << loop_.steps << ", dt = " << loop_.last_report.dt
+     << " s); the last good state (t = " << loop_.good.t << " s) is written. A time step above the stable limit, "
+     << "too soft a material or too large a load are the usual causes.";
+  fail(s, "unstable", os.str());
+  return false;
+}
+
+/// The outputs due after a step (globals row, frame), the kinetic-energy stop and the progress
+/// line. True when the kinetic-energy stop ends the run.
+bool RunLoop::record(const State& s) {
+  // The kinetic energy (a pass over all nodes) only when something reads it.
+  const bool globals_due = s.t >= loop_.next_globals_t - t_eps_;
+  const bool tty_due = tty_ && std::chrono::duration<double>(Clock::now() - last_progress_).count() > 0.5;
+  const double ke = (globals_due || tty_due || set_.ke_threshold >= 0.0) ? kinetic_energy(model_.mass, s.v) : 0.0;
+  if (globals_due) write_globals_row(s, ke);
+  if (s.t >= loop_.next_frame_t - t_eps_) write_frame(s);
+  if (set_.ke_threshold >= 0.0 && ke >= set_.ke_threshold) loop_.ke_exceeded = true;
+  // The kinetic-energy stop is armed from ke_after on, and only once the motion has started
+  // (the kinetic energy exceeded the threshold at least once): a scene starting at rest does
+  // not stop after its first step.
+  if (set_.ke_threshold >= 0.0 && s.t >= set_.ke_after && loop_.ke_exceeded && ke < set_.ke_threshold) {
+    stop("completed", "kinetic_energy");
+    return true;
+  }
+  if (tty_due) show_progress(s, ke);
+  return false;
+}
+
+void RunLoop::write_globals_row(const State& s, double ke) {
+  row_.step = loop_.steps;
+  row_.dt = loop_.last_report.dt;
+  row_.kinetic_energy = ke;
+  row_.report = loop_.last_report;
+  row_.wall_seconds = wall();
+  writer_.write_globals(s, row_);
+  loop_.last_logged_t = s.t;
+  if (set_.globals_interval > 0.0) {
+    while (loop_.next_globals_t <= s.t + t_eps_) loop_.next_globals_t += set_.globals_interval;
+  }
+}
+
+void RunLoop::write_frame(const State& s) {
+  sys_.forces(s.x, s.v, s.t, f_);
+  writer_.write_frame(s, f_);
+  loop_.last_frame_t = s.t;
+  if (set_.export_interval > 0.0) {
+    while (loop_.next_frame_t <= s.t + t_eps_) loop_.next_frame_t += set_.export_interval;
+  }
+}
+
+void RunLoop::show_progress(const State& s, double ke) {
+  last_progress_ = Clock::now();
+  const double frac = s.t / set_.t_end;
+  const double w = wall();
+  std::fprintf(stderr, "\r  t = %.6g s (%5.1f %%)  step %zu  dt %.3g s  KE %.3g J  wall %.1f s  eta %.0f s   ", s.t,
+               100.0 * frac, loop_.steps, loop_.last_report.dt, ke, w, frac > 0 ? w * (1 - frac) / frac : 0.0);
+  std::fflush(stderr);
+}
+
+void RunLoop::stop(const std::string& status, const std::string& reason) {
+  out_.status = status;
+  out_.reason = reason;
+}
+
+/// A failed or unstable run: s goes back to the last good state, which is written as the final
+/// frame and as a (not resumable) checkpoint.
+void RunLoop::fail(State& s, const std::string& status, const std::string& why) {
+  stop(status, why);
+  s = loop_.good;
+  sys_.forces(s.x, s.v, s.t, f_);
+  writer_.write_frame(s, f_);
+  writer_.write_checkpoint(s, loop_.good_step);
+}
+
+/// A resumable checkpoint (solver/run/checkpoint.hpp), taken between two accepted steps.
+void RunLoop::checkpoint(const State& s) {
+  loop_.wall_seconds = wall();
+  write_resumable_checkpoint(parts(), writer_, s, loop_);
+}
+
+/// The final state is always logged and (unless the run failed: fail() wrote it) written as the
+/// last frame; the outcome takes the loop's counters.
+RunOutcome RunLoop::finish(State& s) {
+  if (tty_) std::fprintf(stderr, "\n");
+  if (s.t != loop_.last_logged_t || loop_.steps == 0) {
+    row_.step = loop_.steps;
+    row_.dt = loop_.last_report.dt;
+    row_.report = loop_.last_report;
+    row_.kinetic_energy = kinetic_energy(model_.mass, s.v);
+    row_.wall_seconds = wall();
+    writer_.write_globals(s, row_);
+  }
+  if (s.t != loop_.last_frame_t && out_.status != "unstable" && out_.status != "failed") {
+    sys_.forces(s.x, s.v, s.t, f_);
+    writer_.write_frame(s, f_);
+  }
+  RunOutcome out = out_;
+  out.steps = loop_.steps;
+  out.force_evaluations = loop_.force_evaluations;
+  out.rejected_steps = loop_.rejected_steps;
+  out.newton_iterations = loop_.newton_iterations;
+  out.linear_iterations = loop_.linear_iterations;
+  out.dt_min_used = std::isfinite(loop_.dt_min_used) ? loop_.dt_min_used : 0.0;
+  out.dt_max_used = loop_.dt_max_used;
+  out.t = s.t;
+  out.wall_seconds = wall();
+  out.final_state = s;
+  return out;
 }
 
 }  // namespace
-
-void request_stop() {
-  g_stop.store(true);
-}
-
-void check_checkpoint(Model& model, const RunSettings& set, const StateArchive& a) {
-  const std::string& src = a.source();
-  const auto n = static_cast<Eigen::Index>(model.node_count());
-  const preprocess::Mesh& mesh = *model.mesh;
-  if (!a.has("run/resumable") || a.integer("run/resumable") == 0)
-    throw InputError(src + " is the last good state of a failed or unstable run, not a resumable checkpoint");
-  const StateArchive r = a.child("run");
-  if (r.integer("node_count") != static_cast<std::int64_t>(n) ||
-      r.integer("element_count") != static_cast<std::int64_t>(mesh.element_count()))
-    throw InputError(src + ": the checkpoint has " + std::to_string(r.integer("node_count")) + " nodes and " +
-                     std::to_string(r.integer("element_count")) + " elements, the scene " + std::to_string(n) +
-                     " and " + std::to_string(mesh.element_count()) + " (a checkpoint of a different scene)");
-  if (r.integer("term_count") != static_cast<std::int64_t>(model.terms.size()))
-    throw InputError(src + ": the checkpoint has " + std::to_string(r.integer("term_count")) +
-                     " force terms, the scene " + std::to_string(model.terms.size()) + " (a different scene)");
-  if (r.integer("integrator") != integrator_code(set.integrator))
-    throw InputError(src + ": the checkpoint was written by another integrator than the scene's " + set.integrator);
-  for (std::size_t k = 0; k < model.terms.size(); ++k)
-    model.terms[k]->load_state(a.child("terms/" + std::to_string(k)));
-}
 
 RunOutcome run_simulation(Model& model, State& s, const RunSettings& set, ResultsWriter& writer,
                           const StateArchive* resume) {
   if (!(set.t_end > 0.0)) throw InputError("run.t_end must be > 0");
   if (!(set.dt > 0.0)) throw InputError("integrator.dt must be > 0");
   if (set.check_every == 0) throw InputError("run.check_every must be >= 1");
-  g_stop.store(false);
-  g_signal.store(0);
-  const SignalGuard guard;
-  auto wall0 = Clock::now();
-  auto wall = [&] { return std::chrono::duration<double>(Clock::now() - wall0).count(); };
-
-  System sys(model);
-  auto integ = make_integrator(set.integrator, sys, set.abm3, &set.implicit);
-
-  const preprocess::Mesh& mesh = *model.mesh;
-  std::vector<double> vref(mesh.element_count());
-  for (std::size_t e = 0; e < vref.size(); ++e) vref[e] = element_signed_volume_check(mesh, model.x_ref, e);
-  // The vectorised screen flags an element a little early (margin 1e-6 |V_ref| for the rounding
-  // differences between the two evaluations); the exact check then decides.
-  std::vector<double> screen_threshold(vref.size());
-  for (std::size_t e = 0; e < vref.size(); ++e)
-    screen_threshold[e] = set.flat_fraction * vref[e] + 1e-6 * std::abs(vref[e]);
-  const SignedVolumeScreen screen(mesh, screen_threshold);
-  MotionGate gate;
-
-  RunOutcome out;
-  State good;
-  State spare;  // check_state copies s here; swapped with good when the check passes
-  std::size_t good_step = 0;
-  Eigen::Matrix3Xd f;
-  GlobalsRow row;
-  StepReport last_rep;
-  bool ke_exceeded = false;
-  const double t_eps = 1e-12 * set.t_end;
-  double next_export = 0.0, next_globals = 0.0, next_checkpoint = 0.0;
-  double dt = set.dt;
-  double last_logged_t = 0.0, last_frame_t = 0.0;
-  out.dt_min_used = std::numeric_limits<double>::infinity();
-  const auto n = static_cast<Eigen::Index>(model.node_count());
-
-  if (resume == nullptr) {
-    sys.set_fixed_positions(s.x);
-    sys.impose(s);
-    good = s;
-    sys.forces(s.x, s.v, s.t, f);
-    writer.write_frame(s, f);
-    row.kinetic_energy = kinetic_energy(model.mass, s.v);
-    writer.write_globals(s, row);
-    next_export = s.t + (set.export_interval > 0.0 ? set.export_interval : set.t_end + 1.0);
-    next_globals = s.t + set.globals_interval;
-    next_checkpoint = s.t + set.checkpoint_interval;
-    last_logged_t = last_frame_t = s.t;
-  } else {
-    // Everything the uninterrupted run had in memory at the top of the loop (see save below).
-    const StateArchive& a = *resume;
-    const std::string& src = a.source();
-    check_checkpoint(model, set, a);
-    const StateArchive r = a.child("run");
-    s.x = a.matrix("x", n);
-    s.v = a.matrix("v", n);
-    s.t = r.scalar("t");
-    sys.set_fixed_positions(r.matrix("x_fixed", n));
-    good.x = r.matrix("good/x", n);
-    good.v = r.matrix("good/v", n);
-    good.t = r.scalar("good/t");
-    good_step = static_cast<std::size_t>(r.integer("good/step"));
-    const auto& c = r.integers("counters");
-    if (c.size() != 7) throw InputError(src + ": /run/counters should hold 7 values");
-    out.steps = static_cast<std::size_t>(c[0]);
-    out.force_evaluations = static_cast<std::size_t>(c[1]);
-    out.rejected_steps = static_cast<std::size_t>(c[2]);
-    out.newton_iterations = static_cast<std::size_t>(c[3]);
-    out.linear_iterations = static_cast<std::size_t>(c[4]);
-    ke_exceeded = c[5] != 0;
-    const auto& d = r.doubles("times");
-    if (d.size() != 9) throw InputError(src + ": /run/times should hold 9 values");
-    dt = d[0];
-    next_export = d[1];
-    next_globals = d[2];
-    next_checkpoint = d[3];
-    last_logged_t = d[4];
-    last_frame_t = d[5];
-    out.dt_min_used = d[6];
-    out.dt_max_used = d[7];
-    wall0 -= std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(d[8]));
-    const auto& ld = r.doubles("last_report");
-    const auto& li = r.integers("last_report_counts");
-    if (ld.size() != 3 || li.size() != 4) throw InputError(src + ": /run/last_report is incomplete");
-    last_rep.dt = ld[0];
-    last_rep.next_dt = ld[1];
-    last_rep.error = ld[2];
-    last_rep.evaluations = static_cast<int>(li[0]);
-    last_rep.rejected = static_cast<int>(li[1]);
-    last_rep.newton_iterations = static_cast<int>(li[2]);
-    last_rep.linear_iterations = static_cast<int>(li[3]);
-    integ->load_state(a.child("integrator"));  // the terms' state: check_checkpoint above
-  }
-
-  // A resumable checkpoint: taken at the top of the loop, between two accepted steps, where the
-  // loop's own variables, the integrator, the terms and the writer are all that carries over.
-  auto write_full_checkpoint = [&] {
-    StateArchive a;
-    a.put("x", s.x);
-    a.put("v", s.v);
-    StateArchive r = a.child("run");
-    r.put_int("resumable", 1);
-    r.put_int("node_count", static_cast<std::int64_t>(n));
-    r.put_int("element_count", static_cast<std::int64_t>(mesh.element_count()));
-    r.put_int("term_count", static_cast<std::int64_t>(model.terms.size()));
-    r.put_int("integrator", integrator_code(set.integrator));
-    r.put("t", s.t);
-    r.put("x_fixed", sys.fixed_positions());
-    r.put("good/x", good.x);
-    r.put("good/v", good.v);
-    r.put("good/t", good.t);
-    r.put_int("good/step", static_cast<std::int64_t>(good_step));
-    r.put_ints("counters",
-               {static_cast<std::int64_t>(out.steps), static_cast<std::int64_t>(out.force_evaluations),
-                static_cast<std::int64_t>(out.rejected_steps), static_cast<std::int64_t>(out.newton_iterations),
-                static_cast<std::int64_t>(out.linear_iterations), ke_exceeded ? 1 : 0, 0});
-    r.put("times", std::vector<double>{dt, next_export, next_globals, next_checkpoint, last_logged_t, last_frame_t,
-                                       out.dt_min_used, out.dt_max_used, wall()});
-    r.put("last_report", std::vector<double>{last_rep.dt, last_rep.next_dt, last_rep.error});
-    r.put_ints("last_report_counts",
-               {last_rep.evaluations, last_rep.rejected, last_rep.newton_iterations, last_rep.linear_iterations});
-    StateArchive ia = a.child("integrator");
-    integ->save_state(ia);
-    for (std::size_t k = 0; k < model.terms.size(); ++k) {
-      StateArchive ta = a.child("terms/" + std::to_string(k));
-      model.terms[k]->save_state(ta);
-    }
-    StateArchive wa = a.child("writer");
-    writer.save_state(wa);
-    writer.write_checkpoint(a, s.t, out.steps);
-  };
-
-  const bool tty = set.progress && isatty(fileno(stderr)) != 0;
-  auto last_progress = Clock::now();
-
-  auto fail_with = [&](const std::string& status, const std::string& why) {
-    out.status = status;
-    out.reason = why;
-    s = good;
-    sys.forces(s.x, s.v, s.t, f);
-    writer.write_frame(s, f);
-    writer.write_checkpoint(s, good_step);
-  };
-
-  for (;;) {
-    if (g_stop.load()) {
-      out.status = "interrupted";
-      const int sig = g_signal.load();
-      out.reason = std::string("interrupted by ") +
-                   (sig == SIGTERM  ? "SIGTERM"
-                    : sig == SIGINT ? "SIGINT"
-                                    : "a request") +
-                   " at t = " + std::to_string(s.t) + " s";
-      write_full_checkpoint();
-      break;
-    }
-    if (s.t >= set.t_end - t_eps) {
-      out.status = "completed";
-      out.reason = "t_end";
-      break;
-    }
-    if (set.max_steps > 0 && out.steps >= set.max_steps) {
-      out.status = "max_steps";
-      out.reason =
-          "stopped after max_steps = " + std::to_string(set.max_steps) + " steps at t = " + std::to_string(s.t);
-      break;
-    }
-    if (set.stop_after_steps > 0 && out.steps >= set.stop_after_steps) {
-      out.status = "interrupted";
-      out.reason = "stopped after " + std::to_string(out.steps) +
-                   " steps (--stop-after-steps) at t = " + std::to_string(s.t) + " s";
-      write_full_checkpoint();
-      break;
-    }
-    if (set.checkpoint_interval > 0.0 && s.t >= next_checkpoint - t_eps) {
-      while (next_checkpoint <= s.t + t_eps) next_checkpoint += set.checkpoint_interval;
-      write_full_checkpoint();
-    }
-    const double h = integrator_info(set.integrator).clips_last_step ? std::min(dt, set.t_end - s.t) : dt;
-    StepReport& rep = last_rep;
-    try {
-      rep = integ->step(s, h);
-    } catch (const NumericalError& e) {
-      fail_with("failed", std::string(e.what()) + " (at t = " + std::to_string(s.t) + " s)");
-      break;
-    }
-    ++out.steps;
-    out.force_evaluations += static_cast<std::size_t>(rep.evaluations);
-    out.rejected_steps += static_cast<std::size_t>(rep.rejected);
-    out.newton_iterations += static_cast<std::size_t>(rep.newton_iterations);
-    out.linear_iterations += static_cast<std::size_t>(rep.linear_iterations);
-    out.dt_min_used = std::min(out.dt_min_used, rep.dt);
-    out.dt_max_used = std::max(out.dt_max_used, rep.dt);
-    if (integ->adaptive()) dt = rep.next_dt;
-    {
-      const StateView view{s.x, s.v, s.t};
-      for (auto& term : model.terms) term->end_step(view, rep.dt);
-    }
-    if (out.steps % set.check_every == 0) {
-      std::optional<std::size_t> bad;
-      const std::string problem = check_state(model, s, vref, set.flat_fraction, screen, gate, spare, bad);
-      if (!problem.empty()) {
-        out.bad_element = bad;
-        std::ostringstream os;
-        os << problem << " at t = " << s.t << " s (step " << out.steps << ", dt = " << rep.dt
-           << " s); the last good state (t = " << good.t << " s) is written. A time step above the stable limit, "
-           << "too soft a material or too large a load are the usual causes.";
-        fail_with("unstable", os.str());
-        break;
-      }
-      std::swap(good, spare);  // spare held a copy of s (check_state): no second copy
-      good_step = out.steps;
-    }
-    // The kinetic energy (a pass over all nodes) only when something reads it.
-    const bool globals_due = s.t >= next_globals - t_eps;
-    const bool tty_due = tty && std::chrono::duration<double>(Clock::now() - last_progress).count() > 0.5;
-    const double ke = (globals_due || tty_due || set.ke_threshold >= 0.0) ? kinetic_energy(model.mass, s.v) : 0.0;
-    if (globals_due) {
-      row.step = out.steps;
-      row.dt = rep.dt;
-      row.kinetic_energy = ke;
-      row.report = rep;
-      row.wall_seconds = wall();
-      writer.write_globals(s, row);
-      last_logged_t = s.t;
-      if (set.globals_interval > 0.0) {
-        while (next_globals <= s.t + t_eps) next_globals += set.globals_interval;
-      }
-    }
-    if (s.t >= next_export - t_eps) {
-      sys.forces(s.x, s.v, s.t, f);
-      writer.write_frame(s, f);
-      last_frame_t = s.t;
-      if (set.export_interval > 0.0) {
-        while (next_export <= s.t + t_eps) next_export += set.export_interval;
-      }
-    }
-    if (set.ke_threshold >= 0.0 && ke >= set.ke_threshold) ke_exceeded = true;
-    // The kinetic-energy stop is armed from ke_after on, and only once the motion has started
-    // (the kinetic energy exceeded the threshold at least once): a scene starting at rest does
-    // not stop after its first step.
-    if (set.ke_threshold >= 0.0 && s.t >= set.ke_after && ke_exceeded && ke < set.ke_threshold) {
-      out.status = "completed";
-      out.reason = "kinetic_energy";
-      break;
-    }
-    if (tty_due) {
-      last_progress = Clock::now();
-      const double frac = s.t / set.t_end;
-      const double w = wall();
-      std::fprintf(stderr, "\r  t = %.6g s (%5.1f %%)  step %zu  dt %.3g s  KE %.3g J  wall %.1f s  eta %.0f s   ", s.t,
-                   100.0 * frac, out.steps, rep.dt, ke, w, frac > 0 ? w * (1 - frac) / frac : 0.0);
-      std::fflush(stderr);
-    }
-  }
-  if (tty) std::fprintf(stderr, "\n");
-
-  // Final state: always logged and written as the last frame.
-  if (s.t != last_logged_t || out.steps == 0) {
-    row.step = out.steps;
-    row.dt = last_rep.dt;
-    row.report = last_rep;
-    row.kinetic_energy = kinetic_energy(model.mass, s.v);
-    row.wall_seconds = wall();
-    writer.write_globals(s, row);
-  }
-  if (s.t != last_frame_t && out.status != "unstable" && out.status != "failed") {
-    sys.forces(s.x, s.v, s.t, f);
-    writer.write_frame(s, f);
-  }
-  if (!std::isfinite(out.dt_min_used)) out.dt_min_used = 0.0;
-  out.t = s.t;
-  out.wall_seconds = wall();
-  out.final_state = s;
-  return out;
+  RunLoop loop(model, set, writer);
+  return loop.run(s, resume);
 }
 
 }  // namespace adamss::solver

@@ -16,13 +16,14 @@
 //     final frame are written, then the run returns (the step under way, with its retries,
 //     is finished first: a checkpoint is always taken between two accepted steps)
 //   * stop_after_steps reached (hidden --stop-after-steps, for restart tests): as a signal
-// Checkpoints (solver/core/state_archive.hpp): besides on a signal, every checkpoint_interval of
-// simulated time. A resumable checkpoint holds the state, this loop's counters (step, next dt,
-// next frame/globals/checkpoint times, the last good state, the step report of the last step),
-// the integrator's history, every force term's internal state and the results writer's counters;
-// run_simulation(..., resume) restores all of it and continues exactly as the uninterrupted run
-// would have (same binary, same thread count: bit for bit). A failure checkpoint (the last good
-// state of an unstable or failed run) holds x, v, t only and is not resumable.
+// Checkpoints (solver/run/checkpoint.hpp): besides on a signal, every checkpoint_interval of
+// simulated time. A resumable checkpoint holds the state, this loop's RunLoopState by field name
+// (solver/run/loop_state.hpp: counters, next dt, next frame/globals/checkpoint times, the last
+// good state, the report of the last step), the integrator's history, every force term's internal
+// state and the results writer's counters; run_simulation(..., resume) restores all of it and
+// continues exactly as the uninterrupted run would have (same binary, same thread count: bit for
+// bit). A failure checkpoint (the last good state of an unstable or failed run) holds x, v, t
+// only and is not resumable.
 // Whatever the status, globals.csv holds every logged row and summary.json is written by the caller.
 #include <cstddef>
 #include <optional>
@@ -71,17 +72,9 @@ struct RunOutcome {
 /// Runs the loop from state s (s is advanced in place). Output goes to `writer`. With `resume`
 /// (a checkpoint read by StateArchive::read_hdf5, the writer built from its "writer" part) s,
 /// the integrator, the terms and the loop are restored from it first; InputError if it is not a
-/// resumable checkpoint of this scene (node count, term count, integrator).
+/// resumable checkpoint of this scene (node count, term count, integrator; check_checkpoint in
+/// solver/run/checkpoint.hpp).
 RunOutcome run_simulation(Model& model, State& s, const RunSettings& settings, ResultsWriter& writer,
                           const StateArchive* resume = nullptr);
-
-/// InputError (naming the checkpoint) unless `checkpoint` is a resumable checkpoint of this
-/// model and integrator: node, element and term counts and the integrator must match, and every
-/// term must accept its saved state (the terms' state is loaded here already; run_simulation
-/// loads it again). Call it before the results writer touches the output folder.
-void check_checkpoint(Model& model, const RunSettings& settings, const StateArchive& checkpoint);
-
-/// Requests that a running simulation stop at the next step (what SIGINT does).
-void request_stop();
 
 }  // namespace adamss::solver

@@ -346,3 +346,43 @@ TEST(Restart, ACirculationCheckpointOfAnotherSceneIsRefused) {
   EXPECT_NE(r.output.find("different scene"), std::string::npos) << r.output;
   EXPECT_EQ(read_file(dir / "out" / "globals.csv"), before) << "a refused resume must not touch the outputs";
 }
+
+TEST(Restart, ACheckpointWithoutANamedLoopFieldIsRefusedByName) {
+  // The run loop's state is stored field by field (/run/next_dt, /run/good/step, ...): a copy of
+  // a real checkpoint without /run/next_dt (made with the HDF5 tools h5dump and h5copy) must be
+  // refused with exit status 2 and a message naming that dataset, before any output changes.
+  if (std::system("h5dump --version > /dev/null 2>&1") != 0 || std::system("h5copy --help > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "h5dump/h5copy not installed";
+  const auto dir = scratch_dir("restart_missing_field");
+  const auto scene = write_scene(dir, slab_scene("{type: static, dt: 0.25 ms}", "3 ms")).string();
+  auto r = run_adamss("run " + scene + " -o " + (dir / "a").string() + cache_arg(dir) + " -q --stop-after-steps 2");
+  ASSERT_EQ(r.exit_code, 130) << r.output;
+  const fs::path good = dir / "a" / "checkpoint.h5", bad = dir / "a" / "incomplete.h5";
+  // Every dataset of the checkpoint (h5dump -n lists "dataset /path" lines), copied but one.
+  const fs::path list = dir / "contents.txt";
+  ASSERT_EQ(std::system(("h5dump -n " + good.string() + " > " + list.string()).c_str()), 0);
+  std::ifstream in(list);
+  std::string kind, path;
+  int copied = 0;
+  bool seen = false;
+  while (in >> kind) {
+    if (kind != "dataset" || !(in >> path)) continue;
+    if (path == "/run/next_dt") {
+      seen = true;
+      continue;
+    }
+    const std::string cmd = "h5copy -p -i " + good.string() + " -o " + bad.string() + " -s " + path + " -d " + path;
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    ++copied;
+  }
+  ASSERT_TRUE(seen) << "the checkpoint has no /run/next_dt dataset";
+  ASSERT_GT(copied, 20);
+  const std::string before = read_file(dir / "a" / "globals.csv");
+  r = run_adamss("run " + scene + cache_arg(dir) + " -q --resume " + bad.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("incomplete.h5: /run/next_dt is missing"), std::string::npos) << r.output;
+  EXPECT_EQ(read_file(dir / "a" / "globals.csv"), before) << "a refused resume must not touch the outputs";
+  // The complete checkpoint still resumes.
+  r = run_adamss("run " + scene + cache_arg(dir) + " -q --resume " + good.string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
