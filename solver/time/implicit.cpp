@@ -89,7 +89,7 @@ ImplicitIntegrator::ImplicitIntegrator(System& system, Kind kind, const Implicit
     : sys_(system), kind_(kind), set_(settings), a_(*system.model().mesh) {
   require_jacobians(sys_.model().terms, name());
   for (const auto& t : sys_.model().terms) {
-    if (auto* c = dynamic_cast<CavityConstraintTerm*>(t.get())) {
+    if (auto* c = t->cavity_constraint()) {
       if (kind_ == Kind::BackwardEuler)
         throw InputError(name() + " (the linearised one-solve step) cannot hold a cavity volume (" + c->name() +
                          "); use the integrator type backward_euler_newton or static");

@@ -129,7 +129,7 @@ std::unique_ptr<Integrator> make_integrator(const std::string& name, System& sys
   const IntegratorInfo& info = integrator_info(name);
   if (info.is_explicit) {
     for (const auto& t : system.model().terms)
-      if (dynamic_cast<const CavityConstraintTerm*>(t.get()) != nullptr)
+      if (t->cavity_constraint() != nullptr)
         throw InputError(name + " cannot hold a cavity volume (" + t->name() + "); use the integrator type static");
   }
   const ImplicitSettings defaults;

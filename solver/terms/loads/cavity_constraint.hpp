@@ -58,6 +58,7 @@ class CavityConstraintTerm final : public ForceTerm, public VolumeMonitor {
   /// checkpoint written with a circulation for a scene without one and vice versa.
   void save_state(StateArchive& archive) const override;
   void load_state(const StateArchive& archive) override;
+  [[nodiscard]] CavityConstraintTerm* cavity_constraint() override { return this; }
 
   // VolumeMonitor
   [[nodiscard]] double volume(const Eigen::Matrix3Xd& x) const override { return enclosed_volume(surface_, x); }
