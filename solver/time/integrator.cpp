@@ -4,10 +4,9 @@
 #include <stdexcept>
 
 #include "common/error.hpp"
-#include "solver/time/abm3.hpp"
-#include "solver/terms/loads/cavity_constraint.hpp"
-#include "solver/time/implicit.hpp"
 #include "solver/simd/node_loops.hpp"
+#include "solver/time/abm3.hpp"
+#include "solver/time/implicit.hpp"
 
 namespace adamss::solver {
 
