@@ -15,6 +15,13 @@ void require_jacobians(const std::vector<std::unique_ptr<ForceTerm>>& terms, con
   }
 }
 
+std::vector<CavityConstraintTerm*> cavity_constraints(const std::vector<std::unique_ptr<ForceTerm>>& terms) {
+  std::vector<CavityConstraintTerm*> out;
+  for (const auto& t : terms)
+    if (CavityConstraintTerm* c = t->cavity_constraint()) out.push_back(c);
+  return out;
+}
+
 double total_energy(const std::vector<std::unique_ptr<ForceTerm>>& terms, const StateView& s) {
   double e = 0.0;
   for (const auto& t : terms)

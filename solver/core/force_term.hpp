@@ -21,6 +21,8 @@ namespace adamss::solver {
 
 using preprocess::Index;
 
+class CavityConstraintTerm;  // solver/terms/loads/cavity_constraint.hpp
+
 /// What a term reads: positions (m), velocities (m/s), time (s), all 3 x n.
 struct StateView {
   const Eigen::Matrix3Xd& x;
@@ -68,11 +70,18 @@ class ForceTerm {
   virtual void load_state(const StateArchive& /*archive*/) {}
   /// Short human description for the run log ("764 elements, law hunter").
   [[nodiscard]] virtual std::string describe() const { return {}; }
+  /// The cavity volume constraint this term is, or nullptr (every other term, the default). The
+  /// integrators find the constraints' pressure unknowns through it (cavity_constraints below).
+  [[nodiscard]] virtual CavityConstraintTerm* cavity_constraint() { return nullptr; }
 };
 
 /// Throws adamss::InputError naming every term without a Jacobian, for `solver_name`
 /// (e.g. "backward Euler"), which needs them all.
 void require_jacobians(const std::vector<std::unique_ptr<ForceTerm>>& terms, const std::string& solver_name);
+
+/// The cavity volume constraints among `terms` (ForceTerm::cavity_constraint), in term order.
+[[nodiscard]] std::vector<CavityConstraintTerm*> cavity_constraints(
+    const std::vector<std::unique_ptr<ForceTerm>>& terms);
 
 /// Total energy of the terms that have one.
 double total_energy(const std::vector<std::unique_ptr<ForceTerm>>& terms, const StateView& s);

@@ -40,45 +40,53 @@ StepReport Abm3::step(State& s, double dt) {
     ++rep.evaluations;
   }
   if (hist_.size() < 3) {
-    // Start-up: Heun's predictor-corrector (forward-Euler predictor, eqs. 2.129-2.130, and a
-    // trapezoidal corrector) under the same error control, until three points exist.
-    for (;;) {
-      const double hh = h_;
-      const Point& p0 = hist_.front();
-      State pred;
-      pred.t = p0.t + hh;
-      pred.x = p0.x + hh * p0.v;
-      pred.v = p0.v + hh * p0.a;
-      sys_.impose(pred);
-      sys_.accelerations(pred.x, pred.v, pred.t, ap_);
-      ++rep.evaluations;
-      s.x = p0.x + (0.5 * hh) * (p0.v + pred.v);
-      s.v = p0.v + (0.5 * hh) * (p0.a + ap_);
-      s.t = pred.t;
-      sys_.impose(s);
-      const double err = (s.x - pred.x).cwiseAbs().maxCoeff();
-      if (std::isfinite(err) && err <= set_.error_max) {
-        rep.dt = hh;
-        rep.error = err;
-        break;
-      }
-      if (hh / 2.0 < set_.dt_min) {
-        std::ostringstream os;
-        os << "abm3: the start-up step cannot meet error_max " << set_.error_max << " m above dt_min = " << set_.dt_min
-           << " s (difference " << err << " m at dt = " << hh << " s)";
-        throw NumericalError(os.str());
-      }
-      while (hist_.size() > 1) hist_.pop_back();  // equidistant history restarts at the current point
-      h_ = hh / 2.0;
-      ++halvings_;
-      ++rep.rejected;
-    }
-    push_current(s);
-    ++rep.evaluations;
-    rep.next_dt = h_;
-    return rep;
+    heun_step(s, rep);
+  } else {
+    abm_step(s, rep);
   }
+  rep.next_dt = h_;
+  return rep;
+}
 
+void Abm3::heun_step(State& s, StepReport& rep) {
+  // Start-up: Heun's predictor-corrector (forward-Euler predictor, eqs. 2.129-2.130, and a
+  // trapezoidal corrector) under the same error control, until three points exist.
+  for (;;) {
+    const double hh = h_;
+    const Point& p0 = hist_.front();
+    State pred;
+    pred.t = p0.t + hh;
+    pred.x = p0.x + hh * p0.v;
+    pred.v = p0.v + hh * p0.a;
+    sys_.impose(pred);
+    sys_.accelerations(pred.x, pred.v, pred.t, ap_);
+    ++rep.evaluations;
+    s.x = p0.x + (0.5 * hh) * (p0.v + pred.v);
+    s.v = p0.v + (0.5 * hh) * (p0.a + ap_);
+    s.t = pred.t;
+    sys_.impose(s);
+    const double err = (s.x - pred.x).cwiseAbs().maxCoeff();
+    if (std::isfinite(err) && err <= set_.error_max) {
+      rep.dt = hh;
+      rep.error = err;
+      break;
+    }
+    if (hh / 2.0 < set_.dt_min) {
+      std::ostringstream os;
+      os << "abm3: the start-up step cannot meet error_max " << set_.error_max << " m above dt_min = " << set_.dt_min
+         << " s (difference " << err << " m at dt = " << hh << " s)";
+      throw NumericalError(os.str());
+    }
+    while (hist_.size() > 1) hist_.pop_back();  // equidistant history restarts at the current point
+    h_ = hh / 2.0;
+    ++halvings_;
+    ++rep.rejected;
+  }
+  push_current(s);
+  ++rep.evaluations;
+}
+
+void Abm3::abm_step(State& s, StepReport& rep) {
   double err = 0.0;
   for (;;) {
     const double hh = h_;
@@ -101,24 +109,7 @@ StepReport Abm3::step(State& s, double dt) {
       rep.dt = hh;
       break;
     }
-    // Reject: halve the step, refine the history by linear interpolation (Fig. 2.19).
-    if (hh / 2.0 < set_.dt_min) {
-      std::ostringstream os;
-      os << "abm3: the predictor-corrector difference " << err << " m stays above error_max " << set_.error_max
-         << " m even at dt = " << hh << " s; halving would go below dt_min = " << set_.dt_min
-         << " s (the system is too stiff for this explicit scheme: lower the stiffness, raise the masses, or use a "
-            "smaller dt_min)";
-      throw NumericalError(os.str());
-    }
-    Point mid;
-    mid.t = 0.5 * (hist_[0].t + hist_[1].t);
-    mid.x = 0.5 * (hist_[0].x + hist_[1].x);
-    mid.v = 0.5 * (hist_[0].v + hist_[1].v);
-    mid.a = 0.5 * (hist_[0].a + hist_[1].a);
-    while (hist_.size() > 2) hist_.pop_back();
-    hist_.insert(hist_.begin() + 1, std::move(mid));  // [t_n, t_n - h/2, t_n - h]
-    h_ = hh / 2.0;
-    ++halvings_;
+    halve(err);
     ++rep.rejected;
   }
   push_current(s);
@@ -131,8 +122,28 @@ StepReport Abm3::step(State& s, double dt) {
     h_ *= 2.0;
     ++doublings_;
   }
-  rep.next_dt = h_;
-  return rep;
+}
+
+void Abm3::halve(double err) {
+  const double hh = h_;
+  if (hh / 2.0 < set_.dt_min) {
+    std::ostringstream os;
+    os << "abm3: the predictor-corrector difference " << err << " m stays above error_max " << set_.error_max
+       << " m even at dt = " << hh << " s; halving would go below dt_min = " << set_.dt_min
+       << " s (the system is too stiff for this explicit scheme: lower the stiffness, raise the masses, or use a "
+          "smaller dt_min)";
+    throw NumericalError(os.str());
+  }
+  // Refine the history by linear interpolation (Fig. 2.19).
+  Point mid;
+  mid.t = 0.5 * (hist_[0].t + hist_[1].t);
+  mid.x = 0.5 * (hist_[0].x + hist_[1].x);
+  mid.v = 0.5 * (hist_[0].v + hist_[1].v);
+  mid.a = 0.5 * (hist_[0].a + hist_[1].a);
+  while (hist_.size() > 2) hist_.pop_back();
+  hist_.insert(hist_.begin() + 1, std::move(mid));  // [t_n, t_n - h/2, t_n - h]
+  h_ = hh / 2.0;
+  ++halvings_;
 }
 
 void Abm3::save_state(StateArchive& archive) const {

@@ -55,6 +55,13 @@ class Abm3 final : public Integrator {
     double t = 0.0;
   };
   void push_current(const State& s);
+  /// One Heun step (start-up, fewer than three history points), halving h until it passes.
+  void heun_step(State& s, StepReport& rep);
+  /// One AB3 predictor / AM3 corrector step, halving h until it passes; then maybe doubling.
+  void abm_step(State& s, StepReport& rep);
+  /// Rejects the step that gave difference `err`: halves h and interpolates the history point
+  /// t_n - h/2 (Fig. 2.19); NumericalError below dt_min.
+  void halve(double err);
 
   System& sys_;
   Abm3Settings set_;

@@ -10,8 +10,10 @@
 //   backward_euler_newton   full Newton on g(v+) = M (v+ - v0) - h f(x0 + h v+, v+, t+h) = 0
 //                           (eqs. 2.142-2.144 solved exactly), Jacobian M - h D - h^2 K
 //   static                  quasi-static equilibrium f(x, 0, t) = 0 at each load step t (all
-//                           loads are time courses, so "time" is the load parameter): Newton with
-//                           a backtracking line search on |r|, Jacobian -K
+//                           loads are time courses, so "time" is the load parameter), Jacobian
+//                           -K: Newton damped by a backtracking line search (damped_newton.hpp),
+//                           from the secant extrapolation of the last two load steps; with
+//                           cavity constraints undamped bordered Newton from the last solution
 // Fixed and controlled coordinates are eliminated (rows and columns, unit diagonal) with their
 // prescribed values, not given huge masses. Linear solves: KSP, by default a direct LU
 // factorisation up to 60 000 unknowns and GMRES + GAMG (with the particle coordinates for the
@@ -20,23 +22,27 @@
 //
 // Step control (sec. 2.5.5): a step fails when the linear solver diverges, Newton does not
 // converge within max_newton iterations, or the state is not finite; the state is rolled back,
-// dt halved and the step retried; below dt_min the run stops with a NumericalError. After an
-// easy step (Newton <= 3 iterations, or linear iterations <= 1/4 of the limit) dt grows by 1.5
-// up to dt_max; after a hard one (Newton >= 8) it shrinks by 2.
+// dt halved and the step retried; below dt_min the run stops with a NumericalError. With
+// adapt, the next step grows by 1.5 (up to dt_max) after an easy step taken without a
+// rejection -- Newton schemes: at most 4 Newton iterations; backward_euler: linear iterations
+// at most ksp_max_it / 4 -- and a Newton scheme halves it (down to dt_min) after 10 or more.
 // A term without a Jacobian makes these integrators refuse the scene by name (require_jacobians).
-// Cavity constraints (solver/terms/loads/cavity_constraint.hpp: a held volume, or a circulation's phase
-// condition -- given pressure, held volume, Windkessel ejection V = V*(P)) are enforced by
-// `static` and `backward_euler_newton` through a bordered Newton system; the linearised
-// backward_euler refuses them by name.
-#include <petscksp.h>
-
+// Cavity constraints (solver/terms/loads/cavity_constraint.hpp: a held volume, or a circulation's
+// phase condition -- given pressure, held volume, Windkessel ejection V = V*(P)) are enforced by
+// `static` and `backward_euler_newton` through a bordered Newton system (bordered_newton.hpp);
+// the linearised backward_euler refuses them by name.
+//
+// Where the code is: the equations of each scheme (residual and operator) in
+// step_equations.hpp, the Newton iterations in bordered_newton.hpp (with or without cavity
+// pressures) and damped_newton.hpp (static without cavities), the PETSc matrix, KSP and
+// elimination behind petsc/jacobian_solver.hpp; this header is PETSc-free.
+#include <Eigen/Dense>  // not used here: kept while app/cmd_run.cpp relies on it for cross() (it
+                       // came with this header's former includes); that file should include it
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "solver/terms/loads/cavity_constraint.hpp"
 #include "solver/time/integrator.hpp"
-#include "solver/time/petsc/petsc_matrix.hpp"
 
 namespace adamss::solver {
 
@@ -53,9 +59,21 @@ struct ImplicitSettings {
   std::string petsc_options;  ///< e.g. "-ksp_type cg -pc_type hypre"
 };
 
+/// What the Newton iterations of one attempt did (for the step-size rule, tests and logs).
+struct NewtonRecord {
+  std::vector<double> residuals;  ///< |R| (2-norm) per iteration; a final 0 for the linearised step
+                                  ///< and for backward Euler Newton ended by newton_xtol
+  int iterations = 0;             ///< Newton updates taken (1 for the linearised step)
+};
+
+class CavityConstraintTerm;
+class JacobianSolver;
+
 class ImplicitIntegrator : public Integrator {
  public:
   enum class Kind { BackwardEuler, BackwardEulerNewton, Static };
+  /// InputError for a term without a Jacobian, a cavity constraint under the linearised
+  /// backward_euler, or dt bounds that are not 0 < dt_min <= dt_max.
   ImplicitIntegrator(System& system, Kind kind, const ImplicitSettings& settings);
   ~ImplicitIntegrator() override;
 
@@ -69,29 +87,28 @@ class ImplicitIntegrator : public Integrator {
   void save_state(StateArchive& archive) const override;
   void load_state(const StateArchive& archive) override;
 
-  /// Residual 2-norms of the Newton iterations of the last step (for tests and logs).
-  [[nodiscard]] const std::vector<double>& residual_history() const { return history_; }
-  [[nodiscard]] int last_newton_iterations() const { return last_newton_; }
+  /// Residual 2-norms of the Newton iterations of the last attempt (for tests and logs).
+  [[nodiscard]] const std::vector<double>& residual_history() const { return record_.residuals; }
+  [[nodiscard]] int last_newton_iterations() const { return record_.iterations; }
   [[nodiscard]] int last_linear_iterations() const { return last_linear_; }
 
  private:
-  /// One attempt; false if it failed (s unchanged then).
+  /// One attempt of length h; false if it failed (s then holds its start positions and velocities).
   bool attempt(State& s, double h, StepReport& rep);
-  bool solve(Vec rhs, Vec sol, int& its);  ///< KSP solve with the current matrix
-  bool attempt_constrained_static(State& s, double h, StepReport& rep, int& lin);
+  /// The schemes: static without cavities (damped Newton with the predictor), static with
+  /// cavities (bordered Newton), backward Euler (linearised or Newton, with or without cavities).
+  bool static_step(State& s, double h, StepReport& rep);
+  bool static_bordered_step(State& s, double h, StepReport& rep);
+  bool backward_euler_step(State& s, double h, StepReport& rep);
 
   System& sys_;
   Kind kind_;
   ImplicitSettings set_;
-  BlockMatrix a_;
-  std::vector<PetscInt> fixed_dofs_;
   std::vector<CavityConstraintTerm*> constraints_;  ///< cavity constraints (bordered Newton)
-  KSP ksp_ = nullptr;
-  Vec b_ = nullptr, u_ = nullptr;
-  std::vector<double> history_;
-  int last_newton_ = 0, last_linear_ = 0;
-  // Newton / Euler scratch
-  Eigen::Matrix3Xd f_, r_, x0_, v0_, vp_;
+  std::unique_ptr<JacobianSolver> linear_;
+  NewtonRecord record_;
+  int last_linear_ = 0;
+  Eigen::Matrix3Xd x0_, v0_;  // the state at the start of the attempt
   // Static predictor: the state before the last converged load step and its length.
   Eigen::Matrix3Xd prev_x_;
   double prev_h_ = 0.0;

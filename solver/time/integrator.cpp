@@ -4,10 +4,9 @@
 #include <stdexcept>
 
 #include "common/error.hpp"
-#include "solver/time/abm3.hpp"
-#include "solver/terms/loads/cavity_constraint.hpp"
-#include "solver/time/implicit.hpp"
 #include "solver/simd/node_loops.hpp"
+#include "solver/time/abm3.hpp"
+#include "solver/time/implicit.hpp"
 
 namespace adamss::solver {
 
@@ -129,7 +128,7 @@ std::unique_ptr<Integrator> make_integrator(const std::string& name, System& sys
   const IntegratorInfo& info = integrator_info(name);
   if (info.is_explicit) {
     for (const auto& t : system.model().terms)
-      if (dynamic_cast<const CavityConstraintTerm*>(t.get()) != nullptr)
+      if (t->cavity_constraint() != nullptr)
         throw InputError(name + " cannot hold a cavity volume (" + t->name() + "); use the integrator type static");
   }
   const ImplicitSettings defaults;

@@ -1,16 +1,19 @@
 #pragma once
-// Explicit time integration of M a = f(x, v, t) (seed 000 sec. 2.5).
+// Time integration of M a = f(x, v, t) (seed 000 sec. 2.5): the System, the Integrator
+// interface, the one table of integrators and the factory.
 //
 // System evaluates the accelerations a = M^{-1} f with the boundary conditions
 // applied (constrained coordinates get the acceleration their condition dictates)
-// and imposes the conditions on a state. Integrators advance a State by one step:
+// and imposes the conditions on a state. Integrators advance a State by one step; the
+// explicit ones (forces only, no Jacobian, no cavity volume constraint) are
 //   forward_euler     eqs. 2.129-2.130: v+ = v + h a(x, v, t), x+ = x + h v (first order,
 //                     energy grows on an undamped oscillator: |1 + i w h| > 1)
 //   symplectic_euler  v+ = v + h a(x, v, t), x+ = x + h v+ (semi-implicit Euler; symplectic,
 //                     energy error bounded, stable for h < 2 / w_max)
 //   abm3              third-order Adams-Bashforth-Moulton predictor-corrector with step
 //                     doubling/halving (sec. 2.5.4, eqs. 2.133-2.141), see abm3.hpp
-// Every integrator is explicit: it needs forces only, no Jacobian.
+// and the implicit ones backward_euler, backward_euler_newton and static (implicit.hpp) need
+// every term's Jacobian and solve linear systems with PETSc.
 #include <Eigen/Core>
 #include <memory>
 #include <string>

@@ -12,8 +12,9 @@
 // eliminating dx with two solves per cavity on the factorised -K (a Schur complement of size m).
 // The term's Jacobian is P times the follower-load Jacobian; P itself is state of the term
 // (pressure()), reported in globals.csv and summary.json. backward_euler_newton solves the
-// same bordered system for the velocity update (solver/time/implicit.cpp); the explicit integrators
-// and the linearised backward_euler refuse the term by name.
+// same bordered system for the velocity update (both in solver/time/bordered_newton.hpp); the
+// explicit integrators and the linearised backward_euler refuse the term by name. The
+// integrators find the term through ForceTerm::cavity_constraint().
 //
 // Generalised condition (a cavity coupled to a circulation, solver/terms/loads/circulation.hpp). Over a
 // step ending at t1 the cavity imposes either P = P_given (no volume condition: the bordered
@@ -58,6 +59,7 @@ class CavityConstraintTerm final : public ForceTerm, public VolumeMonitor {
   /// checkpoint written with a circulation for a scene without one and vice versa.
   void save_state(StateArchive& archive) const override;
   void load_state(const StateArchive& archive) override;
+  [[nodiscard]] CavityConstraintTerm* cavity_constraint() override { return this; }
 
   // VolumeMonitor
   [[nodiscard]] double volume(const Eigen::Matrix3Xd& x) const override { return enclosed_volume(surface_, x); }

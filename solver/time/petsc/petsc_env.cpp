@@ -8,15 +8,8 @@
 namespace adamss::solver {
 
 namespace {
-int g_argc = 0;
-char** g_argv = nullptr;
 bool g_started = false;
 }  // namespace
-
-void set_petsc_arguments(int argc, char** argv) {
-  g_argc = argc;
-  g_argv = argv;
-}
 
 void petsc_check(PetscErrorCode ierr, const char* what) {
   if (ierr == 0) return;
@@ -33,10 +26,7 @@ void ensure_petsc(const std::string& options) {
   PetscBool running = PETSC_FALSE;
   PetscInitialized(&running);
   if (!running) {
-    int argc = g_argc;
-    char** argv = g_argv;
-    const PetscErrorCode ierr =
-        argc > 0 ? PetscInitialize(&argc, &argv, nullptr, nullptr) : PetscInitializeNoArguments();
+    const PetscErrorCode ierr = PetscInitializeNoArguments();
     if (ierr != 0)
       throw NumericalError("PETSc failed to initialise (error " + std::to_string(static_cast<int>(ierr)) + ")");
     PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);

@@ -2,9 +2,9 @@
 // PETSc start-up and error handling for the implicit and static solvers.
 //
 // ensure_petsc() initialises PETSc once per process (MPI singleton when not started by
-// mpirun) on PETSC_COMM_WORLD; options come from the command line (adamss run passes
-// everything after `--` through), from the scene (`integrator.petsc_options`, a string
-// such as "-ksp_type gmres -pc_type gamg") and from the PETSC_OPTIONS environment variable.
+// mpirun) on PETSC_COMM_WORLD; options come from the scene (`integrator.petsc_options`, a
+// string such as "-ksp_type gmres -pc_type gamg", to which `adamss run --petsc` appends its
+// own) and from the PETSC_OPTIONS environment variable.
 // PETSc errors are turned into adamss::NumericalError carrying PETSc's message; PETSc's own
 // traceback printing is switched off.
 #include <petscsys.h>
@@ -15,9 +15,6 @@ namespace adamss::solver {
 
 /// Initialises PETSc if it is not running yet, then inserts `options` ("-ksp_type cg ...").
 void ensure_petsc(const std::string& options = {});
-
-/// Arguments to hand to PetscInitialize (call before the first ensure_petsc; optional).
-void set_petsc_arguments(int argc, char** argv);
 
 /// Finalises PETSc if ensure_petsc started it (called at exit by adamss; safe to call twice).
 void finalize_petsc();

@@ -92,69 +92,6 @@ void BlockMatrix::eliminate(const std::vector<PetscInt>& dofs, Vec x, Vec b) {
   petsc_check(MatZeroRowsColumns(a_, static_cast<PetscInt>(dofs.size()), dofs.data(), 1.0, x, b), "MatZeroRowsColumns");
 }
 
-namespace {
-
-/// Multiplies on the fly: y_a += (cx dfdx + cv dfdv) x_b.
-class ProductSink final : public JacobianSink {
- public:
-  ProductSink(const double* x, double* y, double cx, double cv) : x_(x), y_(y), cx_(cx), cv_(cv) {}
-  void add_block(Index a, Index b, const Eigen::Matrix3d& dfdx, const Eigen::Matrix3d& dfdv) override {
-    const Eigen::Map<const Eigen::Vector3d> xb(x_ + 3 * static_cast<std::ptrdiff_t>(b));
-    Eigen::Map<Eigen::Vector3d> ya(y_ + 3 * static_cast<std::ptrdiff_t>(a));
-    ya += (cx_ * dfdx + cv_ * dfdv) * xb;
-  }
-
- private:
-  const double* x_;
-  double* y_;
-  double cx_, cv_;
-};
-
-PetscErrorCode shell_mult(Mat a, Vec x, Vec y) {
-  void* ctx = nullptr;
-  PetscCall(MatShellGetContext(a, &ctx));
-  const PetscScalar* xa = nullptr;
-  PetscScalar* ya = nullptr;
-  PetscCall(VecGetArrayRead(x, &xa));
-  PetscCall(VecGetArray(y, &ya));
-  static_cast<const ShellOperator*>(ctx)->apply(xa, ya);
-  PetscCall(VecRestoreArray(y, &ya));
-  PetscCall(VecRestoreArrayRead(x, &xa));
-  return 0;
-}
-
-}  // namespace
-
-ShellOperator::ShellOperator(const std::vector<std::unique_ptr<ForceTerm>>& terms, const Eigen::Matrix3Xd& x,
-                             const Eigen::Matrix3Xd& v, double t, const Eigen::VectorXd& mass, double cx, double cv,
-                             double cm, std::vector<PetscInt> eliminated)
-    : terms_(terms), x_(x), v_(v), t_(t), mass_(mass), cx_(cx), cv_(cv), cm_(cm), eliminated_(std::move(eliminated)) {
-  ensure_petsc();
-  const auto n = static_cast<PetscInt>(3 * x.cols());
-  petsc_check(MatCreateShell(PETSC_COMM_WORLD, PETSC_DECIDE, PETSC_DECIDE, n, n, this, &a_), "MatCreateShell");
-  petsc_check(MatShellSetOperation(a_, MATOP_MULT, reinterpret_cast<void (*)(void)>(shell_mult)),
-              "MatShellSetOperation");
-}
-
-ShellOperator::~ShellOperator() {
-  if (a_ != nullptr) MatDestroy(&a_);
-}
-
-void ShellOperator::apply(const double* x, double* y) const {
-  const auto n = static_cast<std::ptrdiff_t>(3 * x_.cols());
-  // Eliminated dofs: the input is taken as zero there and the output is the input (unit diagonal).
-  std::vector<double> xin(x, x + n);
-  for (const PetscInt d : eliminated_) xin[static_cast<std::size_t>(d)] = 0.0;
-  std::fill(y, y + n, 0.0);
-  ProductSink sink(xin.data(), y, cx_, cv_);
-  const StateView s{x_, v_, t_};
-  for (const auto& term : terms_) term->add_jacobian(s, sink);
-  for (std::ptrdiff_t i = 0; i < n; ++i) y[i] += cm_ * mass_[i / 3] * xin[static_cast<std::size_t>(i)];
-  for (const PetscInt d : eliminated_) {
-    y[d] = x[d];
-  }
-}
-
 std::vector<PetscInt> constrained_dofs(const std::vector<std::uint8_t>& mask) {
   std::vector<PetscInt> out;
   for (std::size_t i = 0; i < mask.size(); ++i)

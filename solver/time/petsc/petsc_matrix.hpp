@@ -9,11 +9,6 @@
 // A JacobianSink returned by sink(cx, cv) adds cx df/dx + cv df/dv for every block a term
 // hands it; add_diagonal() adds c m_i I (the mass matrix). eliminate() applies Dirichlet rows
 // and columns (MatZeroRowsColumns, unit diagonal) for fixed and controlled coordinates.
-//
-// ShellOperator is the matrix-free counterpart: a MATSHELL whose product y = A x calls every
-// term's add_jacobian with a sink that multiplies on the fly (no global storage), with the
-// same coefficients, diagonal and eliminated rows -- for tests and for problems where the
-// matrix does not fit.
 #include <petscmat.h>
 
 #include <Eigen/Core>
@@ -50,30 +45,6 @@ class BlockMatrix {
   Mat a_ = nullptr;
   PetscInt n_ = 0;
   std::unique_ptr<Sink> sink_;
-};
-
-/// Matrix-free y = (cx dF/dx + cv dF/dv + c_m M) x with `dofs` eliminated (identity rows/cols).
-class ShellOperator {
- public:
-  ShellOperator(const std::vector<std::unique_ptr<ForceTerm>>& terms, const Eigen::Matrix3Xd& x,
-                const Eigen::Matrix3Xd& v, double t, const Eigen::VectorXd& mass, double cx, double cv, double cm,
-                std::vector<PetscInt> eliminated);
-  ~ShellOperator();
-  ShellOperator(const ShellOperator&) = delete;
-  ShellOperator& operator=(const ShellOperator&) = delete;
-  [[nodiscard]] Mat mat() const { return a_; }
-  /// y = A x on plain vectors (3n), used by the MATSHELL callback.
-  void apply(const double* x, double* y) const;
-
- private:
-  const std::vector<std::unique_ptr<ForceTerm>>& terms_;
-  const Eigen::Matrix3Xd& x_;
-  const Eigen::Matrix3Xd& v_;
-  double t_;
-  const Eigen::VectorXd& mass_;
-  double cx_, cv_, cm_;
-  std::vector<PetscInt> eliminated_;
-  Mat a_ = nullptr;
 };
 
 /// The degrees of freedom (3 i + c) that carry a boundary condition.

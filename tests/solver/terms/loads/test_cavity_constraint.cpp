@@ -149,9 +149,8 @@ TEST(CavityConstraint, WindkesselEjectionIsCoupledImplicitly) {
   solver::System sys(sc.model);
   solver::ImplicitIntegrator integ(sys, solver::ImplicitIntegrator::Kind::Static, sc.run.implicit);
   const auto& cav = *sc.model.cavities[0];
-  const solver::CavityConstraintTerm* term = nullptr;
-  for (const auto& t : sc.model.terms)
-    if (auto* c = dynamic_cast<const solver::CavityConstraintTerm*>(t.get())) term = c;
+  const auto constraints = solver::cavity_constraints(sc.model.terms);
+  const solver::CavityConstraintTerm* term = constraints.empty() ? nullptr : constraints.back();
   ASSERT_NE(term, nullptr);
   solver::State s = sc.initial;
   int ejection_steps = 0;

@@ -1,0 +1,131 @@
+#include "solver/time/bordered_newton.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+
+#include "solver/terms/loads/cavity_constraint.hpp"
+#include "solver/time/petsc/jacobian_solver.hpp"
+
+namespace adamss::solver {
+
+namespace {
+
+/// Residual of cavity condition `c` at pressure p and volume v: P_given - p, or V*(p) - v.
+/// `ok` when it is within the Newton tolerance (1e-10 relative).
+double condition_residual(const CavityCondition& c, double p, double v, double v_ref, bool& ok) {
+  if (c.pressure_given) {
+    const double r = c.pressure - p;
+    ok = std::abs(r) <= 1e-10 * std::max(1.0, std::abs(c.pressure));
+    return r;
+  }
+  const double r = c.volume + c.dvolume_dpressure * p - v;
+  ok = std::abs(r) <= 1e-10 * v_ref;
+  return r;
+}
+
+/// The m x m Schur system of the bordered Newton step: row k is g_k . y_l - s_k delta_kl with
+/// right-hand side r_k - g_k . y1 for a volume condition, the identity row with r_k for a given
+/// pressure. g, y: the scaled volume gradients and A^{-1} g_l; y1 = A^{-1} R.
+Eigen::VectorXd solve_schur(const std::vector<CavityCondition>& cond, const std::vector<Eigen::Matrix3Xd>& g,
+                            const std::vector<Eigen::Matrix3Xd>& y, const Eigen::Matrix3Xd& y1,
+                            const Eigen::VectorXd& rv) {
+  const auto m = static_cast<Eigen::Index>(cond.size());
+  Eigen::MatrixXd schur = Eigen::MatrixXd::Zero(m, m);
+  Eigen::VectorXd rhs(m);
+  for (Eigen::Index k = 0; k < m; ++k) {
+    const auto ku = static_cast<std::size_t>(k);
+    if (cond[ku].pressure_given) {
+      schur(k, k) = 1.0;
+      rhs[k] = rv[k];
+      continue;
+    }
+    rhs[k] = rv[k] - g[ku].cwiseProduct(y1).sum();
+    for (Eigen::Index l = 0; l < m; ++l) schur(k, l) = g[ku].cwiseProduct(y[static_cast<std::size_t>(l)]).sum();
+    schur(k, k) -= cond[ku].dvolume_dpressure;
+  }
+  return schur.fullPivLu().solve(rhs);
+}
+
+}  // namespace
+
+CavityBorder::CavityBorder(const std::vector<CavityConstraintTerm*>& constraints, double t1, double h)
+    : terms_(constraints), saved_(constraints.size()), cond_(constraints.size()) {
+  for (std::size_t k = 0; k < terms_.size(); ++k) {
+    saved_[k] = terms_[k]->multiplier();
+    cond_[k] = terms_[k]->condition(t1, h);
+  }
+  g_.resize(terms_.size());
+  y_.resize(terms_.size());
+}
+
+bool CavityBorder::residuals(const Eigen::Matrix3Xd& x, Eigen::VectorXd& rv) const {
+  rv.resize(static_cast<Eigen::Index>(terms_.size()));
+  bool all_ok = true;
+  for (std::size_t k = 0; k < terms_.size(); ++k) {
+    const auto* c = terms_[k];
+    bool ok = false;
+    rv[static_cast<Eigen::Index>(k)] =
+        condition_residual(cond_[k], c->multiplier(), c->volume(x), c->reference_volume(), ok);
+    all_ok = all_ok && ok;
+  }
+  return all_ok;
+}
+
+bool CavityBorder::correct(JacobianSolver& linear, const StepEquations& eq, const Eigen::Matrix3Xd& x,
+                           const Eigen::VectorXd& rv, Eigen::Matrix3Xd& du) {
+  for (std::size_t k = 0; k < terms_.size(); ++k) {
+    g_[k].setZero(3, x.cols());
+    terms_[k]->add_volume_gradient(x, g_[k]);
+    zero_dofs(g_[k], linear.fixed_dofs());
+    eq.scale_by_dx_du(g_[k]);
+    if (!linear.solve(g_[k], y_[k])) return false;
+  }
+  const Eigen::VectorXd dp = solve_schur(cond_, g_, y_, du, rv);
+  if (!dp.allFinite()) return false;
+  for (std::size_t k = 0; k < terms_.size(); ++k) {
+    du += dp[static_cast<Eigen::Index>(k)] * y_[k];
+    terms_[k]->set_multiplier(terms_[k]->multiplier() + dp[static_cast<Eigen::Index>(k)]);
+  }
+  return true;
+}
+
+void CavityBorder::restore() const {
+  for (std::size_t k = 0; k < terms_.size(); ++k) terms_[k]->set_multiplier(saved_[k]);
+}
+
+bool bordered_newton(StepEquations& eq, JacobianSolver& linear, CavityBorder& border, Eigen::Matrix3Xd& u,
+                     const ImplicitSettings& settings, double r0_floor, NewtonRecord& record) {
+  const auto fail = [&border] {
+    border.restore();
+    return false;
+  };
+  Eigen::Matrix3Xd r, du;
+  Eigen::VectorXd rv;
+  double r0 = 0.0;
+  for (int it = 0;; ++it) {
+    eq.residual(u, r);
+    const double nr = r.norm();
+    const bool volumes_ok = border.residuals(eq.positions(u), rv);
+    if (!std::isfinite(nr) || !rv.allFinite()) return fail();
+    record.residuals.push_back(nr);
+    if (it == 0) r0 = std::max(nr, r0_floor);
+    const bool forces_ok = nr <= settings.newton_atol || nr <= settings.newton_rtol * r0;
+    if ((border.empty() || it > 0) && volumes_ok && forces_ok) return true;
+    if (it >= settings.max_newton) return fail();
+    eq.assemble_operator(u);
+    linear.eliminate();
+    if (!linear.solve(r, du)) return fail();
+    if (!border.empty() && !border.correct(linear, eq, eq.positions(u), rv, du)) return fail();
+    zero_dofs(du, linear.fixed_dofs());
+    u += du;
+    ++record.iterations;
+    if (!u.allFinite()) return fail();
+    if (border.empty() && eq.position_change(du) <= settings.newton_xtol) {
+      record.residuals.push_back(0.0);
+      return true;
+    }
+  }
+}
+
+}  // namespace adamss::solver

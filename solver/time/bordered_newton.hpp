@@ -1,0 +1,65 @@
+#pragma once
+// Newton on the equations of one implicit step with the cavity pressures as extra unknowns
+// (the bordered system of solver/terms/loads/cavity_constraint.hpp), written once for the
+// static integrator with cavity constraints and for backward_euler_newton.
+//
+// Unknowns u (StepEquations) and the multipliers P_k of the m cavity constraints. The residual
+// R(u, P) contains P_k g_k(x(u)); the cavity rows are the conditions c_k (a given pressure
+// P_k = P_given, or a volume V_k(x) = V*_k(P_k) = V_c + s_k P_k with s_k = dV*/dP <= 0). With
+// A = -dR/du and the scaled gradients G_k = (dx/du) g_k = dR/dP_k, one Newton step solves
+//   A du - G dP = R,    G_k . du - s_k dP_k = V*_k(P_k) - V_k(x)   (volume rows)
+// by eliminating du = y1 + sum_l dP_l y_l with y1 = A^{-1} R and y_l = A^{-1} G_l (m + 1 solves
+// with one factorisation) and solving the m x m Schur system
+//   (G_k . y_l - s_k delta_kl) dP_l = (V*_k - V_k) - G_k . y1
+// (a given-pressure row is dP_k = P_given - P_k). The fixed coordinates are zero in R, G and du.
+//
+// Convergence: |R| <= newton_atol or |R| <= newton_rtol |R_0|, and every cavity condition within
+// 1e-10 (relative to max(1, |P_given|) or to the reference volume), after at least one update
+// when there are cavities. Without cavities (backward_euler_newton on a plain scene) a position
+// change |dx/du du|_inf <= newton_xtol also ends it. A step that does not converge within
+// max_newton updates, a failed linear solve or a non-finite value fails the attempt and restores
+// the multipliers of the step's start.
+#include <Eigen/Core>
+#include <vector>
+
+#include "solver/terms/loads/circulation.hpp"
+#include "solver/time/implicit.hpp"
+#include "solver/time/step_equations.hpp"
+
+namespace adamss::solver {
+
+class CavityConstraintTerm;
+class JacobianSolver;
+
+/// The cavity pressures P_k as unknowns of one step: their conditions over the step, the
+/// condition residuals, the bordered correction, and the multipliers to restore on failure.
+class CavityBorder {
+ public:
+  /// The conditions over the step of length h ending at t1; remembers the current multipliers.
+  CavityBorder(const std::vector<CavityConstraintTerm*>& constraints, double t1, double h);
+  [[nodiscard]] bool empty() const { return terms_.empty(); }
+  /// rv_k = the residual of condition k at positions x: P_given - P_k, or V*_k(P_k) - V_k(x).
+  /// True when every one is within the Newton tolerance.
+  bool residuals(const Eigen::Matrix3Xd& x, Eigen::VectorXd& rv) const;
+  /// Turns du = A^{-1} R into the bordered update (above) and adds dP to the multipliers.
+  /// False if a linear solve fails or dP is not finite.
+  bool correct(JacobianSolver& linear, const StepEquations& eq, const Eigen::Matrix3Xd& x, const Eigen::VectorXd& rv,
+               Eigen::Matrix3Xd& du);
+  /// Puts back the multipliers of the step's start.
+  void restore() const;
+
+ private:
+  std::vector<CavityConstraintTerm*> terms_;
+  std::vector<double> saved_;
+  std::vector<CavityCondition> cond_;
+  std::vector<Eigen::Matrix3Xd> g_, y_;  // scaled gradients G_k and A^{-1} G_k
+};
+
+/// Newton on R(u, P) = 0 from the start value u (updated in place); `r0_floor` bounds |R_0|
+/// from below in the relative test (1e-300 for the static solver, 0 for backward Euler, as
+/// they always had). Records every residual norm and update in `record`. False on failure
+/// (u is then whatever the last update left; the multipliers are restored).
+bool bordered_newton(StepEquations& eq, JacobianSolver& linear, CavityBorder& border, Eigen::Matrix3Xd& u,
+                     const ImplicitSettings& settings, double r0_floor, NewtonRecord& record);
+
+}  // namespace adamss::solver

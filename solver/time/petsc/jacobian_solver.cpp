@@ -1,0 +1,127 @@
+#include "solver/time/petsc/jacobian_solver.hpp"
+
+#include <petscksp.h>
+
+#include <cstring>
+
+#include "solver/time/petsc/petsc_env.hpp"
+#include "solver/time/petsc/petsc_matrix.hpp"
+
+namespace adamss::solver {
+
+namespace {
+
+/// Below this many unknowns the default linear solver is a direct LU factorisation.
+constexpr PetscInt kDirectSolveMaxDofs = 60000;
+
+void to_vec(const Eigen::Matrix3Xd& m, Vec v) {
+  PetscScalar* a = nullptr;
+  petsc_check(VecGetArray(v, &a), "VecGetArray");
+  std::memcpy(a, m.data(), sizeof(double) * static_cast<std::size_t>(m.size()));
+  petsc_check(VecRestoreArray(v, &a), "VecRestoreArray");
+}
+
+void from_vec(Vec v, Eigen::Matrix3Xd& m) {
+  const PetscScalar* a = nullptr;
+  petsc_check(VecGetArrayRead(v, &a), "VecGetArrayRead");
+  std::memcpy(m.data(), a, sizeof(double) * static_cast<std::size_t>(m.size()));
+  petsc_check(VecRestoreArrayRead(v, &a), "VecRestoreArrayRead");
+}
+
+}  // namespace
+
+struct JacobianSolver::Petsc {
+  explicit Petsc(const preprocess::Mesh& mesh) : a(mesh) {}
+  ~Petsc() {
+    if (ksp != nullptr) KSPDestroy(&ksp);
+    if (u != nullptr) VecDestroy(&u);
+    if (b != nullptr) VecDestroy(&b);
+  }
+  Petsc(const Petsc&) = delete;
+  Petsc& operator=(const Petsc&) = delete;
+
+  /// The KSP on `a`: LU for small systems, GMRES + GAMG (with the coordinates x_ref) above.
+  void configure(const Eigen::Matrix3Xd& x_ref, double ksp_rtol, int ksp_max_it);
+  /// KSP solve of a u = b with the current matrix; adds the Krylov iterations to `its`.
+  bool solve(int& its);
+
+  BlockMatrix a;
+  std::vector<PetscInt> fixed;
+  KSP ksp = nullptr;
+  Vec b = nullptr, u = nullptr;
+};
+
+void JacobianSolver::Petsc::configure(const Eigen::Matrix3Xd& x_ref, double ksp_rtol, int ksp_max_it) {
+  petsc_check(MatCreateVecs(a.mat(), &u, &b), "MatCreateVecs");
+  petsc_check(KSPCreate(PETSC_COMM_WORLD, &ksp), "KSPCreate");
+  petsc_check(KSPSetOperators(ksp, a.mat(), a.mat()), "KSPSetOperators");  // PCSetCoordinates needs them
+  PC pc = nullptr;
+  petsc_check(KSPGetPC(ksp, &pc), "KSPGetPC");
+  if (a.size() <= kDirectSolveMaxDofs) {
+    petsc_check(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
+    petsc_check(PCSetType(pc, PCLU), "PCSetType");
+  } else {
+    petsc_check(KSPSetType(ksp, KSPGMRES), "KSPSetType");
+    petsc_check(PCSetType(pc, PCGAMG), "PCSetType");
+    // Particle coordinates: GAMG builds the rigid-body near-null space from them.
+    Eigen::Matrix3Xd xr = x_ref;
+    petsc_check(PCSetCoordinates(pc, 3, static_cast<PetscInt>(xr.cols()), xr.data()), "PCSetCoordinates");
+  }
+  petsc_check(KSPSetTolerances(ksp, ksp_rtol, PETSC_DEFAULT, PETSC_DEFAULT, ksp_max_it), "KSPSetTolerances");
+  petsc_check(KSPSetFromOptions(ksp), "KSPSetFromOptions");
+}
+
+bool JacobianSolver::Petsc::solve(int& its) {
+  petsc_check(KSPSetOperators(ksp, a.mat(), a.mat()), "KSPSetOperators");
+  petsc_check(KSPSolve(ksp, b, u), "KSPSolve");
+  PetscInt n = 0;
+  KSPGetIterationNumber(ksp, &n);
+  its += static_cast<int>(n);
+  KSPConvergedReason reason;
+  KSPGetConvergedReason(ksp, &reason);
+  return reason > 0;
+}
+
+JacobianSolver::JacobianSolver(const Model& model, const std::string& petsc_options, double ksp_rtol, int ksp_max_it)
+    : petsc_(std::make_unique<Petsc>(*model.mesh)) {
+  ensure_petsc(petsc_options);
+  petsc_->fixed = constrained_dofs(model.constraints.mask());
+  fixed_.assign(petsc_->fixed.begin(), petsc_->fixed.end());
+  petsc_->configure(model.x_ref, ksp_rtol, ksp_max_it);
+}
+
+JacobianSolver::~JacobianSolver() = default;
+
+void JacobianSolver::assemble(const std::vector<std::unique_ptr<ForceTerm>>& terms, const StateView& at, double cx,
+                              double cv, const Eigen::VectorXd* mass) {
+  BlockMatrix& a = petsc_->a;
+  a.zero();
+  for (const auto& term : terms) term->add_jacobian(at, a.sink(cx, cv));
+  if (mass != nullptr) a.add_diagonal(*mass, 1.0);
+  a.assemble();
+}
+
+void JacobianSolver::eliminate() {
+  petsc_->a.eliminate(petsc_->fixed);
+}
+
+bool JacobianSolver::solve(const Eigen::Matrix3Xd& rhs, Eigen::Matrix3Xd& u) {
+  to_vec(rhs, petsc_->b);
+  if (!petsc_->solve(iterations_)) return false;
+  u.resize(3, rhs.cols());
+  from_vec(petsc_->u, u);
+  return true;
+}
+
+bool JacobianSolver::solve_prescribed(const Eigen::Matrix3Xd& rhs, const Eigen::Matrix3Xd& values,
+                                      Eigen::Matrix3Xd& u) {
+  to_vec(rhs, petsc_->b);
+  to_vec(values, petsc_->u);
+  petsc_->a.eliminate(petsc_->fixed, petsc_->u, petsc_->b);
+  if (!petsc_->solve(iterations_)) return false;
+  u.resize(3, rhs.cols());
+  from_vec(petsc_->u, u);
+  return true;
+}
+
+}  // namespace adamss::solver

@@ -1,0 +1,65 @@
+#pragma once
+// The linear algebra of the implicit and static integrators, behind a PETSc-free interface.
+//
+// A JacobianSolver owns the assembled operator A (a BlockMatrix, petsc_matrix.hpp), two work
+// vectors and a KSP. One Newton iteration assembles A = cx dF/dx + cv dF/dv [+ M] at a state,
+// eliminates the fixed and controlled coordinates (rows and columns zeroed, unit diagonal) and
+// solves A u = b once or several times with the same matrix (the KSP keeps its factorisation
+// until the matrix is assembled again, so a second solve is a back-substitution).
+//
+// Linear solver: by default a direct LU factorisation (KSPPREONLY + PCLU) up to 60 000 unknowns
+// -- exact Newton steps, robust for nearly incompressible and thin structures where Krylov + AMG
+// struggles -- and GMRES + GAMG above, with the particle reference coordinates for GAMG's
+// rigid-body near-null space. Tolerances ksp_rtol and ksp_max_it; any PETSc option
+// (-ksp_type, -pc_type, -ksp_monitor, ...) overrides them (KSPSetFromOptions). The KSP starts
+// every solve from a zero initial guess.
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "solver/core/model.hpp"
+
+namespace adamss::solver {
+
+class JacobianSolver {
+ public:
+  /// Starts PETSc if needed (ensure_petsc with `petsc_options`), preallocates A on the mesh
+  /// graph and configures the KSP as above.
+  JacobianSolver(const Model& model, const std::string& petsc_options, double ksp_rtol, int ksp_max_it);
+  ~JacobianSolver();
+  JacobianSolver(const JacobianSolver&) = delete;
+  JacobianSolver& operator=(const JacobianSolver&) = delete;
+
+  /// A = cx dF/dx + cv dF/dv summed over `terms` at `at`, plus diag(m) per coordinate when
+  /// `mass` is given; assembled, not yet eliminated.
+  void assemble(const std::vector<std::unique_ptr<ForceTerm>>& terms, const StateView& at, double cx, double cv,
+                const Eigen::VectorXd* mass = nullptr);
+  /// Eliminates the fixed coordinates from A (rows and columns zeroed, 1 on the diagonal).
+  void eliminate();
+  /// u = A^{-1} rhs with the current (eliminated) A; false if the KSP diverged.
+  bool solve(const Eigen::Matrix3Xd& rhs, Eigen::Matrix3Xd& u);
+  /// Eliminates the fixed coordinates with prescribed values and solves: A_ff u_f = rhs_f -
+  /// A_fc values_c, u_c = values_c (PETSc's MatZeroRowsColumns with x and b); false if the KSP
+  /// diverged.
+  bool solve_prescribed(const Eigen::Matrix3Xd& rhs, const Eigen::Matrix3Xd& values, Eigen::Matrix3Xd& u);
+
+  /// The fixed and controlled coordinates (3 i + c), ascending.
+  [[nodiscard]] const std::vector<Eigen::Index>& fixed_dofs() const { return fixed_; }
+  /// Krylov iterations summed over the solves since the last reset_iterations().
+  [[nodiscard]] int iterations() const { return iterations_; }
+  void reset_iterations() { iterations_ = 0; }
+
+ private:
+  struct Petsc;  // the PETSc objects (jacobian_solver.cpp)
+  std::unique_ptr<Petsc> petsc_;
+  std::vector<Eigen::Index> fixed_;
+  int iterations_ = 0;
+};
+
+/// Sets the fixed coordinates `dofs` (3 i + c) of m to zero.
+inline void zero_dofs(Eigen::Matrix3Xd& m, const std::vector<Eigen::Index>& dofs) {
+  for (const Eigen::Index d : dofs) m.data()[d] = 0.0;
+}
+
+}  // namespace adamss::solver
