@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "preprocess/mesh/element_faces.hpp"
+#include "preprocess/mesh/element_volume.hpp"
 #include "solver/geometry/element_rules.hpp"
 
 namespace adamss::solver {
@@ -16,22 +17,10 @@ namespace {
 using preprocess::kHexCornerCode;
 using preprocess::kHexNeighbour;
 
-double tet_volume(const Eigen::Matrix3Xd& x, const Index* n) {
-  const Eigen::Vector3d x0 = x.col(n[0]);
-  return (x.col(n[1]) - x0).dot((x.col(n[2]) - x0).cross(x.col(n[3]) - x0)) / 6.0;
-}
-
-double hex_volume(const Eigen::Matrix3Xd& x, const Index* n) {
-  // The 2x2x2 rule integrates det J exactly (degree <= 2 per parameter; element_rules.hpp).
-  // J_q = X G_q with the corners gathered once into X (3 x 8): fixed-size products that Eigen
-  // unrolls (the per-corner outer-product sum cost ~5x more; this runs for every globals row).
-  const auto& grads = hex_gauss_gradients();
-  Eigen::Matrix<double, 3, 8> corners;
-  for (Eigen::Index a = 0; a < 8; ++a) corners.col(a) = x.col(n[a]);
-  double v = 0.0;
-  for (std::size_t q = 0; q < 8; ++q) v += (corners * grads[q]).determinant();
-  return v / 8.0;
-}
+// The element volume formulas live once in preprocess/mesh/element_volume.hpp (hex_volume is the
+// J_q = X G_q rounding the solver's deformed volumes were always computed with).
+using preprocess::hex_volume;
+using preprocess::tet_volume;
 
 }  // namespace
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string>
 
+#include "solver/core/element_subset.hpp"
 #include "common/error.hpp"
 #include "preprocess/mesh/element_faces.hpp"
 #include "preprocess/mesh/mesh_quality.hpp"
@@ -278,16 +279,8 @@ std::vector<std::size_t> select_frame_entries(const std::string& term, const pre
     throw InputError(term + ": mesh/axis-frame element type does not match a " + std::to_string(K) + "-node kernel");
   }
   const std::size_t ne = mesh.element_count();
-  std::vector<char> selected(ne, element_subset != nullptr ? 0 : 1);
-  if (element_subset != nullptr) {
-    for (const std::size_t e : *element_subset) {
-      if (e >= ne) {
-        throw InputError(term + ": element " + std::to_string(e) + " out of range (mesh has " + std::to_string(ne) +
-                         ")");
-      }
-      selected[e] = 1;
-    }
-  }
+  std::vector<char> selected(ne, 0);
+  for (const std::size_t e : selected_elements(mesh, element_subset, term)) selected[e] = 1;
   std::vector<std::size_t> out;
   std::vector<char> found(ne, 0);
   for (std::size_t k = 0; k < frames.size(); ++k) {

@@ -1,5 +1,6 @@
 #include "solver/run/summary.hpp"
 
+#include <Eigen/Geometry>
 #include <cmath>
 
 namespace adamss::solver {

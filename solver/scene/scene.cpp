@@ -1,5 +1,7 @@
 #include "solver/scene/scene.hpp"
 
+#include "preprocess/mesh/element_faces.hpp"
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -24,9 +26,8 @@ namespace {
 /// Shortest element edge (m), for the critical step; collapsed edges (repeated node indices of a
 /// degenerate hexahedron) are not edges.
 double shortest_edge(const preprocess::Mesh& mesh) {
-  static constexpr int kTetEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
-  static constexpr int kHexEdges[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6},
-                                           {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+  using preprocess::kHexEdges;
+  using preprocess::kTetEdges;
   double l = std::numeric_limits<double>::infinity();
   const bool tet = mesh.type == preprocess::ElementType::Tet4;
   for (std::size_t e = 0; e < mesh.element_count(); ++e) {

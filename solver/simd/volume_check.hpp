@@ -1,5 +1,5 @@
 #pragma once
-// A vectorised screen for the run loop's per-step element check (solver/run/run.cpp, eq. 2.154):
+// A vectorised screen for the run loop's per-step element check (solver/run/stability_check.cpp, eq. 2.154):
 // which elements MAY have inverted or gone flat. The exact check
 // (element_signed_volume_check, model.hpp) then runs only when the screen flags something,
 // so the decision and the message are those of the exact check.

@@ -36,8 +36,7 @@
 // step_equations.hpp, the Newton iterations in bordered_newton.hpp (with or without cavity
 // pressures) and damped_newton.hpp (static without cavities), the PETSc matrix, KSP and
 // elimination behind petsc/jacobian_solver.hpp; this header is PETSc-free.
-#include <Eigen/Dense>  // not used here: kept while app/cmd_run.cpp relies on it for cross() (it
-                       // came with this header's former includes); that file should include it
+#include <Eigen/Core>
 #include <memory>
 #include <string>
 #include <vector>

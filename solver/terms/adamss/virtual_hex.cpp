@@ -7,13 +7,13 @@
 namespace adamss::solver {
 
 template <int K>
-double VirtualHexKernel<K>::energy(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& /*v*/, double /*t*/) const {
+double GradientLawKernel<K>::energy(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& /*v*/, double /*t*/) const {
   const Eigen::Matrix3d F = deformation_gradient(i, x);
   return volume0[i] * law->energy(fibre_strain(i, F));
 }
 
 template <int K>
-void VirtualHexKernel<K>::forces(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& /*v*/, double /*t*/,
+void GradientLawKernel<K>::forces(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& /*v*/, double /*t*/,
                                  Mat3N<K>& f) const {
   const Eigen::Matrix3d F = deformation_gradient(i, x);
   const Eigen::Matrix3d& B = frame[i];
@@ -24,7 +24,7 @@ void VirtualHexKernel<K>::forces(std::size_t i, const Mat3N<K>& x, const Mat3N<K
 }
 
 template <int K>
-void VirtualHexKernel<K>::jacobian(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& /*v*/, double /*t*/, MatJ<K>& dfdx,
+void GradientLawKernel<K>::jacobian(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& /*v*/, double /*t*/, MatJ<K>& dfdx,
                                    MatJ<K>& /*dfdv*/) const {
   const Eigen::Matrix3d F = deformation_gradient(i, x);
   const Eigen::Matrix3d& B = frame[i];
@@ -51,15 +51,15 @@ void VirtualHexKernel<K>::jacobian(std::size_t i, const Mat3N<K>& x, const Mat3N
   }
 }
 
-template struct VirtualHexKernel<4>;
-template struct VirtualHexKernel<8>;
+template struct GradientLawKernel<4>;
+template struct GradientLawKernel<8>;
 
 template <int K>
-VirtualHexKernel<K> make_virtual_hex_kernel(const preprocess::Mesh& mesh, const AxisFrames& frames,
+GradientLawKernel<K> make_virtual_hex_kernel(const preprocess::Mesh& mesh, const AxisFrames& frames,
                                             std::shared_ptr<const materials::Law> law,
                                             const std::vector<std::size_t>* element_subset) {
   if (!law) throw InputError("virtual_hexahedron: no constitutive law given");
-  VirtualHexKernel<K> kern;
+  GradientLawKernel<K> kern;
   kern.law = std::move(law);
   const auto& grads = frames.template nodal_gradient<K>();
   for (const std::size_t k : select_frame_entries("virtual_hexahedron", mesh, frames, K, element_subset)) {
@@ -74,10 +74,10 @@ VirtualHexKernel<K> make_virtual_hex_kernel(const preprocess::Mesh& mesh, const 
   return kern;
 }
 
-template VirtualHexKernel<4> make_virtual_hex_kernel<4>(const preprocess::Mesh&, const AxisFrames&,
+template GradientLawKernel<4> make_virtual_hex_kernel<4>(const preprocess::Mesh&, const AxisFrames&,
                                                         std::shared_ptr<const materials::Law>,
                                                         const std::vector<std::size_t>*);
-template VirtualHexKernel<8> make_virtual_hex_kernel<8>(const preprocess::Mesh&, const AxisFrames&,
+template GradientLawKernel<8> make_virtual_hex_kernel<8>(const preprocess::Mesh&, const AxisFrames&,
                                                         std::shared_ptr<const materials::Law>,
                                                         const std::vector<std::size_t>*);
 
@@ -85,10 +85,10 @@ std::unique_ptr<ForceTerm> make_virtual_hex_term(const preprocess::Mesh& mesh, c
                                                  std::shared_ptr<const materials::Law> law,
                                                  const std::vector<std::size_t>* element_subset) {
   if (mesh.type == preprocess::ElementType::Tet4) {
-    return std::make_unique<StencilTerm<VirtualHexKernel<4>, 4>>(
+    return std::make_unique<StencilTerm<GradientLawKernel<4>, 4>>(
         make_virtual_hex_kernel<4>(mesh, frames, std::move(law), element_subset));
   }
-  return std::make_unique<StencilTerm<VirtualHexKernel<8>, 8>>(
+  return std::make_unique<StencilTerm<GradientLawKernel<8>, 8>>(
       make_virtual_hex_kernel<8>(mesh, frames, std::move(law), element_subset));
 }
 

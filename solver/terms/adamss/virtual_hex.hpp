@@ -51,8 +51,11 @@
 
 namespace adamss::solver {
 
+/// A law evaluated on deformation gradients F = X G at fixed points of each element: the virtual
+/// hexahedron's one point per element (G from the axis frames) and the FEM reference element's
+/// Gauss points (G from the element's own shape functions, solver/terms/fem/fem_element.hpp) share it.
 template <int K>
-struct VirtualHexKernel {
+struct GradientLawKernel {
   static_assert(K == 4 || K == 8, "K must be 4 (tet) or 8 (hex)");
   static constexpr bool kHasEnergy = true;
   static constexpr bool kHasJacobian = true;
@@ -80,19 +83,19 @@ struct VirtualHexKernel {
   void jacobian(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& v, double t, MatJ<K>& dfdx, MatJ<K>& dfdv) const;
 };
 
-extern template struct VirtualHexKernel<4>;
-extern template struct VirtualHexKernel<8>;
+extern template struct GradientLawKernel<4>;
+extern template struct GradientLawKernel<8>;
 
 /// Builds the kernel from the axis frames: one item per frames entry whose mesh
 /// element is in `element_subset` (mesh element indices; all entries when null),
 /// in frames order. K must match the mesh element type. Throws adamss::InputError
 /// for a null law, a type mismatch, or a subset element without a frames entry.
 template <int K>
-[[nodiscard]] VirtualHexKernel<K> make_virtual_hex_kernel(const preprocess::Mesh& mesh, const AxisFrames& frames,
+[[nodiscard]] GradientLawKernel<K> make_virtual_hex_kernel(const preprocess::Mesh& mesh, const AxisFrames& frames,
                                                           std::shared_ptr<const materials::Law> law,
                                                           const std::vector<std::size_t>* element_subset = nullptr);
 
-/// The term (StencilTerm<VirtualHexKernel<K>, K>) with K chosen by the mesh's element
+/// The term (StencilTerm<GradientLawKernel<K>, K>) with K chosen by the mesh's element
 /// type. A scene with several materials makes one term per material, each with its
 /// own law and element subset. Same errors as make_virtual_hex_kernel.
 [[nodiscard]] std::unique_ptr<ForceTerm> make_virtual_hex_term(

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "solver/core/element_subset.hpp"
 #include "common/error.hpp"
 #include "solver/geometry/element_rules.hpp"
 #include "solver/core/stencil_term.hpp"
@@ -39,25 +40,18 @@ Eigen::Matrix3d element_frame(const preprocess::Mesh& mesh, std::size_t e, const
 }  // namespace
 
 template <int K>
-VirtualHexKernel<K> make_gauss_point_kernel(const preprocess::Mesh& mesh, std::shared_ptr<const materials::Law> law,
+GradientLawKernel<K> make_gauss_point_kernel(const preprocess::Mesh& mesh, std::shared_ptr<const materials::Law> law,
                                             const std::vector<std::size_t>* element_subset, const std::string& label) {
   if (!law) throw InputError(label + ": no constitutive law given");
   if (preprocess::nodes_per_element(mesh.type) != K)
     throw InputError(label + ": mesh element type does not match the kernel");
   constexpr int kPoints = K == 8 ? 8 : 1;
-  VirtualHexKernel<K> kern;
+  GradientLawKernel<K> kern;
   kern.law = std::move(law);
   kern.label = label;
-  const std::size_t ne = mesh.element_count();
-  std::vector<std::size_t> all;
-  if (element_subset == nullptr) {
-    all.resize(ne);
-    for (std::size_t e = 0; e < ne; ++e) all[e] = e;
-    element_subset = &all;
-  }
-  kern.elements.reserve(element_subset->size() * kPoints);
-  for (const std::size_t e : *element_subset) {
-    if (e >= ne) throw InputError(label + ": element index " + std::to_string(e) + " out of range");
+  const std::vector<std::size_t> elements = selected_elements(mesh, element_subset, label);
+  kern.elements.reserve(elements.size() * kPoints);
+  for (const std::size_t e : elements) {
     const Index* n = mesh.element(e);
     std::array<Index, K> st{};
     Eigen::Matrix<double, 3, K> x0;
@@ -92,9 +86,9 @@ VirtualHexKernel<K> make_gauss_point_kernel(const preprocess::Mesh& mesh, std::s
   return kern;
 }
 
-template VirtualHexKernel<4> make_gauss_point_kernel<4>(const preprocess::Mesh&, std::shared_ptr<const materials::Law>,
+template GradientLawKernel<4> make_gauss_point_kernel<4>(const preprocess::Mesh&, std::shared_ptr<const materials::Law>,
                                                         const std::vector<std::size_t>*, const std::string&);
-template VirtualHexKernel<8> make_gauss_point_kernel<8>(const preprocess::Mesh&, std::shared_ptr<const materials::Law>,
+template GradientLawKernel<8> make_gauss_point_kernel<8>(const preprocess::Mesh&, std::shared_ptr<const materials::Law>,
                                                         const std::vector<std::size_t>*, const std::string&);
 
 std::unique_ptr<ForceTerm> make_gauss_point_term(const preprocess::Mesh& mesh,
@@ -102,10 +96,10 @@ std::unique_ptr<ForceTerm> make_gauss_point_term(const preprocess::Mesh& mesh,
                                                  const std::vector<std::size_t>* element_subset,
                                                  const std::string& label) {
   if (mesh.type == preprocess::ElementType::Tet4) {
-    return std::make_unique<StencilTerm<VirtualHexKernel<4>, 4>>(
+    return std::make_unique<StencilTerm<GradientLawKernel<4>, 4>>(
         make_gauss_point_kernel<4>(mesh, std::move(law), element_subset, label));
   }
-  return std::make_unique<StencilTerm<VirtualHexKernel<8>, 8>>(
+  return std::make_unique<StencilTerm<GradientLawKernel<8>, 8>>(
       make_gauss_point_kernel<8>(mesh, std::move(law), element_subset, label));
 }
 

@@ -19,7 +19,7 @@
 //   V_q  = w_q det J0_q                      (m^3); w = 1/8 (hex, unit cube), 1/6 (tet)
 //   F    = x G_q,  E = 1/2 (F^T F - I),  E_f = B^T E B,  S = B S_f(E_f) B^T,  P = F S
 //   energy = V_q W(E_f),  f_a = -V_q P g_a
-// which is exactly the VirtualHexKernel's algebra with (G, V0) replaced by (G_q, V_q), so
+// which is exactly the GradientLawKernel's algebra with (G, V0) replaced by (G_q, V_q), so
 // the same kernel (with its exact Jacobian, derived in solver/terms/adamss/virtual_hex.hpp) is reused.
 // B = [f s n] is the element's fibre frame from the mesh (re-orthonormalised), or the
 // identity when the mesh has no fibres. Sum over q of V_q is the exact reference volume.
@@ -40,7 +40,7 @@ namespace adamss::solver {
 /// a non-finite or degenerate fibre frame (naming the element), or a Gauss point with
 /// det J0 <= 0 (an inverted or flat element, naming it).
 template <int K>
-[[nodiscard]] VirtualHexKernel<K> make_gauss_point_kernel(const preprocess::Mesh& mesh,
+[[nodiscard]] GradientLawKernel<K> make_gauss_point_kernel(const preprocess::Mesh& mesh,
                                                           std::shared_ptr<const materials::Law> law,
                                                           const std::vector<std::size_t>* element_subset,
                                                           const std::string& label);

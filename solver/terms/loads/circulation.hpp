@@ -13,7 +13,7 @@
 // a held volume has dV*/dP = 0; ejection has, from Q = (P - a)/b,
 //   V*(P) = V_prev + h a / b - (h / b) P.
 // The implicit solvers hold V(x) = V*(P) with P as the Lagrange multiplier of the bordered
-// Newton system (solver/time/implicit.cpp); dV*/dP enters the Schur complement's diagonal.
+// Newton system (solver/time/bordered_newton.hpp); dV*/dP enters the Schur complement's diagonal.
 //
 // Valve events are decided after each ACCEPTED step (never inside Newton), from the step's
 // volume change dV = V - V_prev, the cavity pressure P and the Windkessel pressure P_c:

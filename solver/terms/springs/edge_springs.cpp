@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "solver/core/element_subset.hpp"
 #include "common/error.hpp"
 #include "preprocess/mesh/element_faces.hpp"
 
@@ -42,13 +43,7 @@ std::vector<std::array<Index, 2>> mesh_edges(const preprocess::Mesh& mesh, bool 
   auto push = [&out](Index a, Index b) {
     if (a != b) out.push_back({std::min(a, b), std::max(a, b)});  // skip collapsed edges (degenerate hex)
   };
-  const std::size_t count = element_subset != nullptr ? element_subset->size() : mesh.element_count();
-  for (std::size_t k = 0; k < count; ++k) {
-    const std::size_t e = element_subset != nullptr ? (*element_subset)[k] : k;
-    if (e >= mesh.element_count()) {
-      throw InputError("mesh_edges: element " + std::to_string(e) + " out of range (mesh has " +
-                       std::to_string(mesh.element_count()) + ")");
-    }
+  for (const std::size_t e : selected_elements(mesh, element_subset, "mesh_edges")) {
     const Index* n = mesh.element(e);
     if (tet) {
       for (const auto& p : preprocess::kTetEdges) push(n[p[0]], n[p[1]]);

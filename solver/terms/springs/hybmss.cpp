@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 
+#include "solver/core/element_subset.hpp"
 #include "common/error.hpp"
 #include "preprocess/mesh/element_faces.hpp"
 #include "solver/geometry/element_rules.hpp"
@@ -28,16 +29,7 @@ std::vector<std::size_t> selected_cells(const preprocess::Mesh& mesh, const std:
   if (mesh.type != preprocess::ElementType::Hex8) {
     throw InputError("hybmss: needs a hexahedral mesh (mesh topology 'hex'); this mesh has tetrahedra");
   }
-  std::vector<std::size_t> out;
-  if (subset != nullptr) {
-    out = *subset;
-  } else {
-    out.resize(mesh.element_count());
-    for (std::size_t e = 0; e < out.size(); ++e) out[e] = e;
-  }
-  for (const std::size_t e : out)
-    if (e >= mesh.element_count()) throw InputError("hybmss: element " + std::to_string(e) + " out of range");
-  return out;
+  return selected_elements(mesh, subset, "hybmss");
 }
 
 Mat3N<8> cell_nodes(const preprocess::Mesh& mesh, std::size_t e) {

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <map>
 
+#include "solver/core/element_subset.hpp"
 #include "common/error.hpp"
 #include "preprocess/mesh/element_faces.hpp"
 #include "solver/terms/adamss/volume_preservation.hpp"
@@ -16,16 +17,7 @@ std::vector<std::size_t> selected_tets(const preprocess::Mesh& mesh, const std::
         "lloyd_springs: needs a tetrahedral mesh (a tet topology such as 'tet6m'); this mesh has "
         "hexahedra");
   }
-  std::vector<std::size_t> out;
-  if (subset != nullptr) {
-    out = *subset;
-  } else {
-    out.resize(mesh.element_count());
-    for (std::size_t e = 0; e < out.size(); ++e) out[e] = e;
-  }
-  for (const std::size_t e : out)
-    if (e >= mesh.element_count()) throw InputError("lloyd_springs: element " + std::to_string(e) + " out of range");
-  return out;
+  return selected_elements(mesh, subset, "lloyd_springs");
 }
 
 void validate(const LloydParams& p) {
