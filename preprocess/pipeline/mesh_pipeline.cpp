@@ -22,6 +22,9 @@ template <class... F>
 struct Overloaded : F... {
   using F::operator()...;
 };
+// C++20 deduces this from the aggregate initialiser; clang 14 (clang-tidy) still needs the guide.
+template <class... F>
+Overloaded(F...) -> Overloaded<F...>;
 
 /// The label image of the request; a phantom brings its analytic fibre and sheet fields too.
 Phantom source_image(const ImageSource& source) {
