@@ -60,6 +60,19 @@ std::vector<std::array<Index, 2>> mesh_edges(const preprocess::Mesh& mesh, bool 
   return out;
 }
 
+EdgeSpringKernel edge_springs_from_sums(const std::map<std::array<Index, 2>, double>& springs,
+                                        const Eigen::Matrix3Xd& x0, const std::string& label) {
+  EdgeSpringKernel kern;
+  kern.label = label;
+  kern.edges.reserve(springs.size());
+  for (const auto& [pair, k] : springs) {
+    kern.edges.push_back(pair);
+    kern.stiffness.push_back(k);
+    kern.rest_length.push_back((x0.col(pair[1]) - x0.col(pair[0])).norm());
+  }
+  return kern;
+}
+
 EdgeSpringKernel make_edge_springs(const std::vector<std::array<Index, 2>>& edges, const Eigen::Matrix3Xd& x0,
                                    double k) {
   if (!(k > 0.0) || !std::isfinite(k)) {

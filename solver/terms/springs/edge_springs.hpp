@@ -10,6 +10,7 @@
 //        (from d(d/l)/dd = (I - d d^T/l^2)/l),
 //   d f1/d x0 = -K, d f0/d x0 = K, d f0/d x1 = -K.
 #include <array>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -64,5 +65,10 @@ std::vector<std::array<Index, 2>> mesh_edges(const preprocess::Mesh& mesh, bool 
 /// positions `x0`. Throws InputError for k <= 0 or a zero-length edge.
 EdgeSpringKernel make_edge_springs(const std::vector<std::array<Index, 2>>& edges, const Eigen::Matrix3Xd& x0,
                                    double k);
+
+/// Springs from summed per-element stiffnesses (sorted node pair -> N/m, the HybMSS and Lloyd
+/// models), in the map's order, with rest lengths from the reference positions `x0`.
+[[nodiscard]] EdgeSpringKernel edge_springs_from_sums(const std::map<std::array<Index, 2>, double>& springs,
+                                                      const Eigen::Matrix3Xd& x0, const std::string& label);
 
 }  // namespace adamss::solver

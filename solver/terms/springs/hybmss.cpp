@@ -116,15 +116,7 @@ EdgeSpringKernel make_hybmss_spring_kernel(const preprocess::Mesh& mesh, const H
       for (const auto& p : preprocess::kHexFaceDiagonals) add(n[p[0]], n[p[1]], 0.5 * k.k_f);
     for (const auto& p : preprocess::kHexCellDiagonals) add(n[p[0]], n[p[1]], k.k_c);
   }
-  EdgeSpringKernel kern;
-  kern.label = "hybmss_springs";
-  kern.edges.reserve(springs.size());
-  for (const auto& [pair, k] : springs) {
-    kern.edges.push_back(pair);
-    kern.stiffness.push_back(k);
-    kern.rest_length.push_back((mesh.nodes.col(pair[1]) - mesh.nodes.col(pair[0])).norm());
-  }
-  return kern;
+  return edge_springs_from_sums(springs, mesh.nodes, "hybmss_springs");
 }
 
 double HybmssVolumeKernel::energy(std::size_t i, const Mat3N<8>& x, const Mat3N<8>& /*v*/, double /*t*/) const {

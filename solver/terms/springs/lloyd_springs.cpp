@@ -62,15 +62,7 @@ EdgeSpringKernel make_lloyd_spring_kernel(const preprocess::Mesh& mesh, const Ll
     const double k = lloyd_spring_constant(params.youngs_modulus, lloyd_equivalent_length(vol), params.volume_force);
     for (const auto& p : preprocess::kTetEdges) springs[{std::min(n[p[0]], n[p[1]]), std::max(n[p[0]], n[p[1]])}] += k;
   }
-  EdgeSpringKernel kern;
-  kern.label = "lloyd_springs";
-  kern.edges.reserve(springs.size());
-  for (const auto& [pair, k] : springs) {
-    kern.edges.push_back(pair);
-    kern.stiffness.push_back(k);
-    kern.rest_length.push_back((mesh.nodes.col(pair[1]) - mesh.nodes.col(pair[0])).norm());
-  }
-  return kern;
+  return edge_springs_from_sums(springs, mesh.nodes, "lloyd_springs");
 }
 
 std::vector<std::unique_ptr<ForceTerm>> make_lloyd_terms(const preprocess::Mesh& mesh, const LloydParams& params,
