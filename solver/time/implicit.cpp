@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <sstream>
+#include <stdexcept>
 #include <utility>
 
 #include "common/error.hpp"
@@ -28,6 +29,7 @@ State prescribed_state(const System& sys, const State& s, double h) {
 
 ImplicitIntegrator::ImplicitIntegrator(System& system, Kind kind, const ImplicitSettings& settings)
     : sys_(system), kind_(kind), set_(settings) {
+  if (integrator_info(kind_).is_explicit) throw std::logic_error("ImplicitIntegrator: " + name() + " is explicit");
   require_jacobians(sys_.model().terms, name());
   constraints_ = cavity_constraints(sys_.model().terms);
   if (kind_ == Kind::BackwardEuler && !constraints_.empty()) {
@@ -40,17 +42,7 @@ ImplicitIntegrator::ImplicitIntegrator(System& system, Kind kind, const Implicit
 
 ImplicitIntegrator::~ImplicitIntegrator() = default;
 
-std::string ImplicitIntegrator::name() const {
-  switch (kind_) {
-    case Kind::BackwardEuler:
-      return "backward_euler";
-    case Kind::BackwardEulerNewton:
-      return "backward_euler_newton";
-    case Kind::Static:
-      return "static";
-  }
-  return "?";
-}
+std::string ImplicitIntegrator::name() const { return integrator_info(kind_).name; }
 
 StepReport ImplicitIntegrator::step(State& s, double dt) {
   StepReport rep;

@@ -70,9 +70,11 @@ class JacobianSolver;
 
 class ImplicitIntegrator : public Integrator {
  public:
-  enum class Kind { BackwardEuler, BackwardEulerNewton, Static };
+  /// The scheme: a row of integrator_table() (solver/time/integrator.hpp) that is not explicit.
+  using Kind = IntegratorType;
   /// InputError for a term without a Jacobian, a cavity constraint under the linearised
-  /// backward_euler, or dt bounds that are not 0 < dt_min <= dt_max.
+  /// backward_euler, or dt bounds that are not 0 < dt_min <= dt_max; std::logic_error for an
+  /// explicit `kind`.
   ImplicitIntegrator(System& system, Kind kind, const ImplicitSettings& settings);
   ~ImplicitIntegrator() override;
 

@@ -123,6 +123,12 @@ const IntegratorInfo& integrator_info(const std::string& name) {
   throw InputError("unknown integrator '" + name + "' (" + list + ")");
 }
 
+const IntegratorInfo& integrator_info(IntegratorType type) {
+  for (const IntegratorInfo& row : integrator_table())
+    if (row.type == type) return row;
+  throw std::logic_error("integrator_table: no row for an integrator type");
+}
+
 std::unique_ptr<Integrator> make_integrator(const std::string& name, System& system, const Abm3Settings& abm,
                                             const ImplicitSettings* implicit) {
   const IntegratorInfo& info = integrator_info(name);
@@ -141,11 +147,9 @@ std::unique_ptr<Integrator> make_integrator(const std::string& name, System& sys
     case IntegratorType::Abm3:
       return std::make_unique<Abm3>(system, abm);
     case IntegratorType::BackwardEuler:
-      return std::make_unique<ImplicitIntegrator>(system, ImplicitIntegrator::Kind::BackwardEuler, imp);
     case IntegratorType::BackwardEulerNewton:
-      return std::make_unique<ImplicitIntegrator>(system, ImplicitIntegrator::Kind::BackwardEulerNewton, imp);
     case IntegratorType::Static:
-      return std::make_unique<ImplicitIntegrator>(system, ImplicitIntegrator::Kind::Static, imp);
+      return std::make_unique<ImplicitIntegrator>(system, info.type, imp);
   }
   throw std::logic_error("make_integrator: integrator type without a constructor");
 }

@@ -113,6 +113,8 @@ struct IntegratorInfo {
 [[nodiscard]] const std::vector<IntegratorInfo>& integrator_table();
 /// The row named `name`; InputError listing the names otherwise.
 [[nodiscard]] const IntegratorInfo& integrator_info(const std::string& name);
+/// The row of `type`.
+[[nodiscard]] const IntegratorInfo& integrator_info(IntegratorType type);
 /// The names of integrator_table(), in its order.
 [[nodiscard]] std::vector<std::string> integrator_names();
 
