@@ -209,9 +209,10 @@ void add_surface_options(const MeshArgs& a, preprocess::MeshRequest& req) {
   for (const std::string& p : a.tag_planes) req.tag_planes.push_back({parse_tag_plane(p, "--tag-plane"), false});
   for (const std::string& f : a.cell_fields) {
     req.cell_fields.push_back(parse_cell_field_spec(f, "--cell-field"));
-    if (!std::filesystem::exists(req.cell_fields.back().file))
+    if (!std::filesystem::exists(req.cell_fields.back().file)) {
       throw InputError("--cell-field " + req.cell_fields.back().name + ": image '" + req.cell_fields.back().file +
                        "' does not exist");
+    }
   }
 }
 

@@ -72,12 +72,13 @@ void add_probes(nlohmann::json& j, const std::vector<solver::ProbeSummary>& prob
 
 nlohmann::json reactions_json(const std::vector<solver::ReactionSummary>& reactions) {
   nlohmann::json groups = nlohmann::json::array();
-  for (const auto& g : reactions)
+  for (const auto& g : reactions) {
     groups.push_back({{"entry", g.entry},
                       {"nodes", g.nodes},
                       {"reaction_force_N", vec(g.force)},
                       {"reaction_moment_Nm", vec(g.moment)},
                       {"moment_point_m", vec(g.moment_point)}});
+  }
   return groups;
 }
 

@@ -38,9 +38,10 @@ std::string deg_text(double rad) {
 
 void check_options(const RuleFibreOptions& o) {
   const double lim = std::numbers::pi / 2 + 1e-12;
-  if (!std::isfinite(o.helix_endo_rad) || std::abs(o.helix_endo_rad) > lim)
+  if (!std::isfinite(o.helix_endo_rad) || std::abs(o.helix_endo_rad) > lim) {
     fail("helix angle at the endocardium (--helix-endo) must lie in [-90, 90] degrees, got " +
          deg_text(o.helix_endo_rad));
+  }
   if (!std::isfinite(o.helix_epi_rad) || std::abs(o.helix_epi_rad) > lim)
     fail("helix angle at the epicardium (--helix-epi) must lie in [-90, 90] degrees, got " + deg_text(o.helix_epi_rad));
   if (!std::isfinite(o.sheet_angle_rad) || std::abs(o.sheet_angle_rad) > lim)
@@ -70,13 +71,13 @@ Opening find_opening(const LabelImage& image, const RuleFibreOptions& o) {
   Vector3d area_sum = Vector3d::Zero(), moment = Vector3d::Zero();
   double area_total = 0.0;
   const auto& d = g.dims;
-  for (std::int64_t k = 0; k < d[2]; ++k)
-    for (std::int64_t j = 0; j < d[1]; ++j)
+  for (std::int64_t k = 0; k < d[2]; ++k) {
+    for (std::int64_t j = 0; j < d[1]; ++j) {
       for (std::int64_t i = 0; i < d[0]; ++i) {
         const std::int32_t l = image.at(i, j, k);
         if (l != o.lv_cavity_label && l != o.rv_cavity_label) continue;
         const std::int64_t q[3] = {i, j, k};
-        for (int c = 0; c < 3; ++c)
+        for (int c = 0; c < 3; ++c) {
           for (int sgn : {-1, 1}) {
             std::int64_t n[3] = {q[0], q[1], q[2]};
             n[c] += sgn;
@@ -89,7 +90,10 @@ Opening find_opening(const LabelImage& image, const RuleFibreOptions& o) {
             moment += av.norm() * centre;
             area_total += av.norm();
           }
+        }
       }
+    }
+  }
   Opening op;
   // An opening whose faces cancel (a cavity open all round) defines no plane.
   if (area_total > 0.0 && area_sum.norm() > 1e-3 * area_total) {
@@ -226,10 +230,11 @@ Eigen::VectorXd solve_dirichlet(const SpMat& kmat, const Eigen::VectorXd& load, 
     if (load.size() > 0) rhs[fi] = load[i];
     for (SpMat::InnerIterator it(kmat, i); it; ++it) {
       const std::int64_t fj = free_index[static_cast<std::size_t>(it.col())];
-      if (fj >= 0)
+      if (fj >= 0) {
         trip.emplace_back(fi, fj, it.value());
-      else
+      } else {
         rhs[fi] -= it.value() * value[it.col()];
+      }
     }
   }
   Eigen::SparseMatrix<double> kff(nf, nf);
@@ -241,9 +246,10 @@ Eigen::VectorXd solve_dirichlet(const SpMat& kmat, const Eigen::VectorXd& load, 
   cg.setMaxIterations(std::max<Eigen::Index>(1000, 10 * nf));
   cg.compute(kff);
   const Eigen::VectorXd uf = cg.solve(rhs);
-  if (cg.info() != Eigen::Success)
+  if (cg.info() != Eigen::Success) {
     throw NumericalError("rule fibres: a Laplace solve did not converge (" + std::to_string(cg.iterations()) +
                          " CG iterations, relative residual " + std::to_string(cg.error()) + ")");
+  }
   rep.max_iterations = std::max(rep.max_iterations, static_cast<int>(cg.iterations()));
   for (std::int64_t i = 0; i < n; ++i) {
     const std::int64_t fi = free_index[static_cast<std::size_t>(i)];
@@ -608,10 +614,11 @@ void fill_missing_directions(const Mesh& mesh, std::vector<Vector3d>& et, RuleFi
         const auto i = static_cast<std::size_t>(mesh.element(e)[a]);
         for (std::size_t j = start[i]; j < start[i + 1]; ++j) sum += et[list[j]];
       }
-      if (sum.norm() > 1e-6)
+      if (sum.norm() > 1e-6) {
         found.emplace_back(e, sum.normalized());
-      else
+      } else {
         rest.push_back(e);
+      }
     }
     if (found.empty()) {
       throw NumericalError("rule fibres: no transmural direction at element " + std::to_string(rest.front()) +

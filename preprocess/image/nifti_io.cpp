@@ -460,14 +460,14 @@ template <typename T>
 void convert_labels(const fs::path& path, const Loaded& in, std::vector<std::int32_t>& labels) {
   const unsigned char* bytes = in.data.get();
   const std::size_t n = labels.size();
-  constexpr double lo = std::numeric_limits<std::int32_t>::min();
-  constexpr double hi = std::numeric_limits<std::int32_t>::max();
+  constexpr double kLo = std::numeric_limits<std::int32_t>::min();
+  constexpr double kHi = std::numeric_limits<std::int32_t>::max();
   for (std::size_t v = 0; v < n; ++v) {
     T raw;
     std::memcpy(&raw, bytes + v * sizeof(T), sizeof(T));
     if constexpr (fits_int32<T>()) {
       if (!in.scaled) {
-        labels[v] = static_cast<std::int32_t>(raw);
+        labels[v] = static_cast<std::int32_t>(raw);  // NOLINT(bugprone-signed-char-misuse): DT_INT8 is signed
         continue;
       }
     }
@@ -479,7 +479,7 @@ void convert_labels(const fs::path& path, const Loaded& in, std::vector<std::int
                                   voxel_text(in.grid, v), x, in.scaled ? " after scl_slope/scl_inter scaling" : "",
                                   in.notes.datatype));
     }
-    if (x < lo || x > hi) {
+    if (x < kLo || x > kHi) {
       fail_read(path, fmt::format("voxel {} holds {}{}, outside the int32 label range", voxel_text(in.grid, v), x,
                                   in.scaled ? " after scl_slope/scl_inter scaling" : ""));
     }

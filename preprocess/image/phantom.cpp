@@ -207,7 +207,7 @@ void check_helix(const PhantomOptions& options) {
 }
 
 std::int32_t classify_lv(const Vector3d& x, const EllipsoidShell& lv) {
-  if (x.z() > kPhantomBaseZ_m) return kBackground;
+  if (x.z() > kPhantomBaseZ) return kBackground;
   const Vector3d q = x - lv.centre;
   if (inside(q, lv.endo_semi_axes)) return kLvCavity;
   if (inside(q, lv.epi_semi_axes)) return kMyocardium;
@@ -216,7 +216,7 @@ std::int32_t classify_lv(const Vector3d& x, const EllipsoidShell& lv) {
 
 std::int32_t classify_biv(const Vector3d& x, const EllipsoidShell& lv, const EllipsoidShell& rv) {
   const std::int32_t lv_label = classify_lv(x, lv);
-  if (lv_label != kBackground || x.z() > kPhantomBaseZ_m) return lv_label;
+  if (lv_label != kBackground || x.z() > kPhantomBaseZ) return lv_label;
   const Vector3d q = x - rv.centre;  // outside the LV epicardium from here on
   if (inside(q, rv.endo_semi_axes)) return kRvCavity;
   if (inside(q, rv.epi_semi_axes)) return kMyocardium;
@@ -227,7 +227,7 @@ std::int32_t classify_biv(const Vector3d& x, const EllipsoidShell& lv, const Ell
 void grow_box(const EllipsoidShell& shell, Vector3d& lo, Vector3d& hi) {
   lo = lo.cwiseMin(shell.centre - shell.epi_semi_axes);
   hi = hi.cwiseMax(shell.centre + shell.epi_semi_axes);
-  hi.z() = std::min(hi.z(), kPhantomBaseZ_m);
+  hi.z() = std::min(hi.z(), kPhantomBaseZ);
 }
 
 Phantom make_lv(const PhantomOptions& options) {

@@ -84,7 +84,7 @@ Phantom make_phantom(const std::string& kind, const PhantomOptions& options);
 // non-finite helix angles.
 
 /// Base plane of the lv and biv phantoms (m): voxels whose centre has z > this are background.
-inline constexpr double kPhantomBaseZ_m = 5e-3;
+inline constexpr double kPhantomBaseZ = 5e-3;
 
 /// A ventricular wall between two ellipsoids with a common centre and axes
 /// parallel to x, y, z. The wall is swept by the one-parameter family

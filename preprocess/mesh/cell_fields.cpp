@@ -51,9 +51,10 @@ CellFieldSpec parse_cell_field_spec(const std::string& text, const std::string& 
 Eigen::VectorXd sample_cell_field(const Mesh& mesh, const ScalarImage& image, Interpolation method,
                                   const std::string& what, CellFieldReport* report) {
   const Grid& g = image.grid;
-  if (image.values.size() != g.voxel_count() || g.voxel_count() == 0)
+  if (image.values.size() != g.voxel_count() || g.voxel_count() == 0) {
     throw InputError(what + ": the image has " + std::to_string(image.values.size()) + " values for " +
                      std::to_string(g.voxel_count()) + " voxels");
+  }
   const std::size_t E = mesh.element_count();
   Eigen::VectorXd out(static_cast<Eigen::Index>(E));
   CellFieldReport rep;

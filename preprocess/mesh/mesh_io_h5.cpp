@@ -215,28 +215,32 @@ bool is_reserved_root_attribute(const std::string& name) {
 
 void check_mesh_for_writing(const Ctx& ctx, const Mesh& mesh) {
   const int k = nodes_per_element(mesh.type);
-  if (mesh.connectivity.size() % static_cast<std::size_t>(k) != 0)
+  if (mesh.connectivity.size() % static_cast<std::size_t>(k) != 0) {
     ctx.fail("connectivity has " + std::to_string(mesh.connectivity.size()) + " entries, not a multiple of " +
              std::to_string(k) + " (" + element_type_name(mesh.type) + ")");
+  }
   const std::size_t E = mesh.element_count();
   const std::size_t N = mesh.node_count();
-  if (mesh.labels.size() != E)
+  if (mesh.labels.size() != E) {
     ctx.fail("dataset /elements/label: " + std::to_string(mesh.labels.size()) + " labels for " + std::to_string(E) +
              " elements");
+  }
   if (mesh.has_fibres() || mesh.sheet.cols() > 0 || mesh.normal.cols() > 0) {
     const std::pair<const char*, const Eigen::Matrix3Xd*> fields[] = {
         {"fiber", &mesh.fiber}, {"sheet", &mesh.sheet}, {"normal", &mesh.normal}};
     for (const auto& [name, m] : fields) {
-      if (static_cast<std::size_t>(m->cols()) != E)
+      if (static_cast<std::size_t>(m->cols()) != E) {
         ctx.fail(std::string("dataset /elements/") + name + ": " + std::to_string(m->cols()) + " vectors for " +
                  std::to_string(E) + " elements");
+      }
     }
   }
   for (const auto& [name, values] : mesh.cell_scalars) {
     check_link_name(ctx, name, "cell scalar");
-    if (static_cast<std::size_t>(values.size()) != E)
+    if (static_cast<std::size_t>(values.size()) != E) {
       ctx.fail("dataset /elements/scalars/" + name + ": " + std::to_string(values.size()) + " values for " +
                std::to_string(E) + " elements");
+    }
   }
   check_nodes_finite(ctx, mesh.nodes);
   check_connectivity(ctx, mesh.connectivity, k, N);
@@ -256,10 +260,11 @@ void check_mesh_for_writing(const Ctx& ctx, const Mesh& mesh) {
   for (const auto& [name, value] : mesh.attributes) {
     if (name.empty() || name.find('\0') != std::string::npos)
       ctx.fail("attribute '" + name + "': not a usable attribute name");
-    if (is_reserved_root_attribute(name))
+    if (is_reserved_root_attribute(name)) {
       ctx.fail("attribute " + name +
                ": the name is reserved for the file format (format, version, voxel_size_m); "
                "rename the Mesh::attributes entry");
+    }
   }
 }
 
@@ -387,9 +392,10 @@ DatasetInfo open_dataset(const Ctx& ctx, hid_t file, const std::string& path) {
   hsize_t file_size = 0;
   const Hdf5Handle file_id(H5Iget_file_id(info.dataset.get()), H5Fclose);
   if (!file_id.valid() || H5Fget_filesize(file_id.get(), &file_size) < 0) ctx.fail("cannot query the file size");
-  if (values * 8.0 > 1100.0 * static_cast<double>(file_size) + 1048576.0)
+  if (values * 8.0 > 1100.0 * static_cast<double>(file_size) + 1048576.0) {
     ctx.fail("dataset " + path + ": claims " + dims_string(info.dims) + " values, more than a file of " +
              std::to_string(file_size) + " bytes can hold (corrupted?)");
+  }
   return info;
 }
 
@@ -433,18 +439,20 @@ std::vector<Index> read_ints(const Ctx& ctx, const DatasetInfo& info, const std:
     status = H5Dread(info.dataset.get(), H5T_NATIVE_UINT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, wide_u.data());
   }
   if (status < 0) ctx.fail("dataset " + path + ": cannot read");
-  constexpr auto lo = std::numeric_limits<Index>::min();
-  constexpr auto hi = std::numeric_limits<Index>::max();
+  constexpr auto kLo = std::numeric_limits<Index>::min();
+  constexpr auto kHi = std::numeric_limits<Index>::max();
   for (hsize_t i = 0; i < count; ++i) {
     if (wide_signed) {
-      if (wide_s[i] < lo || wide_s[i] > hi)
+      if (wide_s[i] < kLo || wide_s[i] > kHi) {
         ctx.fail("dataset " + path + ": entry " + std::to_string(i) + " = " + std::to_string(wide_s[i]) +
                  " does not fit in int32");
+      }
       out[i] = static_cast<Index>(wide_s[i]);
     } else {
-      if (wide_u[i] > static_cast<std::uint64_t>(hi))
+      if (wide_u[i] > static_cast<std::uint64_t>(kHi)) {
         ctx.fail("dataset " + path + ": entry " + std::to_string(i) + " = " + std::to_string(wide_u[i]) +
                  " does not fit in int32");
+      }
       out[i] = static_cast<Index>(wide_u[i]);
     }
   }
@@ -491,9 +499,10 @@ AttributeInfo open_attribute(const Ctx& ctx, hid_t obj, const std::string& name,
   const Hdf5Handle space(H5Aget_space(a.attr.get()), H5Sclose);
   if (!a.type.valid() || !space.valid()) ctx.fail("attribute " + full + ": cannot query type");
   a.type_class = H5Tget_class(a.type.get());
-  if (H5Sget_simple_extent_npoints(space.get()) != 1)
+  if (H5Sget_simple_extent_npoints(space.get()) != 1) {
     ctx.fail("attribute " + full + ": expected a single value, found " +
              std::to_string(H5Sget_simple_extent_npoints(space.get())));
+  }
   return a;
 }
 
@@ -575,9 +584,10 @@ void read_format(const Ctx& ctx, hid_t file, Mesh& mesh) {
   if (fmt != kFormatName)
     ctx.fail("attribute /format: expected \"" + std::string(kFormatName) + "\", found \"" + fmt + "\"");
   const std::int64_t version = read_int_attribute(ctx, file, "version", "/version", true, 0);
-  if (version > kMeshFormatVersion)
+  if (version > kMeshFormatVersion) {
     ctx.fail("attribute /version: file format version " + std::to_string(version) +
              " is newer than the supported version " + std::to_string(kMeshFormatVersion) + " (upgrade adamss)");
+  }
   if (version < 1) ctx.fail("attribute /version: invalid format version " + std::to_string(version));
   mesh.voxel_size_m = read_double_attribute(ctx, file, "voxel_size_m", "/voxel_size_m", false, 0.0);
 }

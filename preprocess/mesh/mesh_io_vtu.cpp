@@ -95,15 +95,17 @@ void check_vtu_input(const std::filesystem::path& path, const Mesh& mesh, const 
                      const std::vector<double>& element_quality) {
   const std::string file = path.string();
   const int k = nodes_per_element(mesh.type);
-  if (mesh.connectivity.size() % static_cast<std::size_t>(k) != 0)
+  if (mesh.connectivity.size() % static_cast<std::size_t>(k) != 0) {
     fail(file, "connectivity has " + std::to_string(mesh.connectivity.size()) + " entries, not a multiple of " +
                    std::to_string(k));
+  }
   const auto E = static_cast<vtkIdType>(mesh.element_count());
   const auto N = static_cast<vtkIdType>(mesh.node_count());
   auto check_count = [&](const char* what, std::size_t n) {
-    if (static_cast<vtkIdType>(n) != E)
+    if (static_cast<vtkIdType>(n) != E) {
       fail(file, std::string("cell array ") + what + ": " + std::to_string(n) + " values for " + std::to_string(E) +
                      " elements");
+    }
   };
   check_count("label", mesh.labels.size());
   check_count("volume", element_volume.size());
@@ -120,9 +122,10 @@ void check_vtu_input(const std::filesystem::path& path, const Mesh& mesh, const 
     check_count(name.c_str(), static_cast<std::size_t>(values.size()));
   }
   for (std::size_t i = 0; i < mesh.connectivity.size(); ++i) {
-    if (mesh.connectivity[i] < 0 || mesh.connectivity[i] >= N)
+    if (mesh.connectivity[i] < 0 || mesh.connectivity[i] >= N) {
       fail(file, "element " + std::to_string(i / static_cast<std::size_t>(k)) + " references node " +
                      std::to_string(mesh.connectivity[i]) + " but the mesh has " + std::to_string(N) + " nodes");
+    }
   }
   const fs::path parent = path.parent_path();
   std::error_code ec;

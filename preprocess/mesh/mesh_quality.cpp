@@ -32,9 +32,10 @@ double tet_min_dihedral(const Mesh& m, const Index* n) {
     normal[static_cast<std::size_t>(f)] = (b - a).cross(c - a);
   }
   double best = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < 4; ++i)
+  for (std::size_t i = 0; i < 4; ++i) {
     for (std::size_t j = i + 1; j < 4; ++j)
       best = std::min(best, std::numbers::pi - angle_between(normal[i], normal[j]));
+  }
   return best * kRadToDeg;
 }
 

@@ -59,7 +59,7 @@ inline constexpr double kHexGaussWeight = 1.0 / 8.0;
 
 /// dN/dr of the eight hexahedron shape functions at the eight Gauss points (cached).
 [[nodiscard]] inline const std::array<Eigen::Matrix<double, 8, 3>, 8>& hex_gauss_gradients() {
-  static const std::array<Eigen::Matrix<double, 8, 3>, 8> grads = [] {
+  static const std::array<Eigen::Matrix<double, 8, 3>, 8> kGrads = [] {
     std::array<Eigen::Matrix<double, 8, 3>, 8> g{};
     for (int q = 0; q < 8; ++q) {
       const Eigen::Vector3d p = hex_gauss_point(q);
@@ -67,7 +67,7 @@ inline constexpr double kHexGaussWeight = 1.0 / 8.0;
     }
     return g;
   }();
-  return grads;
+  return kGrads;
 }
 
 /// Corner a of the VTK hexahedron on the natural cube [-1,1]^3: (+-1, +-1, +-1) by its code bits.

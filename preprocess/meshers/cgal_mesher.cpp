@@ -90,9 +90,10 @@ PaddedImage pad(const LabelImage& image) {
   const auto& d = image.grid.dims;
   p.dims = {d[0] + 2, d[1] + 2, d[2] + 2};
   p.labels.assign(static_cast<std::size_t>(p.dims[0] * p.dims[1] * p.dims[2]), 0);
-  for (std::int64_t k = 0; k < d[2]; ++k)
+  for (std::int64_t k = 0; k < d[2]; ++k) {
     for (std::int64_t j = 0; j < d[1]; ++j)
       for (std::int64_t i = 0; i < d[0]; ++i) p.labels[p.linear(i + 1, j + 1, k + 1)] = image.at(i, j, k);
+  }
   return p;
 }
 
@@ -126,7 +127,7 @@ std::vector<SeedFace> seed_faces(const PaddedImage& img, const NotSolid& not_sol
       stack.pop_back();
       const std::int64_t iv = static_cast<std::int64_t>(v);
       const std::array<std::int64_t, 3> ijk{iv % d[0], (iv / d[0]) % d[1], iv / (d[0] * d[1])};
-      for (int a = 0; a < 3; ++a)
+      for (int a = 0; a < 3; ++a) {
         for (int s : {-1, 1}) {
           const std::int64_t c = ijk[static_cast<std::size_t>(a)] + s;
           if (c < 0 || c >= d[static_cast<std::size_t>(a)]) continue;
@@ -140,6 +141,7 @@ std::vector<SeedFace> seed_faces(const PaddedImage& img, const NotSolid& not_sol
             faces.push_back({v, a, s});
           }
         }
+      }
     }
     if (faces.empty()) continue;
     // Group by face direction, then voxel order; take up to per_direction evenly spaced faces of
@@ -170,8 +172,8 @@ struct LocalFrame {
   [[nodiscard]] Point centre(const PaddedImage& img, std::size_t voxel) const {
     const auto iv = static_cast<std::int64_t>(voxel);
     const auto& d = img.dims;
-    return {static_cast<double>(iv % d[0]) * v.x(), static_cast<double>((iv / d[0]) % d[1]) * v.y(),
-            static_cast<double>(iv / (d[0] * d[1])) * v.z()};
+    const std::int64_t i = iv % d[0], j = (iv / d[0]) % d[1], k = iv / (d[0] * d[1]);  // voxel indices
+    return {static_cast<double>(i) * v.x(), static_cast<double>(j) * v.y(), static_cast<double>(k) * v.z()};
   }
 };
 
@@ -337,11 +339,12 @@ NodeOf extract_nodes(C3t3& c3t3, const LocalFrame& frame, Mesh& mesh) {
   }
   NodeOf node_of;
   std::vector<Tr::Vertex_handle> vertices;
-  for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c)
+  for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c) {
     for (int i = 0; i < 4; ++i) {
       const Tr::Vertex_handle vh = c->vertex(i);
       if (node_of.emplace(vh, static_cast<Index>(vertices.size())).second) vertices.push_back(vh);
     }
+  }
   Tr& tr = c3t3.triangulation();
   const auto cp = tr.geom_traits().construct_point_3_object();
   mesh.nodes.resize(3, static_cast<Eigen::Index>(vertices.size()));
@@ -428,7 +431,7 @@ CgalCriteria resolve_cgal_criteria(const Grid& grid, const CgalMeshOptions& opti
   const Eigen::Matrix3d a = grid.index_to_world.topLeftCorner<3, 3>();
   const Eigen::Vector3d s = grid.spacing();
   if (!a.allFinite() || !(s.minCoeff() > 0.0)) throw InputError("--topology cgal: the image affine is singular");
-  for (int i = 0; i < 3; ++i)
+  for (int i = 0; i < 3; ++i) {
     for (int j = i + 1; j < 3; ++j) {
       const double c = std::abs(a.col(i).dot(a.col(j))) / (s(i) * s(j));
       if (c > 1e-6) {
@@ -438,6 +441,7 @@ CgalCriteria resolve_cgal_criteria(const Grid& grid, const CgalMeshOptions& opti
         throw InputError(os.str());
       }
     }
+  }
   CgalCriteria c;
   c.voxel_size_m = s.minCoeff();
   const double h = c.voxel_size_m;

@@ -23,7 +23,7 @@ constexpr std::array<int, 8> kVtkOfCode{0, 1, 3, 2, 4, 5, 7, 6};
 /// The 6 Kuhn tetrahedra of the unit cube (VTK hex node numbers), each positively oriented:
 /// corner codes 000, e_a, e_a + e_b, 111 for every permutation (a, b, c) of the axes.
 const std::array<std::array<int, 4>, 6>& kuhn_tets() {
-  static const std::array<std::array<int, 4>, 6> tets = [] {
+  static const std::array<std::array<int, 4>, 6> kTets = [] {
     std::array<std::array<int, 4>, 6> out{};
     const int perms[6][2] = {{0, 1}, {0, 2}, {1, 0}, {1, 2}, {2, 0}, {2, 1}};
     for (int p = 0; p < 6; ++p) {
@@ -37,7 +37,7 @@ const std::array<std::array<int, 4>, 6>& kuhn_tets() {
     }
     return out;
   }();
-  return tets;
+  return kTets;
 }
 
 void check_options(const EllipsoidMeshOptions& o) {
@@ -52,9 +52,10 @@ void check_options(const EllipsoidMeshOptions& o) {
   if (!(o.epi_r_s > o.endo_r_s) || !(o.epi_r_l > o.endo_r_l))
     throw InputError(w + "epi radii (r_s, r_l) must exceed the endo radii");
   if (!std::isfinite(o.epi_r_s) || !std::isfinite(o.epi_r_l)) throw InputError(w + "epi radii must be finite");
-  if (!(std::abs(o.base_z) < o.endo_r_l))
+  if (!(std::abs(o.base_z) < o.endo_r_l)) {
     throw InputError(w + "base_z must lie strictly between -r_l and r_l of the endocardium (" +
                      std::to_string(o.base_z * 1e3) + " mm against r_l = " + std::to_string(o.endo_r_l * 1e3) + " mm)");
+  }
 }
 
 /// Geometry of the (t, u, v) parametrisation.

@@ -49,6 +49,7 @@ std::vector<Tet> five_even() {
 
 std::vector<Tet> reflect(const std::vector<Tet>& tets, int mask) {
   std::vector<Tet> out;
+  out.reserve(tets.size());
   for (const Tet& t : tets) out.push_back(oriented({t[0] ^ mask, t[1] ^ mask, t[2] ^ mask, t[3] ^ mask}));
   return out;
 }
@@ -101,8 +102,8 @@ std::size_t mark_solid(const LabelImage& image, const LatticeMeshOptions& option
                        Box& box) {
   const Grid& g = image.grid;
   std::size_t n_solid = 0;
-  for (std::int64_t k = 0; k < g.dims[2]; ++k)
-    for (std::int64_t j = 0; j < g.dims[1]; ++j)
+  for (std::int64_t k = 0; k < g.dims[2]; ++k) {
+    for (std::int64_t j = 0; j < g.dims[1]; ++j) {
       for (std::int64_t i = 0; i < g.dims[0]; ++i) {
         const std::size_t v = g.linear(i, j, k);
         if (std::find(options.solid_labels.begin(), options.solid_labels.end(), image.labels[v]) ==
@@ -118,6 +119,8 @@ std::size_t mark_solid(const LabelImage& image, const LatticeMeshOptions& option
               std::max(box.hi[static_cast<std::size_t>(a)], ijk[static_cast<std::size_t>(a)]);
         }
       }
+    }
+  }
   if (n_solid == 0) {
     std::ostringstream os;
     os << "--solid: no voxel carries the solid label(s) ";
@@ -150,18 +153,22 @@ CornerLattice number_corners(const Grid& g, const std::vector<std::uint8_t>& sol
   lat.box = box;
   lat.cd = {box.hi[0] - box.lo[0] + 2, box.hi[1] - box.lo[1] + 2, box.hi[2] - box.lo[2] + 2};
   lat.node_of.assign(static_cast<std::size_t>(lat.cd[0] * lat.cd[1] * lat.cd[2]), -1);
-  for (std::int64_t k = box.lo[2]; k <= box.hi[2]; ++k)
-    for (std::int64_t j = box.lo[1]; j <= box.hi[1]; ++j)
+  for (std::int64_t k = box.lo[2]; k <= box.hi[2]; ++k) {
+    for (std::int64_t j = box.lo[1]; j <= box.hi[1]; ++j) {
       for (std::int64_t i = box.lo[0]; i <= box.hi[0]; ++i) {
         if (!solid[g.linear(i, j, k)]) continue;
         for (int c = 0; c < 8; ++c) lat.node_of[lat.id(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1))] = 0;
       }
+    }
+  }
   n_nodes = 0;
-  for (Index& id : lat.node_of)
-    if (id == 0)
+  for (Index& id : lat.node_of) {
+    if (id == 0) {
       id = n_nodes++;
-    else
+    } else {
       id = -1;  // untouched corners stay -1 (the marker 0 was only "used")
+    }
+  }
   return lat;
 }
 
@@ -169,14 +176,16 @@ CornerLattice number_corners(const Grid& g, const std::vector<std::uint8_t>& sol
 void place_corner_nodes(const Grid& g, const CornerLattice& lat, Index n_nodes, Mesh& mesh) {
   const Box& box = lat.box;
   mesh.nodes.resize(3, n_nodes);
-  for (std::int64_t c = box.lo[2]; c <= box.hi[2] + 1; ++c)
-    for (std::int64_t b = box.lo[1]; b <= box.hi[1] + 1; ++b)
+  for (std::int64_t c = box.lo[2]; c <= box.hi[2] + 1; ++c) {
+    for (std::int64_t b = box.lo[1]; b <= box.hi[1] + 1; ++b) {
       for (std::int64_t a = box.lo[0]; a <= box.hi[0] + 1; ++a) {
         const Index id = lat.node_of[lat.id(a, b, c)];
         if (id < 0) continue;
         mesh.nodes.col(id) = g.to_world(
             Eigen::Vector3d(static_cast<double>(a) - 0.5, static_cast<double>(b) - 0.5, static_cast<double>(c) - 0.5));
       }
+    }
+  }
 }
 
 /// The elements of one solid voxel with corner nodes cn (bit code order) and label `label`: one
@@ -276,8 +285,8 @@ Mesh mesh_lattice(const LabelImage& image, const LatticeMeshOptions& options) {
   const auto tets = templates(options.topology);
   mesh.connectivity.reserve(n_solid * static_cast<std::size_t>(per_voxel * npe));
   mesh.labels.reserve(n_solid * static_cast<std::size_t>(per_voxel));
-  for (std::int64_t k = box.lo[2]; k <= box.hi[2]; ++k)
-    for (std::int64_t j = box.lo[1]; j <= box.hi[1]; ++j)
+  for (std::int64_t k = box.lo[2]; k <= box.hi[2]; ++k) {
+    for (std::int64_t j = box.lo[1]; j <= box.hi[1]; ++j) {
       for (std::int64_t i = box.lo[0]; i <= box.hi[0]; ++i) {
         const std::size_t v = g.linear(i, j, k);
         if (!solid[v]) continue;
@@ -286,6 +295,8 @@ Mesh mesh_lattice(const LabelImage& image, const LatticeMeshOptions& options) {
         const int cls = static_cast<int>((i & 1) | ((j & 1) << 1) | ((k & 1) << 2));
         emit_voxel(cn, tets[static_cast<std::size_t>(cls)], flip, image.labels[v], mesh);
       }
+    }
+  }
 
   const Eigen::Vector3d h = g.spacing();
   mesh.voxel_size_m = h.minCoeff();

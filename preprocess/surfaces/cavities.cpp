@@ -375,9 +375,10 @@ void add_cavities(Mesh& mesh, const std::vector<BoundaryFace>& faces, const std:
     if (s.name.empty() || s.name.find('/') != std::string::npos || s.name == ".")
       throw InputError(describe(s) + ": the name must be non-empty and must not contain '/'");
     if (!names.insert(s.name).second) throw InputError(describe(s) + ": the name '" + s.name + "' is given twice");
-    if (solid.count(s.label) != 0)
+    if (solid.count(s.label) != 0) {
       throw InputError(describe(s) + ": label " + std::to_string(s.label) +
                        " is meshed as solid (--solid); a cavity label must lie outside the mesh");
+    }
   }
   if (infos != nullptr) infos->assign(specs.size(), CavityBuildInfo{});
   for (std::size_t i = 0; i < specs.size(); ++i) {

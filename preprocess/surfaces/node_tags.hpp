@@ -9,7 +9,7 @@
 //
 // Planes. `--tag-plane NAME=AXIS:VALUE[:TOL]` tags every node whose AXIS coordinate
 // (x, y or z, world frame, metres) is within TOL of VALUE, e.g. base=z:5mm for the base
-// plane of the lv and biv phantoms (kPhantomBaseZ_m). VALUE and TOL accept unit strings
+// plane of the lv and biv phantoms (kPhantomBaseZ). VALUE and TOL accept unit strings
 // (common/units.hpp: "5mm", "0.005"; a plain number is metres). The default tolerance is
 // 1e-3 of the mesh's voxel size (lattice nodes sit on voxel planes up to rounding), or
 // 1e-9 m when the mesh has no voxel size. A plane that holds no node is an InputError that
@@ -19,8 +19,8 @@
 #include <string>
 #include <vector>
 
-#include "preprocess/surfaces/boundary_labels.hpp"
 #include "preprocess/mesh/mesh.hpp"
+#include "preprocess/surfaces/boundary_labels.hpp"
 
 namespace adamss::preprocess {
 

@@ -68,12 +68,14 @@ const std::string& StateArchive::source() const {
 
 const StateArchive::Entry& StateArchive::entry(const std::string& key, bool is_int) const {
   const auto it = st_->entries.find(full(key));
-  if (it == st_->entries.end())
+  if (it == st_->entries.end()) {
     throw InputError(st_->source + ": /" + full(key) +
                      " is missing (a checkpoint of another scene or of an older adamss version?)");
-  if (it->second.is_int != is_int)
+  }
+  if (it->second.is_int != is_int) {
     throw InputError(st_->source + ": /" + full(key) + " should be " + (is_int ? "an integer" : "a float64") +
                      " dataset");
+  }
   return it->second;
 }
 

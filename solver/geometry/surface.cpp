@@ -170,11 +170,12 @@ double enclosed_volume(const Surface& surface, const Eigen::Matrix3Xd& x) {
   Eigen::Vector3d o = Eigen::Vector3d::Zero();
   std::size_t count = 0;
   const auto acc = [&](const auto& faces) {
-    for (const auto& f : faces)
+    for (const auto& f : faces) {
       for (Index n : f) {
         o += x.col(n);
         ++count;
       }
+    }
   };
   acc(surface.triangles);
   acc(surface.quads);

@@ -28,13 +28,15 @@ void check_checkpoint(Model& model, const RunSettings& set, const StateArchive& 
     throw InputError(src + " is the last good state of a failed or unstable run, not a resumable checkpoint");
   const StateArchive r = a.child("run");
   if (r.integer("node_count") != static_cast<std::int64_t>(n) ||
-      r.integer("element_count") != static_cast<std::int64_t>(mesh.element_count()))
+      r.integer("element_count") != static_cast<std::int64_t>(mesh.element_count())) {
     throw InputError(src + ": the checkpoint has " + std::to_string(r.integer("node_count")) + " nodes and " +
                      std::to_string(r.integer("element_count")) + " elements, the scene " + std::to_string(n) +
                      " and " + std::to_string(mesh.element_count()) + " (a checkpoint of a different scene)");
-  if (r.integer("term_count") != static_cast<std::int64_t>(model.terms.size()))
+  }
+  if (r.integer("term_count") != static_cast<std::int64_t>(model.terms.size())) {
     throw InputError(src + ": the checkpoint has " + std::to_string(r.integer("term_count")) +
                      " force terms, the scene " + std::to_string(model.terms.size()) + " (a different scene)");
+  }
   if (r.integer("integrator") != integrator_code(set.integrator))
     throw InputError(src + ": the checkpoint was written by another integrator than the scene's " + set.integrator);
   // The state and the loop's fields, read here so that a missing or malformed one is refused

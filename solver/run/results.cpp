@@ -29,9 +29,9 @@ Eigen::Matrix3d element_map(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd
     for (int k = 0; k < 3; ++k) j.col(k) = x.col(n[k + 1]) - x.col(n[0]);
     return j;
   }
-  static const Eigen::Matrix<double, 8, 3> g = hex_shape_gradients(0.5, 0.5, 0.5);
+  static const Eigen::Matrix<double, 8, 3> kG = hex_shape_gradients(0.5, 0.5, 0.5);
   j.setZero();
-  for (Eigen::Index a = 0; a < 8; ++a) j += x.col(n[a]) * g.row(a);
+  for (Eigen::Index a = 0; a < 8; ++a) j += x.col(n[a]) * kG.row(a);
   return j;
 }
 
@@ -199,9 +199,10 @@ void ResultsWriter::resume_from(const StateArchive& archive) {
   for (const double t : archive.doubles("frame_times")) {
     char name[64];
     std::snprintf(name, sizeof name, "frame_%05zu.vtu", frames_.size());
-    if (!fs::exists(dir_ / "frames" / name))
+    if (!fs::exists(dir_ / "frames" / name)) {
       throw InputError("cannot resume from " + src + ": " + (dir_ / "frames" / name).string() +
                        " is missing (resume into the folder the checkpoint was written in)");
+    }
     frames_.emplace_back(t, std::string("frames/") + name);
   }
   rows_ = static_cast<std::size_t>(archive.integer("globals_rows"));
@@ -212,9 +213,10 @@ void ResultsWriter::resume_from(const StateArchive& archive) {
   stretch_min_ = st[0];
   stretch_max_ = st[1];
   const auto& ex = archive.doubles("cavity_extrema");
-  if (ex.size() % 7 != 0 || (ex.size() != 0 && ex.size() / 7 != model_.cavities.size()))
+  if (ex.size() % 7 != 0 || (ex.size() != 0 && ex.size() / 7 != model_.cavities.size())) {
     throw InputError(src + ": writer/cavity_extrema does not match the scene's " +
                      std::to_string(model_.cavities.size()) + " cavities");
+  }
   extrema_.clear();
   for (std::size_t k = 0; k + 7 <= ex.size(); k += 7)
     extrema_.push_back({ex[k], ex[k + 1], ex[k + 2], ex[k + 3], ex[k + 4], ex[k + 5], ex[k + 6]});
@@ -227,9 +229,10 @@ void ResultsWriter::resume_from(const StateArchive& archive) {
     if (!in) throw InputError("cannot resume from " + src + ": " + csv.string() + " is missing");
     std::string line;
     std::getline(in, line);
-    if (line + "\n" != globals_header())
+    if (line + "\n" != globals_header()) {
       throw InputError("cannot resume from " + src + ": the header of " + csv.string() +
                        " does not match the scene (a different scene wrote that folder)");
+    }
     kept = line + "\n";
     std::size_t n = 0;
     while (n < rows_ && std::getline(in, line)) {
@@ -237,9 +240,10 @@ void ResultsWriter::resume_from(const StateArchive& archive) {
       kept += line + "\n";
       ++n;
     }
-    if (n != rows_)
+    if (n != rows_) {
       throw InputError("cannot resume from " + src + ": " + csv.string() + " has " + std::to_string(n) +
                        " complete rows, the checkpoint counted " + std::to_string(rows_));
+    }
   }
   {
     std::ofstream out(tmp);

@@ -3,10 +3,10 @@
 #include <set>
 
 #include "common/error.hpp"
+#include "solver/geometry/surface.hpp"
 #include "solver/terms/loads/cavity_constraint.hpp"
 #include "solver/terms/loads/cavity_pressure.hpp"
 #include "solver/terms/loads/global_friction.hpp"
-#include "solver/geometry/surface.hpp"
 
 namespace adamss::solver {
 
@@ -92,11 +92,12 @@ void build_pressure(SceneNode& p, Model& model, std::set<std::string>& names) {
   if (!names.insert(name).second) throw InputError(p.at("name") + ": a second pressure surface named '" + name + "'");
   Surface surface = pressure_surface(p.map("surface"), *model.mesh, name);
   const bool given_p = p.has("pressure"), given_v = p.has("volume_ratio"), given_c = p.has("circulation");
-  if (int(given_p) + int(given_v) + int(given_c) != 1)
+  if (int(given_p) + int(given_v) + int(given_c) != 1) {
     throw InputError(p.path() +
                      ": give exactly one of pressure: (a load, Pa), volume_ratio: (hold V = r(t) V0; the "
                      "pressure becomes an unknown, integrator static or backward_euler_newton) or circulation: "
                      "(filling, isovolumic phases, Windkessel ejection)");
+  }
   if (given_c) {
     SceneNode c = p.map("circulation");
     const CirculationSettings cs = circulation_settings(c);
@@ -125,9 +126,10 @@ void build_pressure(SceneNode& p, Model& model, std::set<std::string>& names) {
 void build_loads(SceneNode& loads, Model& model, const std::filesystem::path& /*base*/) {
   if (auto g = loads.optional_map("global_friction")) {
     const bool mu = g->has("mu"), rate = g->has("rate");
-    if (mu == rate)
+    if (mu == rate) {
       throw InputError(g->path() +
                        ": give either mu: (N s/m per particle, eq. 2.118) or rate: (1/s, mass-proportional)");
+    }
     if (mu) {
       model.terms.push_back(
           make_global_friction_term(model.node_count(), g->positive("mu", Dimension::Damping, std::nullopt, true)));

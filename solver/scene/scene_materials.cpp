@@ -74,9 +74,10 @@ std::vector<std::size_t> claim_elements(SceneNode& m, const preprocess::Mesh& me
   std::vector<std::size_t> elems;
   for (std::size_t e = 0; e < mesh.element_count(); ++e) {
     if (!sel.contains(mesh, e)) continue;
-    if (!owners.name[e].empty())
+    if (!owners.name[e].empty()) {
       throw InputError(sel.where + ": element " + std::to_string(e) + " (label " + std::to_string(mesh.labels[e]) +
                        ") already belongs to material '" + owners.name[e] + "'");
+    }
     owners.name[e] = name;
     owners.density[e] = rho;
     elems.push_back(e);
@@ -126,9 +127,10 @@ double load_materials(std::vector<SceneNode> materials, LoadedScene& sc) {
     mat_elements.emplace_back(m, std::move(elems));
   }
   for (std::size_t e = 0; e < owners.density.size(); ++e) {
-    if (owners.density[e] < 0.0)
+    if (owners.density[e] < 0.0) {
       throw InputError("materials: element " + std::to_string(e) + " has label " + std::to_string(mesh.labels[e]) +
                        ", which no material lists (or outside every cell_field range)");
+    }
   }
   sc.model.mass = voronoi_masses(mesh, owners.density);
   double max_c2 = 0.0;

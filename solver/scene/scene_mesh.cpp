@@ -80,10 +80,11 @@ preprocess::Mesh ellipsoid_mesh(SceneNode& node, std::string& source) {
   preprocess::EllipsoidMeshOptions eo;
   if (node.has("divisions")) {
     const auto d = node.integers("divisions");
-    if (d.size() != 3 || d[0] < 3 || d[1] < 2 || d[2] < 1 || *std::max_element(d.begin(), d.end()) > 100000)
+    if (d.size() != 3 || d[0] < 3 || d[1] < 2 || d[2] < 1 || *std::max_element(d.begin(), d.end()) > 100000) {
       throw InputError(node.at("divisions") +
                        ": expected [n_v, n_u, n_t] element counts (circumferential >= 3, longitudinal >= 2, "
                        "transmural >= 1), e.g. [24, 12, 3]");
+    }
     eo.n_v = static_cast<int>(d[0]);
     eo.n_u = static_cast<int>(d[1]);
     eo.n_t = static_cast<int>(d[2]);
@@ -158,7 +159,7 @@ preprocess::MeshRequest phantom_request(const std::string& kind, const preproces
   if (kind == "lv" || kind == "biv") {
     req.cavities.push_back({"lv", preprocess::kLvCavity});
     if (kind == "biv") req.cavities.push_back({"rv", preprocess::kRvCavity});
-    req.tag_planes.push_back({{"base", 2, preprocess::kPhantomBaseZ_m, 1e-3 * po.voxel_size_m}, true});
+    req.tag_planes.push_back({{"base", 2, preprocess::kPhantomBaseZ, 1e-3 * po.voxel_size_m}, true});
   }
   req.scar = scar;
   return req;
@@ -184,9 +185,10 @@ PhantomRecipe phantom_recipe(SceneNode& node) {
   key << std::setprecision(17) << "v2;" << r.kind << ';' << po.voxel_size_m << ';' << po.helix_endo_rad << ';'
       << po.helix_epi_rad << ';' << po.slab_size[0] << ',' << po.slab_size[1] << ',' << po.slab_size[2] << ';'
       << r.topology;
-  if (scar)
+  if (scar) {
     key << ";scar;" << scar->direction.x() << ',' << scar->direction.y() << ',' << scar->direction.z() << ';'
         << scar->half_angle_rad;
+  }
   r.key = key.str();
   r.request = phantom_request(r.kind, po, r.topology, scar);
   return r;
@@ -246,10 +248,11 @@ preprocess::Mesh load_scene_mesh(SceneNode node, const fs::path& base, const Sce
   const bool has_box = node.has("box");
   const bool has_ellipsoid = node.has("ellipsoid");
   const bool has_cylinder = node.has("cylinder");
-  if (int(has_file) + int(has_phantom) + int(has_box) + int(has_ellipsoid) + int(has_cylinder) != 1)
+  if (int(has_file) + int(has_phantom) + int(has_box) + int(has_ellipsoid) + int(has_cylinder) != 1) {
     throw InputError(node.path() +
                      ": give exactly one of file:, phantom: (a voxel recipe), box: (a structured cuboid), "
                      "cylinder: (a structured cylinder), ellipsoid: (a truncated ellipsoid)");
+  }
   preprocess::Mesh mesh;
   if (has_cylinder) {
     mesh = cylinder_mesh(node, source);

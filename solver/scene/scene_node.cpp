@@ -23,7 +23,7 @@ std::string scalar_text(const YAML::Node& n, const std::string& path, const std:
 
 }  // namespace
 
-SceneNode::SceneNode(YAML::Node node, std::string path) : node_(std::move(node)), path_(std::move(path)) {
+SceneNode::SceneNode(const YAML::Node& node, std::string path) : node_(node), path_(std::move(path)) {
   if (!node_.IsMap()) {
     throw InputError(path_ + ": expected a mapping of keys (key: value)" +
                      (node_.IsNull() ? std::string(", found nothing") : std::string()));
@@ -102,7 +102,7 @@ std::string SceneNode::text(const std::string& key, const std::string& fallback)
 
 std::string SceneNode::choice(const std::string& key, const std::vector<std::string>& choices,
                               std::optional<std::string> fallback) {
-  const std::string v = fallback ? text(key, *fallback) : text(key);
+  std::string v = fallback ? text(key, *fallback) : text(key);
   for (const auto& c : choices)
     if (c == v) return v;
   std::string list;

@@ -28,7 +28,7 @@ namespace adamss::solver {
 
 class SceneNode {
  public:
-  SceneNode(YAML::Node node, std::string path);
+  SceneNode(const YAML::Node& node, std::string path);
 
   [[nodiscard]] const std::string& path() const { return path_; }
   [[nodiscard]] const YAML::Node& yaml() const { return node_; }

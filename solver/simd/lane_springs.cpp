@@ -96,9 +96,10 @@ ADAMSS_AVX512 void aos_to_lanes_avx512(const double* x, std::int64_t n, std::int
       }
     }
     if (s0 < h) {
-      for (std::int64_t u = s0; u < std::min(s0 + 8, h); ++u)
+      for (std::int64_t u = s0; u < std::min(s0 + 8, h); ++u) {
         for (int c = 0; c < 3; ++c)
           _mm512_store_pd(lanes + c * plane + 8 * (m + u), lanes_down(_mm512_load_pd(lanes + c * plane + 8 * u)));
+      }
     }
   }
 }
@@ -124,11 +125,12 @@ ADAMSS_AVX512 void lanes_add_to_aos_avx512(const double* lanes, std::int64_t n, 
     }
     if (7 * m + s0 + 8 <= n) {
 #pragma GCC unroll 8
-      for (int l = 0; l < 8; ++l)
+      for (int l = 0; l < 8; ++l) {
         for (int a = 0; a < 3; ++a) {
           double* p = f + 3 * (l * m + s0) + 8 * a;
           _mm512_storeu_pd(p, _mm512_add_pd(_mm512_loadu_pd(p), r[a][l]));
         }
+      }
       continue;
     }
     for (int l = 0; l < 8; ++l) {
@@ -223,8 +225,7 @@ void require_lane_copies(std::int64_t m) {
 }
 }  // namespace
 
-void aos_to_lanes(const double* x, std::int64_t n, std::int64_t m, std::int64_t h, std::int64_t plane,
-                  double* lanes) {
+void aos_to_lanes(const double* x, std::int64_t n, std::int64_t m, std::int64_t h, std::int64_t plane, double* lanes) {
   require_lane_copies(m);
 #if ADAMSS_HAVE_AVX512
   aos_to_lanes_avx512(x, n, m, h, plane, lanes);
@@ -254,9 +255,8 @@ std::unique_ptr<LaneSprings> LaneSprings::make(const std::vector<std::array<prep
   // Springs in (i, j) order: the r-th copy of the same pair gets key (d, r).
   std::vector<std::size_t> order(edges.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return edges[a] != edges[b] ? edges[a] < edges[b] : a < b;
-  });
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return edges[a] != edges[b] ? edges[a] < edges[b] : a < b; });
   std::vector<std::pair<std::int64_t, int>> key(edges.size());
   std::map<std::pair<std::int64_t, int>, int> pattern;
   for (std::size_t r = 0; r < order.size(); ++r) {
@@ -295,14 +295,14 @@ std::unique_ptr<LaneSprings> LaneSprings::make(const std::vector<std::array<prep
 }
 
 void LaneSprings::add_forces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f) const {
-  if (x.cols() != n_ || f.cols() != n_)
+  if (x.cols() != n_ || f.cols() != n_) {
     throw std::invalid_argument("LaneSprings: state has " + std::to_string(x.cols()) + " nodes, the springs " +
                                 std::to_string(n_));
+  }
 #if ADAMSS_HAVE_AVX512
   const std::int64_t plane = 8 * (m_ + h_);
   aos_to_lanes_avx512(x.data(), n_, m_, h_, plane, pos_.data());
-  lane_sweep(pos_.data(), coef_.data(), offsets_.data(), static_cast<int>(offsets_.size()), m_, h_, plane,
-             acc_.data());
+  lane_sweep(pos_.data(), coef_.data(), offsets_.data(), static_cast<int>(offsets_.size()), m_, h_, plane, acc_.data());
   lanes_add_to_aos_avx512(acc_.data(), n_, m_, h_, plane, f.data());
 #else
   (void)x;

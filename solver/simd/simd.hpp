@@ -49,8 +49,8 @@ constexpr std::int64_t padded_stride(std::int64_t n) {
 /// True if this CPU runs AVX-512F (always false without ADAMSS_HAVE_AVX512).
 inline bool avx512_available() {
 #if ADAMSS_HAVE_AVX512
-  static const bool ok = __builtin_cpu_supports("avx512f") != 0;
-  return ok;
+  static const bool kOk = __builtin_cpu_supports("avx512f") != 0;
+  return kOk;
 #else
   return false;
 #endif

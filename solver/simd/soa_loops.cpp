@@ -272,9 +272,10 @@ void hybmss_volume_runs(const LayoutRun* runs, std::size_t r0, std::size_t r1, c
 /// and returns their coordinate stride (padded_stride(n)).
 std::int64_t prepare_node_arrays(std::int64_t n, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& f,
                                  AlignedDoubles& pos, AlignedDoubles& acc) {
-  if (x.cols() != n || f.cols() != n)
+  if (x.cols() != n || f.cols() != n) {
     throw std::invalid_argument("soa loop: state has " + std::to_string(x.cols()) + " nodes, the layout " +
                                 std::to_string(n));
+  }
   const std::int64_t stride = padded_stride(n);
   pos.resize(static_cast<std::size_t>(3 * stride));
   acc.resize(static_cast<std::size_t>(3 * stride));
@@ -353,12 +354,13 @@ void SpringLoop::add_forces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f) cons
   const double sign[2] = {1.0, -1.0};  // f_i += c d, f_j -= c d
   const int order[2] = {1, 0};         // per run: the j side first (the fused loop's order)
   evaluate<2>(layout_, x, f, pos_, acc_, order, slots, sign, [&](std::size_t r0, std::size_t r1) {
-    if (avx512)
+    if (avx512) {
       spring_slots_avx512(layout_.runs.data(), r0, r1, layout_.offsets.data(), pos_.data(), stride, k_.data(),
                           kl_.data(), tx, ty, tz);
-    else
+    } else {
       spring_runs(layout_.runs.data(), r0, r1, layout_.offsets.data(), pos_.data(), stride, k_.data(), kl_.data(), tx,
                   ty, tz);
+    }
   });
 }
 

@@ -25,10 +25,10 @@ __attribute__((always_inline)) inline double det3(const double* a, const double*
 template <int A>
 __attribute__((always_inline)) inline double corner(const double* const* p, std::int64_t n, std::int64_t t,
                                                     double bias) {
-  constexpr auto nb = preprocess::kHexNeighbour[static_cast<std::size_t>(A)];
-  constexpr int c = preprocess::kHexCornerCode[static_cast<std::size_t>(A)];
-  constexpr double sign = ((c & 1) ? -1.0 : 1.0) * ((c & 2) ? -1.0 : 1.0) * ((c & 4) ? -1.0 : 1.0);
-  return sign * det3(p[A], p[nb[0]], p[nb[1]], p[nb[2]], n, t) + bias;
+  constexpr auto kNb = preprocess::kHexNeighbour[static_cast<std::size_t>(A)];
+  constexpr int kCode = preprocess::kHexCornerCode[static_cast<std::size_t>(A)];
+  constexpr double kSign = ((kCode & 1) ? -1.0 : 1.0) * ((kCode & 2) ? -1.0 : 1.0) * ((kCode & 4) ? -1.0 : 1.0);
+  return kSign * det3(p[A], p[kNb[0]], p[kNb[1]], p[kNb[2]], n, t) + bias;
 }
 
 __attribute__((always_inline)) inline double min2(double a, double b) {
@@ -181,9 +181,10 @@ bool SignedVolumeScreen::any_flagged(const Eigen::Matrix3Xd& x, double& slack) c
   if (hex_) {
     const double* p[8];
     for (const auto& run : hex_layout_.runs) {
-      for (int a = 0; a < 8; ++a)
+      for (int a = 0; a < 8; ++a) {
         p[a] = pos_.data() + run.base +
                hex_layout_.offsets[8 * static_cast<std::size_t>(run.pattern) + static_cast<std::size_t>(a)];
+      }
       // No corner spans a volume (fully collapsed): the exact check decides (it returns 0).
       const unsigned mask = corner_mask_[run.pattern];
       if (mask == 0U) return true;
@@ -197,9 +198,10 @@ bool SignedVolumeScreen::any_flagged(const Eigen::Matrix3Xd& x, double& slack) c
   } else {
     const double* p[4];
     for (const auto& run : tet_layout_.runs) {
-      for (int a = 0; a < 4; ++a)
+      for (int a = 0; a < 4; ++a) {
         p[a] = pos_.data() + run.base +
                tet_layout_.offsets[4 * static_cast<std::size_t>(run.pattern) + static_cast<std::size_t>(a)];
+      }
       double* out = out_.data() + run.begin;
       tet_run(p, n, threshold_.data() + run.begin, run.length, out);
       least = std::min(least, run_minimum(out, run.length));

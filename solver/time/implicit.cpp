@@ -29,20 +29,24 @@ State prescribed_state(const System& sys, const State& s, double h) {
 
 ImplicitIntegrator::ImplicitIntegrator(System& system, Kind kind, const ImplicitSettings& settings)
     : sys_(system), kind_(kind), set_(settings) {
-  if (integrator_info(kind_).is_explicit) throw std::logic_error("ImplicitIntegrator: " + name() + " is explicit");
-  require_jacobians(sys_.model().terms, name());
+  // The table, not name(): a virtual call here would bypass a derived class.
+  const std::string label = integrator_info(kind_).name;
+  if (integrator_info(kind_).is_explicit) throw std::logic_error("ImplicitIntegrator: " + label + " is explicit");
+  require_jacobians(sys_.model().terms, label);
   constraints_ = cavity_constraints(sys_.model().terms);
   if (kind_ == Kind::BackwardEuler && !constraints_.empty()) {
-    throw InputError(name() + " (the linearised one-solve step) cannot hold a cavity volume (" +
+    throw InputError(label + " (the linearised one-solve step) cannot hold a cavity volume (" +
                      constraints_.front()->name() + "); use the integrator type backward_euler_newton or static");
   }
-  if (!(set_.dt_min > 0.0) || !(set_.dt_max >= set_.dt_min)) throw InputError(name() + ": need 0 < dt_min <= dt_max");
+  if (!(set_.dt_min > 0.0) || !(set_.dt_max >= set_.dt_min)) throw InputError(label + ": need 0 < dt_min <= dt_max");
   linear_ = std::make_unique<JacobianSolver>(sys_.model(), set_.petsc_options, set_.ksp_rtol, set_.ksp_max_it);
 }
 
 ImplicitIntegrator::~ImplicitIntegrator() = default;
 
-std::string ImplicitIntegrator::name() const { return integrator_info(kind_).name; }
+std::string ImplicitIntegrator::name() const {
+  return integrator_info(kind_).name;
+}
 
 StepReport ImplicitIntegrator::step(State& s, double dt) {
   StepReport rep;

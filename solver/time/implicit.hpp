@@ -77,6 +77,8 @@ class ImplicitIntegrator : public Integrator {
   /// explicit `kind`.
   ImplicitIntegrator(System& system, Kind kind, const ImplicitSettings& settings);
   ~ImplicitIntegrator() override;
+  ImplicitIntegrator(const ImplicitIntegrator&) = delete;
+  ImplicitIntegrator& operator=(const ImplicitIntegrator&) = delete;
 
   [[nodiscard]] std::string name() const override;
   [[nodiscard]] bool adaptive() const override { return set_.adapt; }

@@ -98,7 +98,7 @@ class SymplecticEuler final : public Integrator {
 }  // namespace
 
 const std::vector<IntegratorInfo>& integrator_table() {
-  static const std::vector<IntegratorInfo> table = {
+  static const std::vector<IntegratorInfo> kTable = {
       {"forward_euler", IntegratorType::ForwardEuler, true, true, true},
       {"symplectic_euler", IntegratorType::SymplecticEuler, true, true, true},
       {"abm3", IntegratorType::Abm3, true, false, false},
@@ -106,7 +106,7 @@ const std::vector<IntegratorInfo>& integrator_table() {
       {"backward_euler_newton", IntegratorType::BackwardEulerNewton, false, false, true},
       {"static", IntegratorType::Static, false, false, true},
   };
-  return table;
+  return kTable;
 }
 
 std::vector<std::string> integrator_names() {
@@ -133,9 +133,10 @@ std::unique_ptr<Integrator> make_integrator(const std::string& name, System& sys
                                             const ImplicitSettings* implicit) {
   const IntegratorInfo& info = integrator_info(name);
   if (info.is_explicit) {
-    for (const auto& t : system.model().terms)
+    for (const auto& t : system.model().terms) {
       if (t->cavity_constraint() != nullptr)
         throw InputError(name + " cannot hold a cavity volume (" + t->name() + "); use the integrator type static");
+    }
   }
   const ImplicitSettings defaults;
   const ImplicitSettings& imp = implicit != nullptr ? *implicit : defaults;

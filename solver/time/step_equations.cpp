@@ -92,7 +92,7 @@ Eigen::Matrix3Xd backward_euler_start(const Model& model, const std::vector<Eige
                                       const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& v0, double h) {
   std::vector<char> vel_ctl(static_cast<std::size_t>(3 * x0.cols()), 0);
   for (const auto& c : model.constraints.controls())
-    if (c.velocity) vel_ctl[static_cast<std::size_t>(3 * c.node + c.axis)] = 1;
+    if (c.velocity) vel_ctl[3 * static_cast<std::size_t>(c.node) + static_cast<std::size_t>(c.axis)] = 1;
   Eigen::Matrix3Xd vp = v0;
   for (const Eigen::Index d : fixed) {
     vp.data()[d] = vel_ctl[static_cast<std::size_t>(d)] ? pres.v.data()[d] : (pres.x.data()[d] - x0.data()[d]) / h;

@@ -15,7 +15,7 @@ constexpr double kCollapse = 1e-12;
 /// FD step of the face form's Jacobian, relative to the mean reference chord length.
 constexpr double kFdStep = 1e-6;
 
-const char* kTerm = "axial_springs";
+constexpr const char* kTerm = "axial_springs";
 
 /// Length of chord l, with the collapse check.
 double chord_length(const Eigen::Vector3d& zeta, double l0, std::size_t element, int l) {

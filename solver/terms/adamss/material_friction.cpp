@@ -146,14 +146,14 @@ MaterialFrictionKernel<K> make_material_friction_kernel(const preprocess::Mesh& 
     if (eta) kd = kd.cwiseQuotient(frames.length0[k]);  // k_d,l = eta_l / l0_l
     if (kern.face_scaling) {
       kern.coefficient.push_back(kd);
-      std::array<std::array<std::int8_t, MaterialFrictionKernel<K>::kFaceCorners>, 6> corners{};
+      std::array<std::array<std::uint8_t, MaterialFrictionKernel<K>::kFaceCorners>, 6> corners{};
       for (std::size_t q = 0; q < 6; ++q) {
         const std::size_t face = frames.face[k][q];
         for (std::size_t n = 0; n < corners[q].size(); ++n) {
           if constexpr (K == 4) {
-            corners[q][n] = static_cast<std::int8_t>(preprocess::kTetFaces[face][n]);
+            corners[q][n] = static_cast<std::uint8_t>(preprocess::kTetFaces[face][n]);
           } else {
-            corners[q][n] = static_cast<std::int8_t>(preprocess::kHexFaces[face][n]);
+            corners[q][n] = static_cast<std::uint8_t>(preprocess::kHexFaces[face][n]);
           }
         }
       }

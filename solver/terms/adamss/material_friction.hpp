@@ -72,8 +72,8 @@
 #include <vector>
 
 #include "preprocess/mesh/mesh.hpp"
-#include "solver/geometry/axis_frame.hpp"
 #include "solver/core/stencil_term.hpp"
+#include "solver/geometry/axis_frame.hpp"
 
 namespace adamss::solver {
 
@@ -107,7 +107,7 @@ struct MaterialFrictionKernel {
   std::vector<Eigen::Vector3d> coefficient;
   /// Face scaling: local node indices of the corners (in kTetFaces / kHexFaces
   /// order) of the face holding each point q.
-  std::vector<std::array<std::array<std::int8_t, kFaceCorners>, 6>> face_corners;
+  std::vector<std::array<std::array<std::uint8_t, kFaceCorners>, 6>> face_corners;
 
   [[nodiscard]] std::string name() const { return "material_friction"; }
   [[nodiscard]] std::size_t size() const { return elements.size(); }

@@ -80,9 +80,10 @@ void validate_spring_polynomial(const std::string& term, int row, const std::str
 template <int K>
 void add_chord_hessian(const Eigen::Matrix<double, K, 3>& d, const Eigen::Matrix<double, 9, 9>& h, MatJ<K>& dfdx) {
   Eigen::Matrix<double, 3 * K, 9> t = Eigen::Matrix<double, 3 * K, 9>::Zero();
-  for (int a = 0; a < K; ++a)
+  for (int a = 0; a < K; ++a) {
     for (int l = 0; l < 3; ++l)
       for (int r = 0; r < 3; ++r) t(3 * a + r, 3 * l + r) = d(a, l);
+  }
   dfdx.noalias() -= t * h * t.transpose();
 }
 

@@ -15,7 +15,7 @@ constexpr double kCollapse = 1e-12;    ///< chord collapse threshold, relative t
 constexpr double kParallelSin = 1e-6;  ///< angle form: smallest admissible sin(alpha)
 constexpr double kFdStep = 1e-6;       ///< face-form FD step, relative to the mean l0
 
-const char* kTerm = "torsion_springs";
+constexpr const char* kTerm = "torsion_springs";
 
 /// Unit chords and lengths of the three axes, with the collapse check.
 struct Chords {

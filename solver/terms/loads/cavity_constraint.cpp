@@ -65,9 +65,10 @@ void CavityConstraintTerm::save_state(StateArchive& archive) const {
 
 void CavityConstraintTerm::load_state(const StateArchive& archive) {
   const bool had = archive.integer("has_circulation") != 0;
-  if (had != (circulation_ != nullptr))
+  if (had != (circulation_ != nullptr)) {
     throw InputError(archive.source() + ": " + name() + (had ? " had" : " had no") +
                      " circulation when the checkpoint was written (a different scene)");
+  }
   // The same mesh gives the same reference volume to the last bit; anything else is another
   // geometry with the same node and element counts.
   const double v0 = archive.scalar("reference_volume");

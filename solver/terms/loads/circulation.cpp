@@ -202,9 +202,10 @@ void Circulation::load_state(const StateArchive& archive) {
   const std::string& src = archive.source();
   const auto expected = settings_list(set_);
   const auto& settings = archive.doubles("settings");
-  if (settings.size() != expected.size())
+  if (settings.size() != expected.size()) {
     throw InputError(src + ": the circulation settings hold " + std::to_string(settings.size()) + " values, expected " +
                      std::to_string(expected.size()));
+  }
   for (std::size_t k = 0; k < expected.size(); ++k) {
     if (settings[k] != expected[k].second) {
       std::ostringstream os;

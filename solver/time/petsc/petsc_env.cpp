@@ -38,9 +38,10 @@ void ensure_petsc(const std::string& options) {
   // distributed (every rank would hold the whole mesh): refuse several ranks clearly.
   PetscMPIInt size = 1;
   MPI_Comm_size(PETSC_COMM_WORLD, &size);
-  if (size > 1)
+  if (size > 1) {
     throw InputError("the implicit solvers run on one MPI rank (the mesh is not partitioned yet); got " +
                      std::to_string(size) + " ranks: run adamss without mpirun, or with -np 1");
+  }
 }
 
 void finalize_petsc() {

@@ -9,12 +9,12 @@
 #include <numbers>
 
 #include "common/error.hpp"
-#include "preprocess/surfaces/boundary_labels.hpp"
-#include "preprocess/meshers/cgal_mesher.hpp"
 #include "preprocess/fibres/fibre_field.hpp"
-#include "preprocess/meshers/lattice_mesher.hpp"
-#include "preprocess/image/phantom.hpp"
 #include "preprocess/fibres/rule_fibres.hpp"
+#include "preprocess/image/phantom.hpp"
+#include "preprocess/meshers/cgal_mesher.hpp"
+#include "preprocess/meshers/lattice_mesher.hpp"
+#include "preprocess/surfaces/boundary_labels.hpp"
 #include "support/lattice_fixtures.hpp"
 
 using namespace adamss::preprocess;
@@ -163,7 +163,7 @@ TEST(RuleFibres, LvTet6mMatchesAnalyticField) {
   EXPECT_FALSE(r.biv);
   EXPECT_TRUE(r.long_axis_estimated);
   EXPECT_NEAR((r.long_axis - Eigen::Vector3d::UnitZ()).norm(), 0.0, 1e-12);
-  EXPECT_NEAR(r.base_point.z(), kPhantomBaseZ_m, 1e-12);
+  EXPECT_NEAR(r.base_point.z(), kPhantomBaseZ, 1e-12);
   EXPECT_EQ(r.rv_endo_faces, 0u);
   EXPECT_EQ(r.other_faces, 0u);
   EXPECT_EQ(r.conflict_nodes, 0u);
@@ -177,7 +177,7 @@ TEST(RuleFibres, LvTet6mMatchesAnalyticField) {
       for (std::int64_t i = 0; i < d[0]; ++i) {
         const double zc = ph.image.grid.to_world(Eigen::Vector3d(0, 0, static_cast<double>(k))).z();
         if (ph.image.at(i, j, k) == kMyocardium && ph.image.at(i, j, k + 1) == kBackground &&
-            std::abs(zc + 0.5e-3 - kPhantomBaseZ_m) < 1e-9)
+            std::abs(zc + 0.5e-3 - kPhantomBaseZ) < 1e-9)
           ++top;
       }
   EXPECT_EQ(r.base_faces, 2 * top);
@@ -194,7 +194,7 @@ TEST(RuleFibres, LvTet6mMatchesAnalyticField) {
         ++endo_nodes;
       }
       const double zc = (m.nodes.col(f.nodes[0]) + m.nodes.col(f.nodes[1]) + m.nodes.col(f.nodes[2])).z() / 3;
-      if (f.outside_label == kBackground && zc < kPhantomBaseZ_m - 0.25e-3) {
+      if (f.outside_label == kBackground && zc < kPhantomBaseZ - 0.25e-3) {
         ASSERT_EQ(r.phi_lv[i], 1.0);
         ASSERT_NEAR(r.t_lv[i], 1.0, 1e-15);
         ++epi_nodes;

@@ -144,7 +144,7 @@ TEST(PhantomLv, GridIsCornerAlignedWithMarginAndTightBoundingBox) {
       max_index[a] = std::max(max_index[a], ijk[a]);
     }
   });
-  EXPECT_LE(hi.z(), kPhantomBaseZ_m);  // nothing above the base
+  EXPECT_LE(hi.z(), kPhantomBaseZ);  // nothing above the base
   EXPECT_NEAR(hi.z(), 5.0 * kMm - h / 2, 1e-12);
   EXPECT_NEAR(lo.z(), -20.0 * kMm + h / 2, 1e-12);
   for (int a = 0; a < 2; ++a) {
@@ -383,7 +383,7 @@ TEST(PhantomBiv, RvCavityIsOneCrescentSeparatedFromTheLv) {
   for_each_voxel(grid, [&](std::size_t v, std::int64_t i, std::int64_t j, std::int64_t k, const Vector3d& x) {
     const std::int32_t label = image.labels[v];
     if (label != kBackground) {
-      ASSERT_LE(x.z(), kPhantomBaseZ_m);
+      ASSERT_LE(x.z(), kPhantomBaseZ);
     }
     if (label == kLvCavity) lowest_lv = std::min(lowest_lv, x.z());
     if (label == kMyocardium && !inside_lv_epi(x)) lowest_rv_wall = std::min(lowest_rv_wall, x.z());
@@ -418,7 +418,7 @@ TEST(PhantomBiv, RvFreeWallIsAtLeastTwoMillimetresThick) {
       for (int dj = -reach; dj <= reach; ++dj)
         for (int di = -reach; di <= reach; ++di) {
           if (di * di + dj * dj + dk * dk > reach * reach) continue;
-          if (centre_of(grid, i, j, k + dk).z() > kPhantomBaseZ_m) continue;
+          if (centre_of(grid, i, j, k + dk).z() > kPhantomBaseZ) continue;
           ASSERT_TRUE(grid.contains(i + di, j + dj, k + dk));
           ASSERT_NE(image.at(i + di, j + dj, k + dk), kBackground) << "at " << i << " " << j << " " << k;
         }

@@ -8,10 +8,10 @@
 #include <vector>
 
 #include "common/error.hpp"
-#include "preprocess/surfaces/boundary_labels.hpp"
-#include "preprocess/meshers/lattice_mesher.hpp"
-#include "preprocess/surfaces/node_tags.hpp"
 #include "preprocess/image/phantom.hpp"
+#include "preprocess/meshers/lattice_mesher.hpp"
+#include "preprocess/surfaces/boundary_labels.hpp"
+#include "preprocess/surfaces/node_tags.hpp"
 
 namespace {
 
@@ -60,7 +60,7 @@ TEST(NodeTags, OneTagPerLabelPairWithTheNodesOfItsFaces) {
     std::set_intersection(tags.at("surface:1-0").begin(), tags.at("surface:1-0").end(), tags.at("surface:1-2").begin(),
                           tags.at("surface:1-2").end(), std::back_inserter(both));
     ASSERT_FALSE(both.empty());
-    for (const Index n : both) EXPECT_NEAR(pm.mesh.nodes(2, n), kPhantomBaseZ_m, 1e-12);
+    for (const Index n : both) EXPECT_NEAR(pm.mesh.nodes(2, n), kPhantomBaseZ, 1e-12);
   }
 }
 

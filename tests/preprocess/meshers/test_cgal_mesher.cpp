@@ -9,11 +9,11 @@
 #include <set>
 
 #include "common/error.hpp"
-#include "preprocess/meshers/cgal_mesher.hpp"
-#include "preprocess/mesh/element_faces.hpp"
 #include "preprocess/fibres/fibre_field.hpp"
-#include "preprocess/mesh/mesh_quality.hpp"
 #include "preprocess/image/phantom.hpp"
+#include "preprocess/mesh/element_faces.hpp"
+#include "preprocess/mesh/mesh_quality.hpp"
+#include "preprocess/meshers/cgal_mesher.hpp"
 #include "support/lattice_fixtures.hpp"
 
 using namespace adamss::preprocess;
@@ -31,11 +31,11 @@ double truncated_ellipsoid_volume(double a, double c, double z0) {
 /// The Land 2015 LV wall (phantom.hpp): epicardium (10, 20) mm minus endocardium (7, 17) mm, cut at z = 5 mm.
 /// 3234.6 mm^3 (docs/shared REFERENCES).
 double lv_wall_volume_m3() {
-  const double z0 = kPhantomBaseZ_m;
+  const double z0 = kPhantomBaseZ;
   return truncated_ellipsoid_volume(10e-3, 20e-3, z0) - truncated_ellipsoid_volume(7e-3, 17e-3, z0);
 }
 double lv_cavity_volume_m3() {
-  return truncated_ellipsoid_volume(7e-3, 17e-3, kPhantomBaseZ_m);
+  return truncated_ellipsoid_volume(7e-3, 17e-3, kPhantomBaseZ);
 }
 
 PhantomOptions coarse(double voxel_m) {
@@ -108,7 +108,7 @@ TEST(CgalMesher, LvPhantomIsConformingWithGoodAnglesAndTheAnalyticVolume) {
   // Every node lies within a voxel of the shell: inside the epicardium, outside the endocardium.
   for (Eigen::Index v = 0; v < m.nodes.cols(); ++v) {
     const Eigen::Vector3d x = m.nodes.col(v);
-    ASSERT_LE(x.z(), kPhantomBaseZ_m + 1e-3);
+    ASSERT_LE(x.z(), kPhantomBaseZ + 1e-3);
     ASSERT_LE(ellipsoid_level(x, 11e-3, 21e-3), 1.0);
     ASSERT_GE(ellipsoid_level(x, 6e-3, 16e-3), 1.0);
   }
@@ -158,9 +158,9 @@ TEST(CgalMesher, SurfacePatchesAreTheBoundaryWithTheLabelOutside) {
       EXPECT_LT(c.x() * n.x() + c.y() * n.y() + c.z() * n.z() * (49.0 / 289.0), 0.0) << "normal not into the cavity";
     } else {
       const bool on_epi = std::abs(std::sqrt(ellipsoid_level(c, 10e-3, 20e-3)) - 1.0) < 0.1;  // 1 mm at 10 mm
-      const bool on_base = std::abs(c.z() - kPhantomBaseZ_m) < 0.6e-3 && n.z() > 0.0;
+      const bool on_base = std::abs(c.z() - kPhantomBaseZ) < 0.6e-3 && n.z() > 0.0;
       EXPECT_TRUE(on_epi || on_base) << "face to the background at " << c.transpose() * 1e3 << " mm";
-      if (n.normalized().z() > 0.9 && std::abs(c.z() - kPhantomBaseZ_m) < 0.3e-3) ++n_base;  // flat, facing up
+      if (n.normalized().z() > 0.9 && std::abs(c.z() - kPhantomBaseZ) < 0.3e-3) ++n_base;  // flat, facing up
     }
   }
   EXPECT_GT(n_cavity, 50u);

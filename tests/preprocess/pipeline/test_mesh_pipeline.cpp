@@ -36,7 +36,7 @@ MeshRequest lv_request() {
   req.topology = Topology::Tet6m;
   req.fibres = PhantomFibres{};
   req.cavities = {{"lv", kLvCavity}};
-  req.tag_planes = {{{"base", 2, kPhantomBaseZ_m, 1e-3 * po.voxel_size_m}, false}};
+  req.tag_planes = {{{"base", 2, kPhantomBaseZ, 1e-3 * po.voxel_size_m}, false}};
   return req;
 }
 
@@ -53,7 +53,7 @@ TEST(MeshPipeline, PhantomRequestEqualsTheStagesCalledByHand) {
   assign_fibres(m, ph.image.grid, *ph.fiber, "f", *ph.sheet, "s", false);
   const std::vector<BoundaryFace> faces = boundary_faces_with_labels(m, ph.image);
   m.node_tags = label_pair_tags(faces);
-  m.node_tags["base"] = nodes_on_plane(m, {"base", 2, kPhantomBaseZ_m, 1e-3 * po.voxel_size_m});
+  m.node_tags["base"] = nodes_on_plane(m, {"base", 2, kPhantomBaseZ, 1e-3 * po.voxel_size_m});
   add_cavities(m, faces, {{"lv", kLvCavity}});
 
   EXPECT_EQ(b.mesh.connectivity, m.connectivity);
@@ -104,7 +104,7 @@ TEST(MeshPipeline, PlaneOffTheLatticeIsAnErrorUnlessSkipped) {
 
 TEST(MeshPipeline, PlaneTagMustNotReplaceATag) {
   MeshRequest req = lv_request();
-  req.tag_planes = {{{"surface:1-0", 2, kPhantomBaseZ_m, -1.0}, false}};
+  req.tag_planes = {{{"surface:1-0", 2, kPhantomBaseZ, -1.0}, false}};
   EXPECT_NE(error_of(req).find("already exists"), std::string::npos) << error_of(req);
 }
 

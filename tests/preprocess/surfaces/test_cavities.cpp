@@ -11,12 +11,12 @@
 #include <vector>
 
 #include "common/error.hpp"
-#include "preprocess/surfaces/boundary_labels.hpp"
-#include "preprocess/surfaces/cavities.hpp"
-#include "preprocess/meshers/lattice_mesher.hpp"
+#include "preprocess/image/phantom.hpp"
 #include "preprocess/mesh/mesh_io.hpp"
 #include "preprocess/mesh/mesh_quality.hpp"
-#include "preprocess/image/phantom.hpp"
+#include "preprocess/meshers/lattice_mesher.hpp"
+#include "preprocess/surfaces/boundary_labels.hpp"
+#include "preprocess/surfaces/cavities.hpp"
 #include "support/lattice_fixtures.hpp"
 
 namespace {
@@ -107,7 +107,7 @@ void expect_normals_into_cavity(const PhantomMesh& pm, const Cavity& c, std::int
   for (const auto& t : c.lid) {
     const FacePoint p = face_point(pm.mesh, t);
     EXPECT_LT(p.normal.z(), -0.999);
-    EXPECT_NEAR(p.centre.z(), kPhantomBaseZ_m, 1e-12);
+    EXPECT_NEAR(p.centre.z(), kPhantomBaseZ, 1e-12);
   }
 }
 

@@ -8,9 +8,9 @@
 
 #include "common/error.hpp"
 #include "force_term_harness.hpp"
-#include "preprocess/surfaces/cavities.hpp"
-#include "preprocess/meshers/lattice_mesher.hpp"
 #include "preprocess/image/phantom.hpp"
+#include "preprocess/meshers/lattice_mesher.hpp"
+#include "preprocess/surfaces/cavities.hpp"
 #include "solver/geometry/surface.hpp"
 #include "support/lattice_fixtures.hpp"
 
@@ -191,7 +191,7 @@ TEST(Surface, LvPhantomEndocardiumMatchesVoxelAndAnalyticCavityVolume) {
   const preprocess::EllipsoidShell shell = preprocess::lv_shell();
   // Truncated ellipsoid below the base plane z_b: V = pi a b [(z_b + c) - (z_b^3 + c^3) / (3 c^2)].
   const double ra = shell.endo_semi_axes.x(), rb = shell.endo_semi_axes.y(), rc = shell.endo_semi_axes.z();
-  const double zb = preprocess::kPhantomBaseZ_m - shell.centre.z();
+  const double zb = preprocess::kPhantomBaseZ - shell.centre.z();
   const double analytic = std::numbers::pi * ra * rb * ((zb + rc) - (zb * zb * zb + rc * rc * rc) / (3.0 * rc * rc));
   EXPECT_NEAR(analytic, 2492.1e-9, 0.1e-9);  // 2.49 ml
 

@@ -7,8 +7,8 @@
 
 #include "common/error.hpp"
 #include "force_term_harness.hpp"
-#include "preprocess/meshers/lattice_mesher.hpp"
 #include "preprocess/image/phantom.hpp"
+#include "preprocess/meshers/lattice_mesher.hpp"
 #include "solver/terms/loads/cavity_pressure.hpp"
 #include "support/lattice_fixtures.hpp"
 
@@ -273,7 +273,7 @@ TEST(CavityPressure, LvEndocardiumLoadPushesTheCupAwayFromItsOpening) {
       for (std::int64_t i = 0; i < d[0]; ++i) {
         const Eigen::Vector3d c = ph.image.grid.to_world(Eigen::Vector3d(i, j, k));
         if (ph.image.at(i, j, k) == preprocess::kLvCavity &&
-            std::abs(c.z() - (preprocess::kPhantomBaseZ_m - 0.5 * h)) < 1e-9)
+            std::abs(c.z() - (preprocess::kPhantomBaseZ - 0.5 * h)) < 1e-9)
           ++opening;
       }
   const double p = 1000.0;
@@ -289,7 +289,7 @@ TEST(CavityPressure, LvEndocardiumLoadPushesTheCupAwayFromItsOpening) {
     Surface rim;
     const auto in_base = [&](const auto& fc) {
       for (auto n : fc)
-        if (std::abs(mesh.nodes(2, n) - preprocess::kPhantomBaseZ_m) > 1e-9) return false;
+        if (std::abs(mesh.nodes(2, n) - preprocess::kPhantomBaseZ) > 1e-9) return false;
       return true;
     };
     for (const auto& fc : s.triangles)
