@@ -70,6 +70,11 @@ class ForceTerm {
   virtual void load_state(const StateArchive& /*archive*/) {}
   /// Short human description for the run log ("764 elements, law hunter").
   [[nodiscard]] virtual std::string describe() const { return {}; }
+  /// Adds to adj[a] every node b whose Jacobian block (a, b) this term can fill beyond the pairs
+  /// that share a mesh element (those are always in the sparse pattern): a term coupling nodes
+  /// further apart (the nodal volume term's patches) lists them here so that the matrix is
+  /// preallocated for them. Duplicates are fine. The default adds nothing.
+  virtual void add_couplings(std::vector<std::vector<Index>>& /*adj*/) const {}
   /// The cavity volume constraint this term is, or nullptr (every other term, the default). The
   /// integrators find the constraints' pressure unknowns through it (cavity_constraints below).
   [[nodiscard]] virtual CavityConstraintTerm* cavity_constraint() { return nullptr; }

@@ -20,6 +20,7 @@
 #include "solver/terms/adamss/volume_preservation.hpp"
 #include "solver/terms/adamss/volume_springs.hpp"
 #include "solver/terms/fem/fem_element.hpp"
+#include "solver/terms/fem/nodal_volume.hpp"
 #include "solver/terms/springs/hybmss.hpp"
 #include "solver/terms/springs/lloyd_springs.hpp"
 #include "solver/terms/springs/mass_springs.hpp"
@@ -143,17 +144,25 @@ void build_active_tension(SceneNode& node, MaterialContext& ctx) {
   ctx.model.terms.push_back(make_active_tension_term(ctx.mesh, ctx.frames(), p, &ctx.elements));
 }
 
+/// distribution: anisotropic / isotropic (element terms, eqs. 2.86-2.106) or nodal (node patches,
+/// solver/terms/fem/nodal_volume.hpp); form: the U(J; r) of solver/terms/fem/volume_penalty.hpp.
 void build_volume(SceneNode& node, MaterialContext& ctx) {
   VolumeParams p;
   p.p = node.positive("p", Dimension::Pressure);
   p.ratio = node.course("ratio", Dimension::Dimensionless, 1.0);
-  p.distribution = node.choice("distribution", {"anisotropic", "isotropic"}, "anisotropic") == "anisotropic"
-                       ? VolumeDistribution::Anisotropic
-                       : VolumeDistribution::Isotropic;
+  const std::string form = node.choice("form", {"quadratic", "log", "simo_taylor"}, "quadratic");
+  p.form = form == "quadratic" ? VolumePenaltyForm::Quadratic
+                               : (form == "log" ? VolumePenaltyForm::Log : VolumePenaltyForm::SimoTaylor);
+  const std::string dist = node.choice("distribution", {"anisotropic", "isotropic", "nodal"}, "anisotropic");
   node.finish();
+  ctx.bulk_modulus += 2.0 * p.p;  // every form has bulk modulus 2 p
+  if (dist == "nodal") {
+    ctx.model.terms.push_back(make_nodal_volume_term(ctx.mesh, {{p.form, p.p}, p.ratio}, &ctx.elements));
+    return;
+  }
+  p.distribution = dist == "anisotropic" ? VolumeDistribution::Anisotropic : VolumeDistribution::Isotropic;
   const AxisFrames* frames = p.distribution == VolumeDistribution::Anisotropic ? &ctx.frames() : nullptr;
   ctx.model.terms.push_back(make_volume_term(ctx.mesh, frames, p, &ctx.elements));
-  ctx.bulk_modulus += 2.0 * p.p;  // W_v = p (J - 1)^2 has bulk modulus 2 p
 }
 
 void build_volume_springs(SceneNode& node, MaterialContext& ctx) {
@@ -263,10 +272,11 @@ void build_lloyd_springs(SceneNode& node, MaterialContext& ctx) {
   p.youngs_modulus = node.positive("youngs_modulus", Dimension::Pressure);
   p.volume_force = node.flag("volume_force", false);
   node.finish();
-  if (ctx.mesh.type != preprocess::ElementType::Tet4)
+  if (ctx.mesh.type != preprocess::ElementType::Tet4) {
     throw InputError(
         node.path() +
         ": lloyd_springs needs a tetrahedral mesh (a tet topology such as tet6m); this mesh has hexahedra");
+  }
   // The terms of make_lloyd_terms, built here so the spring kernel stays typed.
   add_edge_springs(make_lloyd_spring_kernel(ctx.mesh, p, &ctx.elements), ctx);
   if (p.volume_force) {
@@ -287,10 +297,11 @@ void build_hourglass(SceneNode& node, MaterialContext& ctx) {
     p.modulus = node.positive("modulus", Dimension::Pressure);
   } else {
     p.modulus = ctx.wave_modulus;
-    if (!(p.modulus > 0.0))
+    if (!(p.modulus > 0.0)) {
       throw InputError(node.path() +
                        ": no material modulus yet: list hourglass after virtual_hexahedron (or axial_springs), or "
                        "give modulus: (Pa)");
+    }
   }
   node.finish();
   ctx.model.terms.push_back(make_hourglass_term(ctx.mesh, p, &ctx.elements));
@@ -299,7 +310,7 @@ void build_hourglass(SceneNode& node, MaterialContext& ctx) {
 using Builder = void (*)(SceneNode&, MaterialContext&);
 
 const std::map<std::string, Builder>& builders() {
-  static const std::map<std::string, Builder> table{
+  static const std::map<std::string, Builder> kTable{
       {"virtual_hexahedron", build_virtual_hex},
       {"fem_element", build_fem_element},
       {"material_friction", build_material_friction},
@@ -313,7 +324,7 @@ const std::map<std::string, Builder>& builders() {
       {"lloyd_springs", build_lloyd_springs},
       {"hourglass", build_hourglass},
   };
-  return table;
+  return kTable;
 }
 
 }  // namespace

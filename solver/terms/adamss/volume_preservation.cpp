@@ -54,8 +54,8 @@ void add_volume(double scale, const Mat3N<K>& x, double& J, Mat3N<K>& dJ, MatJ<K
   // The exact volume quadrature of element_rules.hpp: tet one term, X Gamma = (x1-x0, x2-x0, x3-x0),
   // weight 1/6; hex the shape-function gradients at the 2x2x2 Gauss points of [0,1]^3, 1/8 each.
   if constexpr (K == 4) {
-    static const Eigen::Matrix<double, 4, 3> tet_gamma = tet_shape_gradients();
-    add_determinant_term<4>(scale / 6.0, tet_gamma, x, J, dJ, hess);
+    static const Eigen::Matrix<double, 4, 3> kTetGamma = tet_shape_gradients();
+    add_determinant_term<4>(scale / 6.0, kTetGamma, x, J, dJ, hess);
   } else {
     for (const auto& g : hex_gauss_gradients()) add_determinant_term<8>(scale / 8.0, g, x, J, dJ, hess);
   }
@@ -67,8 +67,10 @@ std::string fmt(double v) {
   return buf;
 }
 
+}  // namespace
+
 /// The values that define the course; r must be finite and > 0 at all of them.
-void check_ratio(const TimeCourse& r) {
+void check_volume_ratio(const TimeCourse& r, const std::string& who) {
   std::vector<double> vals;
   switch (r.kind) {
     case TimeCourse::Kind::Constant:
@@ -79,22 +81,20 @@ void check_ratio(const TimeCourse& r) {
       break;
     case TimeCourse::Kind::Table:
       vals = r.values;
-      if (vals.empty()) throw InputError("volume_preservation: r (target volume ratio) table is empty");
+      if (vals.empty()) throw InputError(who + ": r (target volume ratio) table is empty");
       break;
     case TimeCourse::Kind::Twitch:
       throw InputError(
-          "volume_preservation: r (target volume ratio) cannot be a twitch course (it returns to 0, a zero target "
+          who + ": r (target volume ratio) cannot be a twitch course (it returns to 0, a zero target "
           "volume); use a ramp or a table");
   }
   for (double v : vals) {
     if (!std::isfinite(v) || !(v > 0.0)) {
-      throw InputError("volume_preservation: r (target volume ratio V_target/V0) must be finite and > 0, got " +
+      throw InputError(who + ": r (target volume ratio V_target/V0) must be finite and > 0, got " +
                        fmt(v) + " (" + r.describe() + ")");
     }
   }
 }
-
-}  // namespace
 
 const char* volume_distribution_name(VolumeDistribution d) {
   return d == VolumeDistribution::Anisotropic ? "anisotropic" : "isotropic";
@@ -116,6 +116,16 @@ Mat3N<K> element_volume_gradient(const Mat3N<K>& x) {
   return dv;
 }
 
+template <int K>
+void element_volume_derivatives(const Mat3N<K>& x, double& v, Mat3N<K>& dv, MatJ<K>& hess) {
+  v = 0.0;
+  dv.setZero();
+  hess.setZero();
+  add_volume<K>(1.0, x, v, dv, &hess);
+}
+
+template void element_volume_derivatives<4>(const Mat3N<4>&, double&, Mat3N<4>&, MatJ<4>&);
+template void element_volume_derivatives<8>(const Mat3N<8>&, double&, Mat3N<8>&, MatJ<8>&);
 template double element_volume_of<4>(const Mat3N<4>&);
 template double element_volume_of<8>(const Mat3N<8>&);
 template Mat3N<4> element_volume_gradient<4>(const Mat3N<4>&);
@@ -142,6 +152,7 @@ double VolumeKernel<K>::volume_ratio(std::size_t i, const Mat3N<K>& x) const {
 
 template <int K>
 double VolumeKernel<K>::energy(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& /*v*/, double t) const {
+  if (form != VolumePenaltyForm::Quadratic) return volume0[i] * VolumePenalty{form, p}.value(volume_ratio(i, x), ratio(t));
   const double d = volume_ratio(i, x) - ratio(t);
   return p * volume0[i] * d * d;
 }
@@ -151,6 +162,10 @@ void VolumeKernel<K>::forces(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& /
   double J = 0.0;
   Mat3N<K> dJ;
   evaluate(i, x, J, dJ, nullptr);
+  if (form != VolumePenaltyForm::Quadratic) {
+    f.noalias() -= (volume0[i] * VolumePenalty{form, p}.slope(J, ratio(t))) * dJ;
+    return;
+  }
   f.noalias() -= (2.0 * p * volume0[i] * (J - ratio(t))) * dJ;
 }
 
@@ -161,8 +176,15 @@ void VolumeKernel<K>::jacobian(std::size_t i, const Mat3N<K>& x, const Mat3N<K>&
   Mat3N<K> dJ;
   MatJ<K> hess = MatJ<K>::Zero();
   evaluate(i, x, J, dJ, &hess);
-  const double c = -2.0 * p * volume0[i];
   const Eigen::Map<const Eigen::Matrix<double, 3 * K, 1>> g(dJ.data());
+  if (form != VolumePenaltyForm::Quadratic) {
+    const VolumePenalty u{form, p};
+    const double r = ratio(t);
+    dfdx.noalias() -= (volume0[i] * u.curvature(J, r)) * (g * g.transpose());
+    dfdx.noalias() -= (volume0[i] * u.slope(J, r)) * hess;
+    return;
+  }
+  const double c = -2.0 * p * volume0[i];
   dfdx.noalias() += c * (g * g.transpose());
   dfdx.noalias() += (c * (J - ratio(t))) * hess;
 }
@@ -177,7 +199,7 @@ VolumeKernel<K> make_volume_kernel(const preprocess::Mesh& mesh, const AxisFrame
     throw InputError("volume_preservation: p (volume penalty coefficient, Pa) must be finite and > 0, got " +
                      fmt(params.p));
   }
-  check_ratio(params.ratio);
+  check_volume_ratio(params.ratio, "volume_preservation");
   const preprocess::ElementType want = K == 4 ? preprocess::ElementType::Tet4 : preprocess::ElementType::Hex8;
   if (mesh.type != want) {
     throw InputError("volume_preservation: mesh element type " + std::string(preprocess::element_type_name(mesh.type)) +
@@ -206,6 +228,7 @@ VolumeKernel<K> make_volume_kernel(const preprocess::Mesh& mesh, const AxisFrame
   VolumeKernel<K> kern;
   kern.distribution = params.distribution;
   kern.p = params.p;
+  kern.form = params.form;
   kern.ratio = params.ratio;
   auto push = [&](std::size_t e, double v0) {
     if (!std::isfinite(v0) || !(v0 > 0.0)) {

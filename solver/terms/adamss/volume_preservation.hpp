@@ -3,7 +3,10 @@
 // eqs. 2.82-2.106): a penalty energy on the change of element volume.
 //
 // Per element k (tetrahedron K = 4 or hexahedron K = 8) with reference volume V0:
-//   W_v = p (J - r(t))^2          energy density (Pa = J/m^3), eqs. 2.86 / 2.101
+//   W_v = p (J - r(t))^2          energy density (Pa = J/m^3), eqs. 2.86 / 2.101 (the default
+//                                 form; `form` log or simo_taylor use U(J; r) of
+//                                 solver/terms/fem/volume_penalty.hpp, same bulk modulus 2 p,
+//                                 f_a = -V0 U'(J) dJ/dx_a, df/dx = -V0 [U'' dJ dJ^T + U' H])
 //   energy_k = V0 W_v             (J)
 //   r(t) = V_target / V0          eq. 2.102, a TimeCourse (dimensionless); r = 1 is
 //                                 volume preservation (eq. 2.86), r != 1 volume control
@@ -71,6 +74,7 @@
 #include "solver/geometry/axis_frame.hpp"
 #include "solver/core/stencil_term.hpp"
 #include "solver/core/time_course.hpp"
+#include "solver/terms/fem/volume_penalty.hpp"
 
 namespace adamss::solver {
 
@@ -82,8 +86,13 @@ enum class VolumeDistribution {
 /// "anisotropic" / "isotropic".
 [[nodiscard]] const char* volume_distribution_name(VolumeDistribution d);
 
+/// InputError (prefixed `who`) unless the target-ratio course r(t) is finite and > 0 at the values
+/// that define it (a twitch course, which returns to 0, is refused).
+void check_volume_ratio(const TimeCourse& r, const std::string& who);
+
 struct VolumeParams {
   double p = 0.0;                                ///< penalty coefficient (Pa), > 0
+  VolumePenaltyForm form = VolumePenaltyForm::Quadratic;  ///< U(J; r), solver/terms/fem/volume_penalty.hpp
   TimeCourse ratio = TimeCourse::constant(1.0);  ///< r(t) = V_target / V0 (dimensionless), > 0
   VolumeDistribution distribution = VolumeDistribution::Anisotropic;
 };
@@ -95,6 +104,10 @@ template <int K>
 /// dV/dx (3 x K, m^2): column a = dV/dx_a.
 template <int K>
 [[nodiscard]] Mat3N<K> element_volume_gradient(const Mat3N<K>& x);
+/// V (m^3), dV/dx (3 x K, m^2) and the Hessian d^2V/dx_a dx_b (3K x 3K, m; block (a, b) at
+/// (3a, 3b); -[F (gamma_a x gamma_b)]_x summed over the quadrature, derivation above).
+template <int K>
+void element_volume_derivatives(const Mat3N<K>& x, double& v, Mat3N<K>& dv, MatJ<K>& hess);
 
 template <int K>
 struct VolumeKernel {
@@ -104,6 +117,7 @@ struct VolumeKernel {
 
   VolumeDistribution distribution = VolumeDistribution::Anisotropic;
   double p = 0.0;                                     ///< Pa
+  VolumePenaltyForm form = VolumePenaltyForm::Quadratic;  ///< U(J; r); quadratic is eq. 2.86 / 2.101
   TimeCourse ratio = TimeCourse::constant(1.0);       ///< r(t)
   std::vector<std::array<Index, K>> elements;         ///< node indices of each element
   std::vector<std::size_t> mesh_element;              ///< mesh element index of each item (messages)

@@ -31,7 +31,7 @@ void from_vec(Vec v, Eigen::Matrix3Xd& m) {
 }  // namespace
 
 struct JacobianSolver::Petsc {
-  explicit Petsc(const preprocess::Mesh& mesh) : a(mesh) {}
+  Petsc(const preprocess::Mesh& mesh, const std::vector<std::unique_ptr<ForceTerm>>& terms) : a(mesh, &terms) {}
   ~Petsc() {
     if (ksp != nullptr) KSPDestroy(&ksp);
     if (u != nullptr) VecDestroy(&u);
@@ -83,7 +83,7 @@ bool JacobianSolver::Petsc::solve(int& its) {
 }
 
 JacobianSolver::JacobianSolver(const Model& model, const std::string& petsc_options, double ksp_rtol, int ksp_max_it)
-    : petsc_(std::make_unique<Petsc>(*model.mesh)) {
+    : petsc_(std::make_unique<Petsc>(*model.mesh, model.terms)) {
   ensure_petsc(petsc_options);
   petsc_->fixed = constrained_dofs(model.constraints.mask());
   fixed_.assign(petsc_->fixed.begin(), petsc_->fixed.end());

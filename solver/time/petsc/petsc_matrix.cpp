@@ -21,7 +21,8 @@ class BlockMatrix::Sink final : public JacobianSink {
   Mat a_;
 };
 
-BlockMatrix::BlockMatrix(const preprocess::Mesh& mesh) : n_(static_cast<PetscInt>(mesh.node_count())) {
+BlockMatrix::BlockMatrix(const preprocess::Mesh& mesh, const std::vector<std::unique_ptr<ForceTerm>>* terms)
+    : n_(static_cast<PetscInt>(mesh.node_count())) {
   ensure_petsc();
   // Node adjacency from the elements (sorted, unique), for the block preallocation.
   const int k = preprocess::nodes_per_element(mesh.type);
@@ -30,6 +31,9 @@ BlockMatrix::BlockMatrix(const preprocess::Mesh& mesh) : n_(static_cast<PetscInt
     const Index* en = mesh.element(e);
     for (int a = 0; a < k; ++a)
       for (int b = 0; b < k; ++b) adj[static_cast<std::size_t>(en[a])].push_back(en[b]);
+  }
+  if (terms != nullptr) {
+    for (const auto& t : *terms) t->add_couplings(adj);
   }
   std::vector<PetscInt> nnz(static_cast<std::size_t>(n_));
   for (PetscInt i = 0; i < n_; ++i) {
@@ -94,9 +98,10 @@ void BlockMatrix::eliminate(const std::vector<PetscInt>& dofs, Vec x, Vec b) {
 
 std::vector<PetscInt> constrained_dofs(const std::vector<std::uint8_t>& mask) {
   std::vector<PetscInt> out;
-  for (std::size_t i = 0; i < mask.size(); ++i)
+  for (std::size_t i = 0; i < mask.size(); ++i) {
     for (int c = 0; c < 3; ++c)
       if ((mask[i] >> c) & 1U) out.push_back(static_cast<PetscInt>(3 * i + static_cast<std::size_t>(c)));
+  }
   return out;
 }
 

@@ -22,7 +22,9 @@ namespace adamss::solver {
 
 class BlockMatrix {
  public:
-  explicit BlockMatrix(const preprocess::Mesh& mesh);
+  /// The pattern: pairs of particles that share an element of `mesh`, plus the pairs each of
+  /// `terms` adds through ForceTerm::add_couplings (when given).
+  explicit BlockMatrix(const preprocess::Mesh& mesh, const std::vector<std::unique_ptr<ForceTerm>>* terms = nullptr);
   ~BlockMatrix();
   BlockMatrix(const BlockMatrix&) = delete;
   BlockMatrix& operator=(const BlockMatrix&) = delete;

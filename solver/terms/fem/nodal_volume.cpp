@@ -1,0 +1,222 @@
+#include "solver/terms/fem/nodal_volume.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+
+#include "common/error.hpp"
+#include "solver/core/element_subset.hpp"
+#include "solver/core/stencil_term.hpp"
+#include "solver/geometry/axis_frame.hpp"
+#include "solver/terms/adamss/volume_preservation.hpp"
+
+namespace adamss::solver {
+namespace {
+
+constexpr const char* kTerm = "volume_preservation (nodal)";
+
+/// The term for K-node elements (4: tetrahedron, 8: hexahedron); see the header for the math.
+/// Nodes are numbered locally (0 .. nodes_.size() - 1) over the selected elements only.
+template <int K>
+class NodalVolumeTerm final : public ForceTerm {
+ public:
+  NodalVolumeTerm(const preprocess::Mesh& mesh, const NodalVolumeParams& params,
+                  const std::vector<std::size_t>& selected);
+
+  [[nodiscard]] std::string name() const override { return "volume_preservation"; }
+  [[nodiscard]] bool has_energy() const override { return true; }
+  [[nodiscard]] bool has_jacobian() const override { return true; }
+  [[nodiscard]] std::string describe() const override {
+    return "nodal, " + std::to_string(nodes_.size()) + " nodes on " + std::to_string(elements_.size()) +
+           " elements, U " + volume_penalty_name(penalty_.form);
+  }
+
+  [[nodiscard]] double energy(const StateView& s) const override;
+  void add_forces(const StateView& s, Eigen::Matrix3Xd& f) const override;
+  void add_jacobian(const StateView& s, JacobianSink& sink) const override;
+  void add_couplings(std::vector<std::vector<Index>>& adj) const override;
+
+ private:
+  /// Current element volumes ve (m^3) and nodal volume ratios J_n.
+  void ratios(const Eigen::Matrix3Xd& x, std::vector<double>& ve, std::vector<double>& jn) const;
+  /// Node patches (elements around each node and their nodes' places in the patch).
+  void build_patches();
+
+  VolumePenalty penalty_;
+  TimeCourse ratio_;
+  std::vector<std::array<Index, K>> elements_;  ///< global node indices
+  std::vector<std::array<int, K>> local_;       ///< local node indices of each element
+  std::vector<Index> nodes_;                    ///< global index of each local node
+  std::vector<double> volume0_;                 ///< V0_n (m^3)
+  // Node patches, CSR over local nodes: the elements around node n are
+  // around_[around_start_[n] .. around_start_[n + 1]); the patch nodes (sorted local indices)
+  // patch_[patch_start_[n] .. patch_start_[n + 1]); place_[j][a] is where node a of element
+  // around_[j] sits in node n's patch.
+  std::vector<std::size_t> around_start_, around_, patch_start_;
+  std::vector<int> patch_;
+  std::vector<std::array<int, K>> place_;
+};
+
+template <int K>
+NodalVolumeTerm<K>::NodalVolumeTerm(const preprocess::Mesh& mesh, const NodalVolumeParams& params,
+                                    const std::vector<std::size_t>& selected)
+    : penalty_(params.penalty), ratio_(params.ratio) {
+  std::vector<int> local_of(mesh.node_count(), -1);
+  for (const std::size_t e : selected) {
+    std::array<Index, K> g{};
+    std::array<int, K> l{};
+    const Index* n = mesh.element(e);
+    for (int a = 0; a < K; ++a) {
+      const auto ua = static_cast<std::size_t>(a);
+      g[ua] = n[a];
+      int& loc = local_of[static_cast<std::size_t>(n[a])];
+      if (loc < 0) {
+        loc = static_cast<int>(nodes_.size());
+        nodes_.push_back(n[a]);
+        volume0_.push_back(0.0);
+      }
+      l[ua] = loc;
+    }
+    const double v0 = element_volume_of<K>(element_positions<K>(mesh.nodes, n));
+    if (!std::isfinite(v0) || !(v0 > 0.0)) {
+      throw InputError(std::string(kTerm) + ": element " + std::to_string(e) + " has reference volume " +
+                       std::to_string(v0) + " m^3 (must be > 0: an inverted or flat element)");
+    }
+    for (const int loc : l) volume0_[static_cast<std::size_t>(loc)] += v0 / K;
+    elements_.push_back(g);
+    local_.push_back(l);
+  }
+  build_patches();
+}
+
+template <int K>
+void NodalVolumeTerm<K>::build_patches() {
+  const std::size_t nn = nodes_.size();
+  around_start_.assign(nn + 1, 0);
+  for (const auto& l : local_)
+    for (const int n : l) ++around_start_[static_cast<std::size_t>(n) + 1];
+  for (std::size_t n = 0; n < nn; ++n) around_start_[n + 1] += around_start_[n];
+  around_.resize(around_start_[nn]);
+  std::vector<std::size_t> fill(around_start_.begin(), around_start_.end() - 1);
+  for (std::size_t e = 0; e < local_.size(); ++e)
+    for (const int n : local_[e]) around_[fill[static_cast<std::size_t>(n)]++] = e;
+  patch_start_.assign(nn + 1, 0);
+  place_.resize(around_.size());
+  std::vector<int> members;
+  for (std::size_t n = 0; n < nn; ++n) {
+    members.clear();
+    for (std::size_t j = around_start_[n]; j < around_start_[n + 1]; ++j)
+      members.insert(members.end(), local_[around_[j]].begin(), local_[around_[j]].end());
+    std::sort(members.begin(), members.end());
+    members.erase(std::unique(members.begin(), members.end()), members.end());
+    for (std::size_t j = around_start_[n]; j < around_start_[n + 1]; ++j) {
+      for (int a = 0; a < K; ++a) {
+        const int m = local_[around_[j]][static_cast<std::size_t>(a)];
+        place_[j][static_cast<std::size_t>(a)] =
+            static_cast<int>(std::lower_bound(members.begin(), members.end(), m) - members.begin());
+      }
+    }
+    patch_.insert(patch_.end(), members.begin(), members.end());
+    patch_start_[n + 1] = patch_.size();
+  }
+}
+
+template <int K>
+void NodalVolumeTerm<K>::ratios(const Eigen::Matrix3Xd& x, std::vector<double>& ve, std::vector<double>& jn) const {
+  ve.resize(elements_.size());
+  jn.assign(nodes_.size(), 0.0);
+  for (std::size_t e = 0; e < elements_.size(); ++e) {
+    ve[e] = element_volume_of<K>(element_positions<K>(x, elements_[e].data()));
+    for (const int n : local_[e]) jn[static_cast<std::size_t>(n)] += ve[e] / K;
+  }
+  for (std::size_t n = 0; n < nodes_.size(); ++n) jn[n] /= volume0_[n];
+}
+
+template <int K>
+double NodalVolumeTerm<K>::energy(const StateView& s) const {
+  std::vector<double> ve, jn;
+  ratios(s.x, ve, jn);
+  const double r = ratio_(s.t);
+  double e = 0.0;
+  for (std::size_t n = 0; n < nodes_.size(); ++n) e += volume0_[n] * penalty_.value(jn[n], r);
+  return e;
+}
+
+template <int K>
+void NodalVolumeTerm<K>::add_forces(const StateView& s, Eigen::Matrix3Xd& f) const {
+  std::vector<double> ve, jn;
+  ratios(s.x, ve, jn);
+  const double r = ratio_(s.t);
+  for (double& j : jn) j = penalty_.slope(j, r);  // now U'_n
+  for (std::size_t e = 0; e < elements_.size(); ++e) {
+    double c = 0.0;  // c_e = sum_{n in e} U'_n / K
+    for (const int n : local_[e]) c += jn[static_cast<std::size_t>(n)] / K;
+    const Mat3N<K> dv = element_volume_gradient<K>(element_positions<K>(s.x, elements_[e].data()));
+    for (int a = 0; a < K; ++a) f.col(elements_[e][static_cast<std::size_t>(a)]) -= c * dv.col(a);
+  }
+}
+
+template <int K>
+void NodalVolumeTerm<K>::add_jacobian(const StateView& s, JacobianSink& sink) const {
+  std::vector<double> ve, jn;
+  ratios(s.x, ve, jn);
+  const double r = ratio_(s.t);
+  const Eigen::Matrix3d zero = Eigen::Matrix3d::Zero();
+  // -sum_e c_e H_e on the element stencils; keep dV_e/dx for the patch sums.
+  std::vector<Mat3N<K>> dv(elements_.size());
+  MatJ<K> hess;
+  for (std::size_t e = 0; e < elements_.size(); ++e) {
+    double c = 0.0, v = 0.0;
+    for (const int n : local_[e]) c += penalty_.slope(jn[static_cast<std::size_t>(n)], r) / K;
+    element_volume_derivatives<K>(element_positions<K>(s.x, elements_[e].data()), v, dv[e], hess);
+    for (int a = 0; a < K; ++a)
+      for (int b = 0; b < K; ++b) {
+        if (a == b) continue;  // H_aa = 0
+        sink.add_block(elements_[e][static_cast<std::size_t>(a)], elements_[e][static_cast<std::size_t>(b)],
+                       -c * hess.template block<3, 3>(3 * a, 3 * b), zero);
+      }
+  }
+  // -(U''_n / V0_n) g_n g_n^T on each node's patch.
+  std::vector<Eigen::Vector3d> g;
+  for (std::size_t n = 0; n < nodes_.size(); ++n) {
+    const std::size_t p0 = patch_start_[n], m = patch_start_[n + 1] - p0;
+    g.assign(m, Eigen::Vector3d::Zero());
+    for (std::size_t j = around_start_[n]; j < around_start_[n + 1]; ++j)
+      for (int a = 0; a < K; ++a) g[static_cast<std::size_t>(place_[j][static_cast<std::size_t>(a)])] += dv[around_[j]].col(a) / K;
+    const double w = penalty_.curvature(jn[n], r) / volume0_[n];
+    for (std::size_t p = 0; p < m; ++p)
+      for (std::size_t q = 0; q < m; ++q) {
+        sink.add_block(nodes_[static_cast<std::size_t>(patch_[p0 + p])], nodes_[static_cast<std::size_t>(patch_[p0 + q])],
+                       -w * g[p] * g[q].transpose(), zero);
+      }
+  }
+}
+
+template <int K>
+void NodalVolumeTerm<K>::add_couplings(std::vector<std::vector<Index>>& adj) const {
+  for (std::size_t n = 0; n < nodes_.size(); ++n) {
+    for (std::size_t p = patch_start_[n]; p < patch_start_[n + 1]; ++p) {
+      auto& row = adj[static_cast<std::size_t>(nodes_[static_cast<std::size_t>(patch_[p])])];
+      for (std::size_t q = patch_start_[n]; q < patch_start_[n + 1]; ++q)
+        row.push_back(nodes_[static_cast<std::size_t>(patch_[q])]);
+    }
+  }
+}
+
+}  // namespace
+
+std::unique_ptr<ForceTerm> make_nodal_volume_term(const preprocess::Mesh& mesh, const NodalVolumeParams& params,
+                                                  const std::vector<std::size_t>* element_subset) {
+  if (!std::isfinite(params.penalty.p) || !(params.penalty.p > 0.0)) {
+    throw InputError(std::string(kTerm) + ": p (volume penalty coefficient, Pa) must be finite and > 0, got " +
+                     std::to_string(params.penalty.p));
+  }
+  check_volume_ratio(params.ratio, kTerm);
+  const std::vector<std::size_t> selected = selected_elements(mesh, element_subset, kTerm);
+  if (selected.empty()) throw InputError(std::string(kTerm) + ": no elements selected");
+  if (mesh.type == preprocess::ElementType::Tet4) return std::make_unique<NodalVolumeTerm<4>>(mesh, params, selected);
+  return std::make_unique<NodalVolumeTerm<8>>(mesh, params, selected);
+}
+
+}  // namespace adamss::solver
