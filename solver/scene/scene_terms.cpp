@@ -9,6 +9,7 @@
 
 #include "common/error.hpp"
 #include "materials/factory.hpp"
+#include "materials/uncoupled.hpp"
 #include "preprocess/fibres/fibre_field.hpp"
 #include "preprocess/mesh/mesh_quality.hpp"
 #include "solver/terms/adamss/active_tension.hpp"
@@ -62,13 +63,20 @@ double law_modulus(const materials::Law& law) {
   return std::max({c(0, 0), c(1, 1), c(2, 2)});
 }
 
+/// law + parameters, wrapped in UncoupledLaw (W(Ebar), no volumetric part) for `uncoupled: true`.
 std::shared_ptr<const materials::Law> scene_law(SceneNode& node) {
   const std::string law_name = node.text("law");
+  const bool uncoupled = node.flag("uncoupled", false);
+  if (uncoupled && law_name.rfind("volumetric_", 0) == 0)
+    throw InputError(node.at("uncoupled") + ": a volumetric law has no isochoric part (its uncoupled form is zero)");
+  std::shared_ptr<const materials::Law> law;
   try {
-    return materials::make_law(law_name, law_parameters(node, "parameters"));
+    law = materials::make_law(law_name, law_parameters(node, "parameters"));
   } catch (const InputError& e) {
     throw InputError(node.path() + ": " + e.what());
   }
+  if (uncoupled) return std::make_shared<materials::UncoupledLaw>(law);
+  return law;
 }
 
 /// quadrature: axis (the thesis's one F per element from the axis frames) or gauss (the law
