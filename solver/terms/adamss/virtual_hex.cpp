@@ -14,7 +14,7 @@ double GradientLawKernel<K>::energy(std::size_t i, const Mat3N<K>& x, const Mat3
 
 template <int K>
 void GradientLawKernel<K>::forces(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& /*v*/, double /*t*/,
-                                 Mat3N<K>& f) const {
+                                  Mat3N<K>& f) const {
   const Eigen::Matrix3d F = deformation_gradient(i, x);
   const Eigen::Matrix3d& B = frame[i];
   const Eigen::Matrix3d S = materials::from_fibre_frame(B, law->stress(fibre_strain(i, F)));
@@ -24,8 +24,8 @@ void GradientLawKernel<K>::forces(std::size_t i, const Mat3N<K>& x, const Mat3N<
 }
 
 template <int K>
-void GradientLawKernel<K>::jacobian(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& /*v*/, double /*t*/, MatJ<K>& dfdx,
-                                   MatJ<K>& /*dfdv*/) const {
+void GradientLawKernel<K>::jacobian(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& /*v*/, double /*t*/,
+                                    MatJ<K>& dfdx, MatJ<K>& /*dfdv*/) const {
   const Eigen::Matrix3d F = deformation_gradient(i, x);
   const Eigen::Matrix3d& B = frame[i];
   const Eigen::Matrix3d Ef = fibre_strain(i, F);
@@ -56,11 +56,11 @@ template struct GradientLawKernel<8>;
 
 template <int K>
 GradientLawKernel<K> make_virtual_hex_kernel(const preprocess::Mesh& mesh, const AxisFrames& frames,
-                                            std::shared_ptr<const materials::Law> law,
-                                            const std::vector<std::size_t>* element_subset) {
+                                             const std::shared_ptr<const materials::Law>& law,
+                                             const std::vector<std::size_t>* element_subset) {
   if (!law) throw InputError("virtual_hexahedron: no constitutive law given");
   GradientLawKernel<K> kern;
-  kern.law = std::move(law);
+  kern.law = law;
   const auto& grads = frames.template nodal_gradient<K>();
   for (const std::size_t k : select_frame_entries("virtual_hexahedron", mesh, frames, K, element_subset)) {
     std::array<Index, K> st{};
@@ -75,11 +75,11 @@ GradientLawKernel<K> make_virtual_hex_kernel(const preprocess::Mesh& mesh, const
 }
 
 template GradientLawKernel<4> make_virtual_hex_kernel<4>(const preprocess::Mesh&, const AxisFrames&,
-                                                        std::shared_ptr<const materials::Law>,
-                                                        const std::vector<std::size_t>*);
+                                                         const std::shared_ptr<const materials::Law>&,
+                                                         const std::vector<std::size_t>*);
 template GradientLawKernel<8> make_virtual_hex_kernel<8>(const preprocess::Mesh&, const AxisFrames&,
-                                                        std::shared_ptr<const materials::Law>,
-                                                        const std::vector<std::size_t>*);
+                                                         const std::shared_ptr<const materials::Law>&,
+                                                         const std::vector<std::size_t>*);
 
 std::unique_ptr<ForceTerm> make_virtual_hex_term(const preprocess::Mesh& mesh, const AxisFrames& frames,
                                                  std::shared_ptr<const materials::Law> law,

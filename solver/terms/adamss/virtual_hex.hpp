@@ -46,8 +46,8 @@
 #include "materials/kinematics.hpp"
 #include "materials/law.hpp"
 #include "preprocess/mesh/mesh.hpp"
-#include "solver/geometry/axis_frame.hpp"
 #include "solver/core/stencil_term.hpp"
+#include "solver/geometry/axis_frame.hpp"
 
 namespace adamss::solver {
 
@@ -92,8 +92,8 @@ extern template struct GradientLawKernel<8>;
 /// for a null law, a type mismatch, or a subset element without a frames entry.
 template <int K>
 [[nodiscard]] GradientLawKernel<K> make_virtual_hex_kernel(const preprocess::Mesh& mesh, const AxisFrames& frames,
-                                                          std::shared_ptr<const materials::Law> law,
-                                                          const std::vector<std::size_t>* element_subset = nullptr);
+                                                           const std::shared_ptr<const materials::Law>& law,
+                                                           const std::vector<std::size_t>* element_subset = nullptr);
 
 /// The term (StencilTerm<GradientLawKernel<K>, K>) with K chosen by the mesh's element
 /// type. A scene with several materials makes one term per material, each with its

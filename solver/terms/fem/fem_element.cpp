@@ -4,10 +4,10 @@
 #include <cmath>
 #include <sstream>
 
-#include "solver/core/element_subset.hpp"
 #include "common/error.hpp"
-#include "solver/geometry/element_rules.hpp"
+#include "solver/core/element_subset.hpp"
 #include "solver/core/stencil_term.hpp"
+#include "solver/geometry/element_rules.hpp"
 
 namespace adamss::solver {
 
@@ -40,14 +40,15 @@ Eigen::Matrix3d element_frame(const preprocess::Mesh& mesh, std::size_t e, const
 }  // namespace
 
 template <int K>
-GradientLawKernel<K> make_gauss_point_kernel(const preprocess::Mesh& mesh, std::shared_ptr<const materials::Law> law,
-                                            const std::vector<std::size_t>* element_subset, const std::string& label) {
+GradientLawKernel<K> make_gauss_point_kernel(const preprocess::Mesh& mesh,
+                                             const std::shared_ptr<const materials::Law>& law,
+                                             const std::vector<std::size_t>* element_subset, const std::string& label) {
   if (!law) throw InputError(label + ": no constitutive law given");
   if (preprocess::nodes_per_element(mesh.type) != K)
     throw InputError(label + ": mesh element type does not match the kernel");
   constexpr int kPoints = K == 8 ? 8 : 1;
   GradientLawKernel<K> kern;
-  kern.law = std::move(law);
+  kern.law = law;
   kern.label = label;
   const std::vector<std::size_t> elements = selected_elements(mesh, element_subset, label);
   kern.elements.reserve(elements.size() * kPoints);
@@ -86,10 +87,12 @@ GradientLawKernel<K> make_gauss_point_kernel(const preprocess::Mesh& mesh, std::
   return kern;
 }
 
-template GradientLawKernel<4> make_gauss_point_kernel<4>(const preprocess::Mesh&, std::shared_ptr<const materials::Law>,
-                                                        const std::vector<std::size_t>*, const std::string&);
-template GradientLawKernel<8> make_gauss_point_kernel<8>(const preprocess::Mesh&, std::shared_ptr<const materials::Law>,
-                                                        const std::vector<std::size_t>*, const std::string&);
+template GradientLawKernel<4> make_gauss_point_kernel<4>(const preprocess::Mesh&,
+                                                         const std::shared_ptr<const materials::Law>&,
+                                                         const std::vector<std::size_t>*, const std::string&);
+template GradientLawKernel<8> make_gauss_point_kernel<8>(const preprocess::Mesh&,
+                                                         const std::shared_ptr<const materials::Law>&,
+                                                         const std::vector<std::size_t>*, const std::string&);
 
 std::unique_ptr<ForceTerm> make_gauss_point_term(const preprocess::Mesh& mesh,
                                                  std::shared_ptr<const materials::Law> law,

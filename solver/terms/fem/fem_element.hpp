@@ -41,9 +41,9 @@ namespace adamss::solver {
 /// det J0 <= 0 (an inverted or flat element, naming it).
 template <int K>
 [[nodiscard]] GradientLawKernel<K> make_gauss_point_kernel(const preprocess::Mesh& mesh,
-                                                          std::shared_ptr<const materials::Law> law,
-                                                          const std::vector<std::size_t>* element_subset,
-                                                          const std::string& label);
+                                                           const std::shared_ptr<const materials::Law>& law,
+                                                           const std::vector<std::size_t>* element_subset,
+                                                           const std::string& label);
 
 /// The term with K chosen by the mesh's element type (same errors).
 [[nodiscard]] std::unique_ptr<ForceTerm> make_gauss_point_term(const preprocess::Mesh& mesh,
