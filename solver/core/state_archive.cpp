@@ -112,7 +112,7 @@ Eigen::Matrix3Xd StateArchive::matrix(const std::string& key, Eigen::Index cols)
 void StateArchive::write_hdf5(const fs::path& file, const std::map<std::string, double>& root_attributes) const {
   const fs::path tmp = file.string() + ".tmp";
   const hid_t f = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  if (f < 0) throw InputError("cannot create " + tmp.string());
+  if (f < 0) throw IoError("cannot create " + tmp.string());
   const hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
   H5Pset_create_intermediate_group(lcpl, 1);
   bool ok = true;
@@ -148,10 +148,16 @@ void StateArchive::write_hdf5(const fs::path& file, const std::map<std::string, 
   }
   H5Pclose(lcpl);
   ok = H5Fclose(f) >= 0 && ok;
-  if (!ok) throw InputError("error while writing " + tmp.string() + " (disk full?)");
   std::error_code ec;
+  if (!ok) {
+    fs::remove(tmp, ec);  // the last good checkpoint stays as it was
+    throw IoError("error while writing " + tmp.string() + " (disk full?)");
+  }
   fs::rename(tmp, file, ec);
-  if (ec) throw InputError("cannot rename " + tmp.string() + " to " + file.string() + ": " + ec.message());
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw IoError("cannot rename " + tmp.string() + " to " + file.string() + ": " + ec.message());
+  }
 }
 
 namespace {
