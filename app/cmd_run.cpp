@@ -1,4 +1,5 @@
 // adamss run SCENE.yaml -o OUT/: load and validate a scene, integrate, write results.
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -8,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
+#include <vector>
 
 #include "app/commands.hpp"
 #include "common/error.hpp"
@@ -32,6 +34,7 @@ struct RunArgs {
   std::size_t stop_after_steps = 0;
   bool check_only = false;
   bool quiet = false;
+  bool resume_modified = false;
 };
 
 nlohmann::json vec(const Eigen::Vector3d& v) {
@@ -185,10 +188,13 @@ solver::RunOutcome run_into(solver::LoadedScene& sc, const RunArgs& a, const fs:
   // the output folder changes.
   std::optional<solver::StateArchive> checkpoint;
   std::optional<solver::StateArchive> writer_state;
+  std::vector<std::string> changes;  // --resume-modified: what differs from the checkpoint's run
   if (!a.resume.empty()) {
     checkpoint = solver::StateArchive::read_hdf5(a.resume);
     solver::check_checkpoint(sc.model, sc.run, *checkpoint);
     writer_state = checkpoint->child("writer");
+    changes = solver::checkpoint_changes(sc.run, *checkpoint);
+    for (const std::string& c : changes) std::cerr << "adamss: warning: --resume-modified: " << c << "\n";
   }
   solver::ResultsWriter writer(output, sc.model, writer_state ? &*writer_state : nullptr);
   solver::State s = sc.initial;
@@ -198,8 +204,9 @@ solver::RunOutcome run_into(solver::LoadedScene& sc, const RunArgs& a, const fs:
   try {
     const solver::RunOutcome out =
         solver::run_simulation(sc.model, s, sc.run, writer, checkpoint ? &*checkpoint : nullptr);
-    write_json(writer.dir() / "summary.json",
-               summary_json(sc, out, solver::summarize_run(sc.model, out, initial, writer)));
+    nlohmann::json j = summary_json(sc, out, solver::summarize_run(sc.model, out, initial, writer));
+    if (!changes.empty()) j["resume_modified"] = changes;
+    write_json(writer.dir() / "summary.json", j);
     if (!a.quiet) {
       std::cout << out.status << " (" << out.reason << "): " << out.steps << " steps to t = " << out.t << " s in "
                 << out.wall_seconds << " s wall, " << writer.frame_count() << " frames; results in " << output.string()
@@ -212,6 +219,19 @@ solver::RunOutcome run_into(solver::LoadedScene& sc, const RunArgs& a, const fs:
   }
 }
 
+/// The content hash of the mesh file the scene names; 0 for a mesh the scene builds (a recipe's
+/// file in the cache, or no file): the scene's text covers those, and a rebuilt cache file need
+/// not be byte-identical (HDF5 object times).
+std::uint64_t mesh_file_hash(const solver::LoadedScene& sc, const RunArgs& a) {
+  std::error_code ec;
+  if (!fs::is_regular_file(sc.mesh_source, ec)) return 0;
+  const fs::path cache = fs::weakly_canonical(a.cache.empty() ? solver::default_cache_dir() : fs::path(a.cache), ec);
+  const fs::path mesh = fs::weakly_canonical(sc.mesh_source, ec);
+  const auto [c, m] = std::mismatch(cache.begin(), cache.end(), mesh.begin(), mesh.end());
+  if (c == cache.end()) return 0;  // inside the cache
+  return solver::content_hash(mesh);
+}
+
 int run_scene(const RunArgs& a) {
   solver::SceneOptions so;
   so.cache_dir = a.cache;
@@ -221,6 +241,10 @@ int run_scene(const RunArgs& a) {
   if (!a.quiet || a.check_only) print_model(sc, t_load);
   if (!a.petsc.empty()) sc.run.implicit.petsc_options += " " + a.petsc;
   if (a.check_only) return 0;
+  if (a.resume_modified && a.resume.empty()) throw InputError("--resume-modified: only with --resume FILE");
+  sc.run.scene_hash = solver::content_hash(sc.file);
+  sc.run.mesh_hash = mesh_file_hash(sc, a);
+  sc.run.resume_modified = a.resume_modified;
   const fs::path output = output_folder(a);
   const solver::OutputLock lock(output);  // one run per folder; released when this run ends
   const solver::RunOutcome out = run_into(sc, a, output);
@@ -251,6 +275,9 @@ void add_run_command(CLI::App& app) {
                   "Continue an interrupted run from its checkpoint (OUT/checkpoint.h5, written on SIGINT/SIGTERM "
                   "and every output.checkpoint_interval): the result equals the uninterrupted run bit for bit. "
                   "The results continue in -o (default: the checkpoint's folder)");
+  sub->add_flag("--resume-modified", args->resume_modified,
+                "With --resume: continue although the scene or its mesh file changed since the checkpoint "
+                "(refused otherwise); summary.json lists what changed under resume_modified");
   sub->add_option("--stop-after-steps", args->stop_after_steps,
                   "Stop as on SIGINT (checkpoint, status interrupted) once this many steps are done (tests)")
       ->group("");
