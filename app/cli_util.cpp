@@ -1,5 +1,8 @@
+#include <unistd.h>
+
 #include <cctype>
 #include <filesystem>
+#include <fstream>
 #include <system_error>
 
 #include "app/commands.hpp"
@@ -22,6 +25,23 @@ void require_parent_dir(const std::string& path, const std::string& what) {
   if (!std::filesystem::is_directory(dir)) {
     throw InputError(what + ": directory '" + dir.string() + "' for '" + path + "' does not exist");
   }
+}
+
+void require_writable_folder(const std::string& dir, const std::string& option) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw InputError(option + ": cannot create the output folder '" + dir + "': " + ec.message());
+  const fs::path probe = fs::path(dir) / (".adamss-write-test-" + std::to_string(getpid()));
+  bool ok = false;
+  {
+    std::ofstream out(probe);
+    out << "adamss\n";
+    out.close();
+    ok = static_cast<bool>(out);
+  }
+  fs::remove(probe, ec);
+  if (!ok) throw InputError(option + ": cannot write into the output folder '" + dir + "' (read-only or full?)");
 }
 
 bool same_file(const std::string& a, const std::string& b) {

@@ -21,6 +21,11 @@ double parse_angle_deg_default(const std::string& text, const std::string& what)
 /// Throws InputError if the directory that should hold `path` does not exist.
 void require_parent_dir(const std::string& path, const std::string& what);
 
+/// Creates the folder `dir` if needed and checks that a file can be written into it (a probe file,
+/// written, closed and removed), so that a command fails before its work rather than after it.
+/// InputError naming `option`, the folder and the reason.
+void require_writable_folder(const std::string& dir, const std::string& option);
+
 /// A file named on the command line: the option (or positional argument) that named it and the path.
 struct NamedFile {
   std::string option;

@@ -1,12 +1,15 @@
 // Issue 24: an output path equal to an input (or to another output) is refused before anything
 // is written (app/cli_util.cpp, require_distinct_files), with exit status 2 and a message naming
-// both options.
+// both options; `verify -o` checks its folder before it runs a case (require_writable_folder).
 #include <gtest/gtest.h>
+#include <sys/mount.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "cli_runner.hpp"
 
@@ -76,4 +79,24 @@ TEST(OutputPaths, PhantomRefusesThreeOutputsInOneFile) {
   // Distinct names still work.
   EXPECT_EQ(run_adamss("phantom lv --voxel-size 2mm -o " + x + " --fiber-out " + (dir / "f.nii.gz").string()).exit_code,
             0);
+}
+
+// `adamss verify -o` checks its output folder before running any case: a folder that cannot be
+// created (its parent is a file) or written (a read-only mount, where the machine allows one)
+// is an error naming -o, exit 2, and no case has run.
+TEST(OutputPaths, VerifyChecksItsOutputFolderFirst) {
+  const fs::path dir = scratch_dir("outpaths_verify");
+  std::ofstream(dir / "a_file") << "not a folder";
+  std::vector<fs::path> folders{dir / "a_file" / "out"};
+  const fs::path ro = dir / "ro";
+  fs::create_directories(ro);
+  const bool mounted = geteuid() == 0 && mount("tmpfs", ro.c_str(), "tmpfs", MS_RDONLY, "size=64k") == 0;
+  if (mounted) folders.push_back(ro);
+  for (const fs::path& out : folders) {
+    const auto r = run_adamss("verify --case uniaxial-voxel-tet6 -o " + out.string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_TRUE(mentions(r.output, "-o: cannot") && mentions(r.output, out.string())) << r.output;
+    EXPECT_FALSE(mentions(r.output, "[ uniaxial")) << "a case ran before the folder was checked:\n" << r.output;
+  }
+  if (mounted) umount(ro.c_str());
 }
