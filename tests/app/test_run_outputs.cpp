@@ -145,6 +145,23 @@ TEST(RunOutputs, AFailedWriteIsAnIoErrorRecordedInTheSummary) {
   EXPECT_NE(j["reason"].get<std::string>().find("series.pvd.tmp"), std::string::npos) << j.dump();
 }
 
+// A checkpoint that cannot be written (checkpoint.h5.tmp is a folder): exit 4 with one line, not
+// HDF5's diagnostic stack; the summary says failed.
+TEST(RunOutputs, AFailedCheckpointIsAnIoErrorOfOneLine) {
+  const fs::path dir = scratch_dir("runout_checkpoint_fails");
+  const fs::path scene = write_scene(dir, slab_scene("{type: symplectic_euler, dt: 5 us}", "1 ms"));
+  const fs::path out = dir / "out";
+  fs::create_directories(out / "checkpoint.h5.tmp");
+  const auto r =
+      run_adamss("run " + scene.string() + " -o " + out.string() + cache_arg(dir) + " -q --stop-after-steps 5");
+  EXPECT_EQ(r.exit_code, 4) << r.output;
+  EXPECT_NE(r.output.find("adamss: I/O error: "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("checkpoint.h5.tmp"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("HDF5-DIAG"), std::string::npos) << r.output;
+  EXPECT_EQ(line_count(r.output), 1u) << r.output;
+  EXPECT_EQ(read_summary(out)["status"], "failed");
+}
+
 // Disk full (a small tmpfs; skipped where mounting is not allowed): exit 4 with a one-line I/O
 // error, never "completed", and no .tmp file left behind.
 TEST(RunOutputs, DiskFullIsAnIoError) {
