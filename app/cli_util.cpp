@@ -59,14 +59,16 @@ void require_distinct_files(const std::vector<NamedFile>& inputs, const std::vec
     const NamedFile& out = outputs[i];
     if (out.path.empty()) continue;
     for (const NamedFile& in : inputs) {
-      if (!in.path.empty() && same_file(out.path, in.path))
+      if (!in.path.empty() && same_file(out.path, in.path)) {
         throw InputError(out.option + " '" + out.path + "' is the input " + in.option + " '" + in.path +
                          "': refusing to overwrite an input; choose another output name");
+      }
     }
     for (std::size_t j = 0; j < i; ++j) {
-      if (!outputs[j].path.empty() && same_file(out.path, outputs[j].path))
+      if (!outputs[j].path.empty() && same_file(out.path, outputs[j].path)) {
         throw InputError(outputs[j].option + " '" + outputs[j].path + "' and " + out.option + " '" + out.path +
                          "' name the same file: each output needs its own name");
+      }
     }
   }
 }

@@ -202,8 +202,7 @@ solver::RunOutcome run_into(solver::LoadedScene& sc, const RunArgs& a, const fs:
   sc.run.progress = !a.quiet;
   sc.run.stop_after_steps = a.stop_after_steps;
   try {
-    const solver::RunOutcome out =
-        solver::run_simulation(sc.model, s, sc.run, writer, checkpoint ? &*checkpoint : nullptr);
+    solver::RunOutcome out = solver::run_simulation(sc.model, s, sc.run, writer, checkpoint ? &*checkpoint : nullptr);
     nlohmann::json j = summary_json(sc, out, solver::summarize_run(sc.model, out, initial, writer));
     if (!changes.empty()) j["resume_modified"] = changes;
     write_json(writer.dir() / "summary.json", j);

@@ -84,11 +84,12 @@ void check_checkpoint(Model& model, const RunSettings& set, const StateArchive& 
   // checkpoint (a parameter, a load, dt) is refused here.
   if (!set.resume_modified) {
     const std::vector<std::string> changes = checkpoint_changes(set, a);
-    if (!changes.empty())
+    if (!changes.empty()) {
       throw InputError("cannot resume from " + src + ": " + changes.front() +
                        (changes.size() > 1 ? "; " + changes[1] : std::string()) +
                        ". Resume with the scene and mesh it was written with, or give --resume-modified to continue "
                        "with the changed ones");
+    }
   }
 }
 

@@ -40,9 +40,10 @@ OutputLock::OutputLock(const fs::path& dir) {
     const std::string pid = holder_pid(fd_);
     close(fd_);
     fd_ = -1;
-    if (err == EWOULDBLOCK)
+    if (err == EWOULDBLOCK) {
       throw InputError("the output folder " + dir.string() + " is in use by another adamss run (PID " + pid +
                        " holds " + file.string() + "); wait for it to end or choose another -o");
+    }
     throw IoError("cannot lock " + file.string() + ": " + std::strerror(err));
   }
   const std::string pid = std::to_string(getpid()) + "\n";

@@ -197,9 +197,10 @@ void ResultsWriter::archive_previous() {
   if (ec) throw IoError("cannot make " + previous.string() + " for the earlier run's results: " + ec.message());
   for (const std::string& name : present) {
     fs::rename(dir_ / name, previous / name, ec);
-    if (ec)
+    if (ec) {
       throw IoError("cannot move the earlier run's " + (dir_ / name).string() + " to " + previous.string() + ": " +
                     ec.message());
+    }
   }
 }
 

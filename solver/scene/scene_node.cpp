@@ -27,9 +27,10 @@ std::string scalar_text(const YAML::Node& n, const std::string& path, const std:
 constexpr std::size_t kMaxDuplicateCheckNodes = 1000000;
 
 void check_duplicates_below(const YAML::Node& n, const std::string& path, std::size_t& visited) {
-  if (++visited > kMaxDuplicateCheckNodes)
+  if (++visited > kMaxDuplicateCheckNodes) {
     throw InputError("more than " + std::to_string(kMaxDuplicateCheckNodes) +
                      " YAML nodes (counting every use of an alias): not a scene");
+  }
   if (n.IsSequence()) {
     for (std::size_t i = 0; i < n.size(); ++i)
       check_duplicates_below(n[i], path + "[" + std::to_string(i) + "]", visited);
@@ -42,9 +43,10 @@ void check_duplicates_below(const YAML::Node& n, const std::string& path, std::s
     const std::string at = path.empty() ? key : path + "." + key;
     if (kv.first.IsScalar()) {
       const auto [it, inserted] = lines.emplace(key, kv.first.Mark().line);
-      if (!inserted)
+      if (!inserted) {
         throw InputError(at + ": duplicate key '" + key + "' on line " + std::to_string(it->second + 1) + " and line " +
                          std::to_string(kv.first.Mark().line + 1) + " (keep one)");
+      }
     }
     check_duplicates_below(kv.second, at, visited);
   }
