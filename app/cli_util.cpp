@@ -1,5 +1,9 @@
+#include <unistd.h>
+
 #include <cctype>
 #include <filesystem>
+#include <fstream>
+#include <system_error>
 
 #include "app/commands.hpp"
 #include "common/error.hpp"
@@ -20,6 +24,52 @@ void require_parent_dir(const std::string& path, const std::string& what) {
   const std::filesystem::path dir = p.has_parent_path() ? p.parent_path() : std::filesystem::path(".");
   if (!std::filesystem::is_directory(dir)) {
     throw InputError(what + ": directory '" + dir.string() + "' for '" + path + "' does not exist");
+  }
+}
+
+void require_writable_folder(const std::string& dir, const std::string& option) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw InputError(option + ": cannot create the output folder '" + dir + "': " + ec.message());
+  const fs::path probe = fs::path(dir) / (".adamss-write-test-" + std::to_string(getpid()));
+  bool ok = false;
+  {
+    std::ofstream out(probe);
+    out << "adamss\n";
+    out.close();
+    ok = static_cast<bool>(out);
+  }
+  fs::remove(probe, ec);
+  if (!ok) throw InputError(option + ": cannot write into the output folder '" + dir + "' (read-only or full?)");
+}
+
+bool same_file(const std::string& a, const std::string& b) {
+  namespace fs = std::filesystem;
+  std::error_code ec_a, ec_b;
+  const fs::path ca = fs::weakly_canonical(fs::absolute(a), ec_a);
+  const fs::path cb = fs::weakly_canonical(fs::absolute(b), ec_b);
+  if (!ec_a && !ec_b && ca == cb) return true;
+  std::error_code ec;
+  return fs::exists(a, ec) && fs::exists(b, ec) && fs::equivalent(a, b, ec) && !ec;
+}
+
+void require_distinct_files(const std::vector<NamedFile>& inputs, const std::vector<NamedFile>& outputs) {
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    const NamedFile& out = outputs[i];
+    if (out.path.empty()) continue;
+    for (const NamedFile& in : inputs) {
+      if (!in.path.empty() && same_file(out.path, in.path)) {
+        throw InputError(out.option + " '" + out.path + "' is the input " + in.option + " '" + in.path +
+                         "': refusing to overwrite an input; choose another output name");
+      }
+    }
+    for (std::size_t j = 0; j < i; ++j) {
+      if (!outputs[j].path.empty() && same_file(out.path, outputs[j].path)) {
+        throw InputError(outputs[j].option + " '" + outputs[j].path + "' and " + out.option + " '" + out.path +
+                         "' name the same file: each output needs its own name");
+      }
+    }
   }
 }
 

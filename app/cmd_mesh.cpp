@@ -202,6 +202,16 @@ MeshOutputs output_paths(const MeshArgs& a) {
   return {a.output, vtu};
 }
 
+/// Refuses an output that would overwrite an input image or the other output (cli_util).
+void check_outputs_against_inputs(const MeshArgs& a, const preprocess::MeshRequest& req, const MeshOutputs& out) {
+  std::vector<NamedFile> inputs{{"IMAGE", a.image}};
+  if (a.fiber != "rule") inputs.push_back({"--fiber", a.fiber});
+  inputs.push_back({"--sheet", a.sheet});
+  for (const preprocess::CellFieldSpec& f : req.cell_fields) inputs.push_back({"--cell-field " + f.name, f.file});
+  const std::string vtu_option = a.vtu.empty() ? "--vtu (default: the -o name with .vtu)" : "--vtu";
+  require_distinct_files(inputs, {{"-o", out.h5}, {vtu_option, out.vtu}});
+}
+
 /// --cavity, --tag-plane and --cell-field texts into the request (checked before any file is read).
 void add_surface_options(const MeshArgs& a, preprocess::MeshRequest& req) {
   using namespace preprocess;
@@ -301,6 +311,7 @@ void run_mesh(const MeshArgs& a) {
   preprocess::MeshRequest req = request_from_options(a);
   const MeshOutputs out = output_paths(a);
   add_surface_options(a, req);
+  check_outputs_against_inputs(a, req, out);
   if (auto* rule = std::get_if<preprocess::RuleFibres>(&req.fibres)) rule->options = rule_options(a);
   req.on_fibres = print_fibres;
 

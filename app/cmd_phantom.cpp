@@ -103,6 +103,8 @@ void run_phantom(const PhantomArgs& a) {
   require_parent_dir(a.output, "-o");
   if (!a.fiber_out.empty()) require_parent_dir(a.fiber_out, "--fiber-out");
   if (!a.sheet_out.empty()) require_parent_dir(a.sheet_out, "--sheet-out");
+  require_distinct_files(
+      {}, {{"-o", a.output}, {"--fiber-out", a.fiber_out}, {"--sheet-out", a.sheet_out}, {"--scar-out", a.scar_out}});
 
   const Phantom ph = make_phantom(a.kind, opt);
   write_label_image(a.output, ph.image);

@@ -1,4 +1,5 @@
 // adamss run SCENE.yaml -o OUT/: load and validate a scene, integrate, write results.
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -7,10 +8,13 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <sstream>
+#include <vector>
 
 #include "app/commands.hpp"
 #include "common/error.hpp"
 #include "solver/run/checkpoint.hpp"
+#include "solver/run/output_lock.hpp"
 #include "solver/run/results.hpp"
 #include "solver/run/run.hpp"
 #include "solver/run/summary.hpp"
@@ -30,6 +34,7 @@ struct RunArgs {
   std::size_t stop_after_steps = 0;
   bool check_only = false;
   bool quiet = false;
+  bool resume_modified = false;
 };
 
 nlohmann::json vec(const Eigen::Vector3d& v) {
@@ -130,15 +135,101 @@ nlohmann::json summary_json(const solver::LoadedScene& sc, const solver::RunOutc
   return j;
 }
 
-/// Writes `j` to `file` via `file`.tmp renamed over it.
+/// Writes `j` to `file` via `file`.tmp renamed over it (solver::replace_file: IoError on failure).
 void write_json(const fs::path& file, const nlohmann::json& j) {
-  const fs::path tmp = file.string() + ".tmp";
-  {
-    std::ofstream o(tmp);
-    o << std::setw(2) << j << "\n";
-    if (!o) throw InputError("cannot write " + tmp.string());
+  std::ostringstream o;
+  o << std::setw(2) << j << "\n";
+  solver::replace_file(file, {o.str()});
+}
+
+/// After an I/O error during the run: summary.json says "failed" with the reason, if it can still
+/// be written (the disk may be full); the error itself is then reported by main() (exit 4).
+void record_io_failure(const fs::path& dir, const solver::LoadedScene& sc, const std::string& reason) {
+  const nlohmann::json j = {{"status", "failed"},        {"reason", "I/O error: " + reason},
+                            {"scene", sc.file.string()}, {"name", sc.name},
+                            {"mesh", sc.mesh_source},    {"integrator", sc.run.integrator}};
+  try {
+    write_json(dir / "summary.json", j);
+  } catch (const IoError&) {
+    std::cerr << "adamss: warning: summary.json could not be written either\n";
   }
-  fs::rename(tmp, file);
+}
+
+/// The model summary `adamss run` prints before it runs (and `--check` prints alone).
+void print_model(const solver::LoadedScene& sc, double t_load) {
+  const solver::Model& m = sc.model;
+  std::cout << "scene " << sc.name << ": " << m.node_count() << " particles, " << m.mesh->element_count() << " "
+            << preprocess::element_type_name(m.mesh->type) << " elements, mass " << m.mass.sum() << " kg (mesh "
+            << sc.mesh_source << ", loaded in " << std::setprecision(3) << t_load << " s)\n";
+  for (const auto& t : sc.term_summary) std::cout << "  term " << t << "\n";
+  std::cout << "  boundary: " << m.constraints.fixed_dof_count() << " fixed and "
+            << m.constraints.controlled_dof_count() << " controlled coordinates\n"
+            << "  " << sc.run.integrator << ", dt " << sc.run.dt << " s, t_end " << sc.run.t_end << " s";
+  if (sc.critical_dt > 0) std::cout << ", critical step estimate " << sc.critical_dt << " s";
+  std::cout << "\n";
+  for (const auto& w : sc.warnings) std::cerr << "adamss: warning: " << w << "\n";
+}
+
+/// The results folder: -o, else (with --resume) the checkpoint's folder.
+fs::path output_folder(const RunArgs& a) {
+  fs::path output = a.output;
+  if (output.empty() && !a.resume.empty()) {
+    output = fs::path(a.resume).parent_path();
+    if (output.empty()) output = ".";
+  }
+  if (output.empty()) throw InputError("-o/--output is required (the results folder)");
+  return output;
+}
+
+/// Runs the loaded scene into `output` (locked by the caller) and writes summary.json. Nothing
+/// in the folder changes before the run is built (ResultsWriter::open, called by the loop); an
+/// I/O error on the way is recorded in summary.json and rethrown.
+solver::RunOutcome run_into(solver::LoadedScene& sc, const RunArgs& a, const fs::path& output) {
+  // --resume: the whole checkpoint is read (and checked against the scene) before anything in
+  // the output folder changes.
+  std::optional<solver::StateArchive> checkpoint;
+  std::optional<solver::StateArchive> writer_state;
+  std::vector<std::string> changes;  // --resume-modified: what differs from the checkpoint's run
+  if (!a.resume.empty()) {
+    checkpoint = solver::StateArchive::read_hdf5(a.resume);
+    solver::check_checkpoint(sc.model, sc.run, *checkpoint);
+    writer_state = checkpoint->child("writer");
+    changes = solver::checkpoint_changes(sc.run, *checkpoint);
+    for (const std::string& c : changes) std::cerr << "adamss: warning: --resume-modified: " << c << "\n";
+  }
+  solver::ResultsWriter writer(output, sc.model, writer_state ? &*writer_state : nullptr);
+  solver::State s = sc.initial;
+  const solver::State initial = s;
+  sc.run.progress = !a.quiet;
+  sc.run.stop_after_steps = a.stop_after_steps;
+  try {
+    solver::RunOutcome out = solver::run_simulation(sc.model, s, sc.run, writer, checkpoint ? &*checkpoint : nullptr);
+    nlohmann::json j = summary_json(sc, out, solver::summarize_run(sc.model, out, initial, writer));
+    if (!changes.empty()) j["resume_modified"] = changes;
+    write_json(writer.dir() / "summary.json", j);
+    if (!a.quiet) {
+      std::cout << out.status << " (" << out.reason << "): " << out.steps << " steps to t = " << out.t << " s in "
+                << out.wall_seconds << " s wall, " << writer.frame_count() << " frames; results in " << output.string()
+                << "\n";
+    }
+    return out;
+  } catch (const IoError& e) {
+    if (writer.started()) record_io_failure(writer.dir(), sc, e.what());
+    throw;
+  }
+}
+
+/// The content hash of the mesh file the scene names; 0 for a mesh the scene builds (a recipe's
+/// file in the cache, or no file): the scene's text covers those, and a rebuilt cache file need
+/// not be byte-identical (HDF5 object times).
+std::uint64_t mesh_file_hash(const solver::LoadedScene& sc, const RunArgs& a) {
+  std::error_code ec;
+  if (!fs::is_regular_file(sc.mesh_source, ec)) return 0;
+  const fs::path cache = fs::weakly_canonical(a.cache.empty() ? solver::default_cache_dir() : fs::path(a.cache), ec);
+  const fs::path mesh = fs::weakly_canonical(sc.mesh_source, ec);
+  const auto [c, m] = std::mismatch(cache.begin(), cache.end(), mesh.begin(), mesh.end());
+  if (c == cache.end()) return 0;  // inside the cache
+  return solver::content_hash(mesh);
 }
 
 int run_scene(const RunArgs& a) {
@@ -147,49 +238,16 @@ int run_scene(const RunArgs& a) {
   const auto t0 = std::chrono::steady_clock::now();
   solver::LoadedScene sc = solver::load_scene(a.scene, so);
   const double t_load = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const solver::Model& m = sc.model;
-  if (!a.quiet || a.check_only) {
-    std::cout << "scene " << sc.name << ": " << m.node_count() << " particles, " << m.mesh->element_count() << " "
-              << preprocess::element_type_name(m.mesh->type) << " elements, mass " << m.mass.sum() << " kg (mesh "
-              << sc.mesh_source << ", loaded in " << std::setprecision(3) << t_load << " s)\n";
-    for (const auto& t : sc.term_summary) std::cout << "  term " << t << "\n";
-    std::cout << "  boundary: " << m.constraints.fixed_dof_count() << " fixed and "
-              << m.constraints.controlled_dof_count() << " controlled coordinates\n"
-              << "  " << sc.run.integrator << ", dt " << sc.run.dt << " s, t_end " << sc.run.t_end << " s";
-    if (sc.critical_dt > 0) std::cout << ", critical step estimate " << sc.critical_dt << " s";
-    std::cout << "\n";
-    for (const auto& w : sc.warnings) std::cerr << "adamss: warning: " << w << "\n";
-  }
+  if (!a.quiet || a.check_only) print_model(sc, t_load);
   if (!a.petsc.empty()) sc.run.implicit.petsc_options += " " + a.petsc;
   if (a.check_only) return 0;
-  // --resume: the whole checkpoint is read (and checked against the scene) before anything in
-  // the output folder changes; the results continue in the checkpoint's folder by default.
-  std::optional<solver::StateArchive> checkpoint;
-  std::optional<solver::StateArchive> writer_state;
-  fs::path output = a.output;
-  if (!a.resume.empty()) {
-    checkpoint = solver::StateArchive::read_hdf5(a.resume);
-    solver::check_checkpoint(sc.model, sc.run, *checkpoint);
-    writer_state = checkpoint->child("writer");
-    if (output.empty()) output = fs::path(a.resume).parent_path();
-    if (output.empty()) output = ".";
-  }
-  if (output.empty()) throw InputError("-o/--output is required (the results folder)");
-
-  solver::ResultsWriter writer(output, sc.model, writer_state ? &*writer_state : nullptr);
-  solver::State s = sc.initial;
-  const solver::State initial = s;
-  sc.run.progress = !a.quiet;
-  sc.run.stop_after_steps = a.stop_after_steps;
-  const solver::RunOutcome out =
-      solver::run_simulation(sc.model, s, sc.run, writer, checkpoint ? &*checkpoint : nullptr);
-  write_json(writer.dir() / "summary.json",
-             summary_json(sc, out, solver::summarize_run(sc.model, out, initial, writer)));
-  if (!a.quiet) {
-    std::cout << out.status << " (" << out.reason << "): " << out.steps << " steps to t = " << out.t << " s in "
-              << out.wall_seconds << " s wall, " << writer.frame_count() << " frames; results in " << output.string()
-              << "\n";
-  }
+  if (a.resume_modified && a.resume.empty()) throw InputError("--resume-modified: only with --resume FILE");
+  sc.run.scene_hash = solver::content_hash(sc.file);
+  sc.run.mesh_hash = mesh_file_hash(sc, a);
+  sc.run.resume_modified = a.resume_modified;
+  const fs::path output = output_folder(a);
+  const solver::OutputLock lock(output);  // one run per folder; released when this run ends
+  const solver::RunOutcome out = run_into(sc, a, output);
   if (out.status == "unstable" || out.status == "failed") {
     throw NumericalError("run " + out.status + ": " + out.reason);
   }
@@ -217,6 +275,9 @@ void add_run_command(CLI::App& app) {
                   "Continue an interrupted run from its checkpoint (OUT/checkpoint.h5, written on SIGINT/SIGTERM "
                   "and every output.checkpoint_interval): the result equals the uninterrupted run bit for bit. "
                   "The results continue in -o (default: the checkpoint's folder)");
+  sub->add_flag("--resume-modified", args->resume_modified,
+                "With --resume: continue although the scene or its mesh file changed since the checkpoint "
+                "(refused otherwise); summary.json lists what changed under resume_modified");
   sub->add_option("--stop-after-steps", args->stop_after_steps,
                   "Stop as on SIGINT (checkpoint, status interrupted) once this many steps are done (tests)")
       ->group("");

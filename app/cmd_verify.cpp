@@ -23,6 +23,16 @@ struct VerifyArgs {
   bool full_gravity = false;
 };
 
+/// verify::write_report with a file-system failure (disk full, folder removed meanwhile) turned
+/// into an IoError (exit 4, one line) instead of an internal error.
+verify::ReportFiles write_report_checked(const std::vector<verify::CaseResult>& results, const std::string& dir) {
+  try {
+    return verify::write_report(results, dir);
+  } catch (const std::filesystem::filesystem_error& e) {
+    throw IoError(std::string("writing the report into ") + dir + ": " + e.what());
+  }
+}
+
 }  // namespace
 
 void add_verify_command(CLI::App& app) {
@@ -47,6 +57,7 @@ void add_verify_command(CLI::App& app) {
     if (args->all == !args->cases.empty()) throw InputError("give exactly one of --case NAME and --all");
     if (args->output.empty()) throw InputError("-o/--output: the output folder is required");
     if (args->steps < 2) throw InputError("--steps must be >= 2");
+    require_writable_folder(args->output, "-o");  // before any case runs
     verify::VerifyOptions o;
     o.steps = args->steps;
     o.full_gravity = args->full_gravity;
@@ -75,7 +86,7 @@ void add_verify_command(CLI::App& app) {
         }
       }
     }
-    const auto files = verify::write_report(results, args->output);
+    const auto files = write_report_checked(results, args->output);
     std::cout << "wrote " << files.json.string() << ", " << files.markdown.string() << ", " << files.plots.size()
               << " PNG plots" << (files.gnuplot ? "" : " (gnuplot not found: only the .gp/.dat scripts)") << "\n";
     bool all = true;

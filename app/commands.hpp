@@ -4,6 +4,7 @@
 // adamss::InputError and printed by main() as one line.
 #include <CLI/CLI.hpp>
 #include <string>
+#include <vector>
 
 namespace adamss::app {
 
@@ -19,5 +20,26 @@ double parse_angle_deg_default(const std::string& text, const std::string& what)
 
 /// Throws InputError if the directory that should hold `path` does not exist.
 void require_parent_dir(const std::string& path, const std::string& what);
+
+/// Creates the folder `dir` if needed and checks that a file can be written into it (a probe file,
+/// written, closed and removed), so that a command fails before its work rather than after it.
+/// InputError naming `option`, the folder and the reason.
+void require_writable_folder(const std::string& dir, const std::string& option);
+
+/// A file named on the command line: the option (or positional argument) that named it and the path.
+struct NamedFile {
+  std::string option;
+  std::string path;
+};
+
+/// True when `a` and `b` name the same file: the same path once made absolute and normalised
+/// (std::filesystem::weakly_canonical, so `./a` and `a` or a symbolic link match), or the same
+/// existing file (std::filesystem::equivalent, hard links).
+[[nodiscard]] bool same_file(const std::string& a, const std::string& b);
+
+/// InputError, before anything is written, when an output names the same file as an input
+/// (it would overwrite the input) or as another output (one would overwrite the other). The
+/// message names both options and the path. Empty paths are ignored.
+void require_distinct_files(const std::vector<NamedFile>& inputs, const std::vector<NamedFile>& outputs);
 
 }  // namespace adamss::app

@@ -29,6 +29,9 @@ int main(int argc, char** argv) {
   } catch (const adamss::NumericalError& e) {
     std::cerr << "adamss: numerical error: " << e.what() << "\n";
     return 3;
+  } catch (const adamss::IoError& e) {
+    std::cerr << "adamss: I/O error: " << e.what() << "\n";
+    return 4;
   } catch (const std::exception& e) {
     std::cerr << "adamss: internal error: " << e.what() << "\n";
     return 1;

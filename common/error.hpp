@@ -19,4 +19,11 @@ class NumericalError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A failed write or file-system operation on an output (disk full, a read-only or vanished
+/// folder): the input was fine but the results could not be kept. Exit status 4 (app/main.cpp).
+class IoError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 }  // namespace adamss

@@ -111,10 +111,31 @@ Eigen::Matrix3Xd StateArchive::matrix(const std::string& key, Eigen::Index cols)
   return m;
 }
 
+namespace {
+
+/// Turns HDF5's automatic error printing off for its lifetime (and restores the previous handler).
+class QuietHdf5 {
+ public:
+  QuietHdf5() {
+    H5Eget_auto2(H5E_DEFAULT, &func_, &data_);
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
+  ~QuietHdf5() { H5Eset_auto2(H5E_DEFAULT, func_, data_); }
+  QuietHdf5(const QuietHdf5&) = delete;
+  QuietHdf5& operator=(const QuietHdf5&) = delete;
+
+ private:
+  H5E_auto2_t func_ = nullptr;
+  void* data_ = nullptr;
+};
+
+}  // namespace
+
 void StateArchive::write_hdf5(const fs::path& file, const std::map<std::string, double>& root_attributes) const {
+  const QuietHdf5 quiet;  // a failure is one IoError line, not HDF5's diagnostic stack on stderr
   const fs::path tmp = file.string() + ".tmp";
   const hid_t f = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  if (f < 0) throw InputError("cannot create " + tmp.string());
+  if (f < 0) throw IoError("cannot create " + tmp.string());
   const hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
   H5Pset_create_intermediate_group(lcpl, 1);
   bool ok = true;
@@ -150,10 +171,16 @@ void StateArchive::write_hdf5(const fs::path& file, const std::map<std::string, 
   }
   H5Pclose(lcpl);
   ok = H5Fclose(f) >= 0 && ok;
-  if (!ok) throw InputError("error while writing " + tmp.string() + " (disk full?)");
   std::error_code ec;
+  if (!ok) {
+    fs::remove(tmp, ec);  // the last good checkpoint stays as it was
+    throw IoError("error while writing " + tmp.string() + " (disk full?)");
+  }
   fs::rename(tmp, file, ec);
-  if (ec) throw InputError("cannot rename " + tmp.string() + " to " + file.string() + ": " + ec.message());
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw IoError("cannot rename " + tmp.string() + " to " + file.string() + ": " + ec.message());
+  }
 }
 
 namespace {

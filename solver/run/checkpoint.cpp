@@ -1,7 +1,10 @@
 #include "solver/run/checkpoint.hpp"
 
+#include <bit>
 #include <cstdint>
+#include <fstream>
 #include <string>
+#include <vector>
 
 #include "common/error.hpp"
 #include "solver/run/run.hpp"
@@ -18,7 +21,38 @@ std::int64_t integrator_code(const std::string& name) {
   return -1;
 }
 
+/// Hashes are stored as int64 datasets: the same 64 bits.
+std::int64_t as_stored(std::uint64_t h) {
+  return std::bit_cast<std::int64_t>(h);
+}
+
 }  // namespace
+
+std::uint64_t content_hash(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw IoError("cannot read " + file.string() + " to hash it");
+  std::uint64_t h = 14695981039346656037ULL;  // FNV-1a offset basis
+  std::vector<char> buf(1 << 16);
+  while (in.read(buf.data(), static_cast<std::streamsize>(buf.size())) || in.gcount() > 0) {
+    for (std::streamsize i = 0; i < in.gcount(); ++i) {
+      h ^= static_cast<unsigned char>(buf[static_cast<std::size_t>(i)]);
+      h *= 1099511628211ULL;  // FNV-1a prime
+    }
+  }
+  if (in.bad()) throw IoError("error while reading " + file.string());
+  return h;
+}
+
+std::vector<std::string> checkpoint_changes(const RunSettings& set, const StateArchive& a) {
+  if (!a.has("run/scene_hash") || !a.has("run/mesh_hash"))
+    return {"the checkpoint holds no scene hash (written before adamss checked them): the scene cannot be compared"};
+  std::vector<std::string> changes;
+  if (a.integer("run/scene_hash") != as_stored(set.scene_hash))
+    changes.emplace_back("scene changed: the scene file's text differs from the one the checkpoint was written with");
+  if (a.integer("run/mesh_hash") != as_stored(set.mesh_hash))
+    changes.emplace_back("mesh changed: the mesh file's contents differ from those the checkpoint was written with");
+  return changes;
+}
 
 void check_checkpoint(Model& model, const RunSettings& set, const StateArchive& a) {
   const std::string& src = a.source();
@@ -48,6 +82,17 @@ void check_checkpoint(Model& model, const RunSettings& set, const StateArchive& 
   (void)load_loop_state(r, n);
   for (std::size_t k = 0; k < model.terms.size(); ++k)
     model.terms[k]->load_state(a.child("terms/" + std::to_string(k)));
+  // Last: a structural difference above names its cause; a changed scene that still fits the
+  // checkpoint (a parameter, a load, dt) is refused here.
+  if (!set.resume_modified) {
+    const std::vector<std::string> changes = checkpoint_changes(set, a);
+    if (!changes.empty()) {
+      throw InputError("cannot resume from " + src + ": " + changes.front() +
+                       (changes.size() > 1 ? "; " + changes[1] : std::string()) +
+                       ". Resume with the scene and mesh it was written with, or give --resume-modified to continue "
+                       "with the changed ones");
+    }
+  }
 }
 
 void write_resumable_checkpoint(const RunParts& run, const ResultsWriter& writer, const State& s,
@@ -62,6 +107,8 @@ void write_resumable_checkpoint(const RunParts& run, const ResultsWriter& writer
   r.put_int("element_count", static_cast<std::int64_t>(model.mesh->element_count()));
   r.put_int("term_count", static_cast<std::int64_t>(model.terms.size()));
   r.put_int("integrator", integrator_code(run.settings.integrator));
+  r.put_int("scene_hash", as_stored(run.settings.scene_hash));
+  r.put_int("mesh_hash", as_stored(run.settings.mesh_hash));
   r.put("t", s.t);
   r.put("x_fixed", run.system.fixed_positions());
   save_loop_state(loop, r);

@@ -5,7 +5,13 @@
 // (/run/x_fixed), the loop's own RunLoopState (/run/..., solver/run/loop_state.hpp), the
 // integrator's history (/integrator/...), every force term's internal state (/terms/k/...) and
 // the results writer's counters (/writer/...). /run/resumable, node, element and term counts and
-// the integrator's index in integrator_table() let a resume refuse a checkpoint of another scene.
+// the integrator's index in integrator_table() let a resume refuse a checkpoint of another scene;
+// /run/scene_hash and /run/mesh_hash (the files' content hashes) refuse a changed scene by name.
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
 #include "solver/core/model.hpp"
 #include "solver/core/state_archive.hpp"
 #include "solver/run/loop_state.hpp"
@@ -16,11 +22,21 @@ namespace adamss::solver {
 
 struct RunSettings;
 
+/// 64-bit FNV-1a hash of a file's bytes (RunSettings::scene_hash, mesh_hash). IoError if the
+/// file cannot be read.
+[[nodiscard]] std::uint64_t content_hash(const std::filesystem::path& file);
+
+/// What differs between the scene and mesh `settings` was made from and those the checkpoint
+/// was written with, one entry each ("scene changed: ...", "mesh changed: ...", or that the
+/// checkpoint holds no hashes); empty when they are the same.
+[[nodiscard]] std::vector<std::string> checkpoint_changes(const RunSettings& settings, const StateArchive& checkpoint);
+
 /// InputError (naming the checkpoint) unless `checkpoint` is a resumable checkpoint of this
 /// model and integrator: node, element and term counts and the integrator must match, the state
-/// and every RunLoopState field must be there with the right sizes, and every term must accept
-/// its saved state (the terms' state is loaded here already; run_simulation
-/// loads it again). Call it before the results writer touches the output folder.
+/// and every RunLoopState field must be there with the right sizes, every term must accept its
+/// saved state (the terms' state is loaded here already; run_simulation loads it again) and,
+/// unless settings.resume_modified, the scene and mesh must be those the checkpoint was written
+/// with (checkpoint_changes). Call it before the results writer touches the output folder.
 void check_checkpoint(Model& model, const RunSettings& settings, const StateArchive& checkpoint);
 
 /// The parts of a run a checkpoint saves and restores.

@@ -133,40 +133,75 @@ void write_vtu(const fs::path& path, const preprocess::Mesh& mesh, const Eigen::
   }
   head << "      </CellData>\n    </Piece>\n  </UnstructuredGrid>\n  <AppendedData encoding=\"raw\">\n   _";
 
+  replace_file(path, {head.str(), data, "\n  </AppendedData>\n</VTKFile>\n"});
+}
+
+void replace_file(const fs::path& path, std::initializer_list<std::string_view> parts) {
   const fs::path tmp = path.string() + ".tmp";
+  std::error_code ec;
   {
     std::ofstream out(tmp, std::ios::binary);
-    if (!out) throw InputError("cannot write " + tmp.string());
-    const std::string h = head.str();
-    out.write(h.data(), static_cast<std::streamsize>(h.size()));
-    out.write(data.data(), static_cast<std::streamsize>(data.size()));
-    out << "\n  </AppendedData>\n</VTKFile>\n";
-    if (!out) throw InputError("error while writing " + tmp.string() + " (disk full?)");
+    for (const std::string_view part : parts) out.write(part.data(), static_cast<std::streamsize>(part.size()));
+    out.close();  // the last buffered bytes reach the file system here: a full disk shows now
+    if (!out) {
+      fs::remove(tmp, ec);
+      throw IoError("cannot write " + tmp.string() + " (disk full, read-only or missing folder?)");
+    }
   }
-  std::error_code ec;
   fs::rename(tmp, path, ec);
-  if (ec) throw InputError("cannot rename " + tmp.string() + " to " + path.string() + ": " + ec.message());
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw IoError("cannot rename " + tmp.string() + " to " + path.string() + ": " + ec.message());
+  }
 }
 
 ResultsWriter::ResultsWriter(fs::path out_dir, const Model& model, const StateArchive* resume)
-    : dir_(std::move(out_dir)), model_(model) {
-  std::error_code ec;
-  fs::create_directories(dir_ / "frames", ec);
-  if (ec) throw InputError("cannot create the output folder " + (dir_ / "frames").string() + ": " + ec.message());
+    : dir_(std::move(out_dir)), model_(model), resuming_(resume != nullptr) {
   element_volume0_ = element_volumes(*model.mesh, model.x_ref);
   for (const double v : element_volume0_) volume0_ += v;
-  if (resume != nullptr) {
-    resume_from(*resume);
+  if (resume != nullptr) resume_from(*resume);
+}
+
+void ResultsWriter::open() {
+  if (opened_) return;
+  opened_ = true;
+  if (resuming_) {
+    started_ = true;
+    continue_series();
     return;
   }
-  // Stale frames of an earlier run in the same folder would mix into ParaView's view of the series.
-  for (const auto& entry : fs::directory_iterator(dir_ / "frames")) {
-    if (entry.path().extension() == ".vtu") fs::remove(entry.path(), ec);
-  }
+  archive_previous();
+  started_ = true;
+  std::error_code ec;
+  fs::create_directories(dir_ / "frames", ec);
+  if (ec) throw IoError("cannot create the output folder " + (dir_ / "frames").string() + ": " + ec.message());
   globals_.open(dir_ / "globals.csv");
-  if (!globals_) throw InputError("cannot write " + (dir_ / "globals.csv").string());
   globals_ << globals_header();
+  globals_.flush();
+  if (!globals_) throw IoError("cannot write " + (dir_ / "globals.csv").string());
   globals_ << std::setprecision(10);
+}
+
+void ResultsWriter::archive_previous() {
+  static const char* const kRunFiles[] = {"summary.json", "globals.csv", "series.pvd", "frames", "checkpoint.h5"};
+  std::vector<std::string> present;
+  for (const char* name : kRunFiles) {
+    std::error_code ec;
+    if (fs::exists(dir_ / name, ec)) present.emplace_back(name);
+  }
+  if (present.empty()) return;
+  const fs::path previous = dir_ / "previous";
+  std::error_code ec;
+  fs::remove_all(previous, ec);
+  if (!ec) fs::create_directory(previous, ec);
+  if (ec) throw IoError("cannot make " + previous.string() + " for the earlier run's results: " + ec.message());
+  for (const std::string& name : present) {
+    fs::rename(dir_ / name, previous / name, ec);
+    if (ec) {
+      throw IoError("cannot move the earlier run's " + (dir_ / name).string() + " to " + previous.string() + ": " +
+                    ec.message());
+    }
+  }
 }
 
 std::string ResultsWriter::globals_header() const {
@@ -222,7 +257,7 @@ void ResultsWriter::resume_from(const StateArchive& archive) {
     extrema_.push_back({ex[k], ex[k + 1], ex[k + 2], ex[k + 3], ex[k + 4], ex[k + 5], ex[k + 6]});
   // globals.csv: the header and the first rows_ rows (later rows of the interrupted run, and a
   // partial last line of a killed one, are dropped).
-  const fs::path csv = dir_ / "globals.csv", tmp = dir_ / "globals.csv.tmp";
+  const fs::path csv = dir_ / "globals.csv";
   std::string kept;
   {
     std::ifstream in(csv);
@@ -245,18 +280,18 @@ void ResultsWriter::resume_from(const StateArchive& archive) {
                        " complete rows, the checkpoint counted " + std::to_string(rows_));
     }
   }
-  {
-    std::ofstream out(tmp);
-    out << kept;
-    if (!out) throw InputError("cannot write " + tmp.string());
-  }
-  std::error_code ec;
-  fs::rename(tmp, csv, ec);
-  if (ec) throw InputError("cannot rename " + tmp.string() + " to " + csv.string() + ": " + ec.message());
+  resume_globals_ = std::move(kept);
+}
+
+void ResultsWriter::continue_series() {
+  const fs::path csv = dir_ / "globals.csv";
+  replace_file(csv, {resume_globals_});
+  resume_globals_.clear();
   globals_.open(csv, std::ios::app);
-  if (!globals_) throw InputError("cannot write " + csv.string());
+  if (!globals_) throw IoError("cannot append to " + csv.string());
   globals_ << std::setprecision(10);
   // Frames the interrupted run wrote after the checkpoint (its final frame) are not part of the series.
+  std::error_code ec;
   for (const auto& entry : fs::directory_iterator(dir_ / "frames")) {
     const std::string stem = entry.path().stem().string();
     if (entry.path().extension() != ".vtu" || stem.rfind("frame_", 0) != 0) continue;
@@ -284,20 +319,14 @@ void ResultsWriter::write_frame(const State& s, const Eigen::Matrix3Xd& f) {
 }
 
 void ResultsWriter::write_pvd() const {
-  const fs::path tmp = dir_ / "series.pvd.tmp";
-  {
-    std::ofstream out(tmp);
-    out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-           "  <Collection>\n"
-        << std::setprecision(12);
-    for (const auto& [t, file] : frames_)
-      out << "    <DataSet timestep=\"" << t << "\" group=\"\" part=\"0\" file=\"" << file << "\"/>\n";
-    out << "  </Collection>\n</VTKFile>\n";
-    if (!out) throw InputError("cannot write " + tmp.string());
-  }
-  std::error_code ec;
-  fs::rename(tmp, dir_ / "series.pvd", ec);
-  if (ec) throw InputError("cannot rename " + tmp.string() + ": " + ec.message());
+  std::ostringstream out;
+  out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+         "  <Collection>\n"
+      << std::setprecision(12);
+  for (const auto& [t, file] : frames_)
+    out << "    <DataSet timestep=\"" << t << "\" group=\"\" part=\"0\" file=\"" << file << "\"/>\n";
+  out << "  </Collection>\n</VTKFile>\n";
+  replace_file(dir_ / "series.pvd", {out.str()});
 }
 
 void ResultsWriter::write_globals(const State& s, const GlobalsRow& row) {
@@ -345,6 +374,7 @@ void ResultsWriter::write_globals(const State& s, const GlobalsRow& row) {
   globals_ << ',' << row.report.evaluations << ',' << row.report.rejected << ',' << row.report.error << ','
            << row.report.newton_iterations << ',' << row.report.linear_iterations << ',' << row.wall_seconds << '\n';
   globals_.flush();
+  if (!globals_) throw IoError("cannot append a row to " + (dir_ / "globals.csv").string() + " (disk full?)");
   ++rows_;
 }
 

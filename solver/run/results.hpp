@@ -16,17 +16,22 @@
 //                         state (solver/core/state_archive.hpp, docs/file-formats.md)
 // Every file except globals.csv is written to NAME.tmp and renamed over NAME, so an interrupted
 // run never leaves a truncated frame, series, summary or checkpoint. globals.csv is appended one
-// flushed row at a time; a resume truncates it to the rows the checkpoint had seen.
+// flushed row at a time; a resume truncates it to the rows the checkpoint had seen. Every write
+// is checked (the stream state after the flush or close): a failure is an IoError naming the file.
+// Nothing in the folder changes before open(): a fresh run then moves an earlier run's files into
+// OUT/previous/ (replacing an older previous/), so a run that fails to start loses nothing.
 #include <Eigen/Core>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <map>
 #include <string>
+#include <string_view>
 #include <vector>
 
-#include "solver/time/integrator.hpp"
 #include "solver/core/model.hpp"
 #include "solver/core/state_archive.hpp"
+#include "solver/time/integrator.hpp"
 
 namespace adamss::solver {
 
@@ -41,12 +46,21 @@ struct GlobalsRow {
 
 class ResultsWriter {
  public:
-  /// Creates `out_dir` (and out_dir/frames); InputError if it cannot. A fresh run removes
-  /// stale frames and starts globals.csv; with `resume` (the "writer" part of a checkpoint,
-  /// see save_state) the writer continues the series: globals.csv keeps its header and the
-  /// first rows the checkpoint counted (later rows of the interrupted run are dropped), frames
-  /// from the checkpoint's frame count on are removed and series.pvd is rewritten.
+  /// A writer into `out_dir`; nothing on disk changes until open(). With `resume` (the "writer"
+  /// part of a checkpoint, see save_state) the folder is checked here (frames, globals.csv
+  /// header and rows; InputError naming what does not match).
   ResultsWriter(std::filesystem::path out_dir, const Model& model, const StateArchive* resume = nullptr);
+
+  /// Called once the run has been built and is about to start. A fresh run moves an earlier
+  /// run's summary.json, globals.csv, series.pvd, frames/ and checkpoint.h5 into out_dir/previous/
+  /// (a stale checkpoint cannot be resumed into the new series), creates frames/ and starts
+  /// globals.csv. A resumed one keeps globals.csv's header and the rows the checkpoint counted,
+  /// removes the frames from the checkpoint's frame count on and rewrites series.pvd. IoError
+  /// when the folder cannot be changed.
+  void open();
+  /// True once open() has moved the earlier run's files aside (or begun a resume): from then
+  /// on summary.json in the folder belongs to this run.
+  [[nodiscard]] bool started() const { return started_; }
 
   /// Writes frame k of the series at state s with total forces f (N).
   void write_frame(const State& s, const Eigen::Matrix3Xd& f);
@@ -79,9 +93,15 @@ class ResultsWriter {
  private:
   void write_pvd() const;
   void resume_from(const StateArchive& archive);
+  void continue_series();
+  void archive_previous();
   [[nodiscard]] std::string globals_header() const;
   std::filesystem::path dir_;
   const Model& model_;
+  bool resuming_ = false;
+  bool opened_ = false;
+  bool started_ = false;
+  std::string resume_globals_;  ///< globals.csv as the resume will leave it (header + counted rows)
   std::ofstream globals_;
   std::vector<std::pair<double, std::string>> frames_;
   double volume0_ = 0.0;
@@ -100,6 +120,10 @@ class ResultsWriter {
 [[nodiscard]] std::vector<double> element_volumes(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x);
 /// Fibre stretch |F f0| per element, F at the element centre from its shape functions.
 [[nodiscard]] Eigen::VectorXd fibre_stretch(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x);
+
+/// Writes `parts` one after the other to `path`.tmp, checks the stream after closing it and renames
+/// it over `path`; IoError naming the file (the .tmp removed) if any of it fails.
+void replace_file(const std::filesystem::path& path, std::initializer_list<std::string_view> parts);
 
 /// Writes a VTK XML unstructured grid with the given point and cell arrays (binary appended,
 /// via a temporary file renamed over `path`). Vectors are 3 x n, scalars n.

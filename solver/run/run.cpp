@@ -79,6 +79,8 @@ RunLoop::RunLoop(Model& model, const RunSettings& settings, ResultsWriter& write
 
 RunOutcome RunLoop::run(State& s, const StateArchive* resume) {
   loop_.dt = set_.dt;
+  // The integrator (with its PETSc options) is built: only now may the output folder change.
+  writer_.open();
   if (resume == nullptr) {
     start(s);
   } else {

@@ -26,13 +26,14 @@
 // only and is not resumable.
 // Whatever the status, globals.csv holds every logged row and summary.json is written by the caller.
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 
-#include "solver/time/implicit.hpp"
-#include "solver/time/integrator.hpp"
 #include "solver/core/model.hpp"
 #include "solver/run/results.hpp"
+#include "solver/time/implicit.hpp"
+#include "solver/time/integrator.hpp"
 
 namespace adamss::solver {
 
@@ -52,6 +53,12 @@ struct RunSettings {
   bool progress = false;             ///< live progress line on stderr
   double checkpoint_interval = 0.0;  ///< s of simulated time between checkpoints; 0: only on signals/failures
   std::size_t stop_after_steps = 0;  ///< > 0: stop as on SIGINT once this many steps are done (tests)
+  /// What the run was made from, stored in every resumable checkpoint so that a resume can refuse
+  /// a changed scene (check_checkpoint): content_hash of the scene file's text and of the mesh
+  /// file the scene names (0: a mesh built from a recipe in the scene, covered by its text).
+  std::uint64_t scene_hash = 0;
+  std::uint64_t mesh_hash = 0;
+  bool resume_modified = false;  ///< --resume-modified: a changed scene or mesh is accepted (and reported)
 };
 
 struct RunOutcome {

@@ -244,6 +244,7 @@ LoadedScene load_scene_text(const std::string& yaml, const fs::path& origin, con
     throw InputError(origin.string() + ": not valid YAML: " + e.what());
   }
   try {
+    check_duplicate_keys(root);
     return assemble(root, origin, options);
   } catch (const InputError& e) {
     throw InputError(origin.string() + ": " + e.what());

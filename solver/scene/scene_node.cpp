@@ -1,5 +1,6 @@
 #include "solver/scene/scene_node.hpp"
 
+#include <map>
 #include <sstream>
 
 #include "common/error.hpp"
@@ -21,7 +22,42 @@ std::string scalar_text(const YAML::Node& n, const std::string& path, const std:
   return n.Scalar();
 }
 
+/// Nodes visited by check_duplicate_keys at most: aliases are shared, not copied, so a small
+/// hostile file ("billion laughs") can name exponentially many; a scene has a few hundred.
+constexpr std::size_t kMaxDuplicateCheckNodes = 1000000;
+
+void check_duplicates_below(const YAML::Node& n, const std::string& path, std::size_t& visited) {
+  if (++visited > kMaxDuplicateCheckNodes) {
+    throw InputError("more than " + std::to_string(kMaxDuplicateCheckNodes) +
+                     " YAML nodes (counting every use of an alias): not a scene");
+  }
+  if (n.IsSequence()) {
+    for (std::size_t i = 0; i < n.size(); ++i)
+      check_duplicates_below(n[i], path + "[" + std::to_string(i) + "]", visited);
+    return;
+  }
+  if (!n.IsMap()) return;
+  std::map<std::string, int> lines;  // key -> its first line (0-based, yaml-cpp's Mark)
+  for (const auto& kv : n) {
+    const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : std::string();
+    const std::string at = path.empty() ? key : path + "." + key;
+    if (kv.first.IsScalar()) {
+      const auto [it, inserted] = lines.emplace(key, kv.first.Mark().line);
+      if (!inserted) {
+        throw InputError(at + ": duplicate key '" + key + "' on line " + std::to_string(it->second + 1) + " and line " +
+                         std::to_string(kv.first.Mark().line + 1) + " (keep one)");
+      }
+    }
+    check_duplicates_below(kv.second, at, visited);
+  }
+}
+
 }  // namespace
+
+void check_duplicate_keys(const YAML::Node& root) {
+  std::size_t visited = 0;
+  check_duplicates_below(root, "", visited);
+}
 
 SceneNode::SceneNode(const YAML::Node& node, std::string path) : node_(node), path_(std::move(path)) {
   if (!node_.IsMap()) {

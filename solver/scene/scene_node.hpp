@@ -26,6 +26,11 @@
 
 namespace adamss::solver {
 
+/// InputError for a key that appears twice in one mapping anywhere in `root` (yaml-cpp keeps
+/// both pairs and its lookups return the first, while other YAML tools take the last: the value
+/// used would depend on the reader). The message names the key path and both lines (1-based).
+void check_duplicate_keys(const YAML::Node& root);
+
 class SceneNode {
  public:
   SceneNode(const YAML::Node& node, std::string path);

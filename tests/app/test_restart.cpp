@@ -386,3 +386,37 @@ TEST(Restart, ACheckpointWithoutANamedLoopFieldIsRefusedByName) {
   r = run_adamss("run " + scene + cache_arg(dir) + " -q --resume " + good.string());
   EXPECT_EQ(r.exit_code, 0) << r.output;
 }
+
+// Issue 24: a checkpoint stores the hash of the scene's text (and of a mesh file it names): a
+// resume with a changed scene that still fits the checkpoint (another modulus) is refused with
+// "scene changed" before any output changes; --resume-modified continues and summary.json
+// lists the change under resume_modified.
+TEST(Restart, AChangedSceneIsRefusedUnlessResumeModified) {
+  const auto dir = scratch_dir("restart_changed_scene");
+  const std::string text = slab_scene("{type: symplectic_euler, dt: 5 us}", "1 ms");
+  const auto scene = write_scene(dir, text).string();
+  const fs::path out = dir / "out";
+  auto r = run_adamss("run " + scene + " -o " + out.string() + cache_arg(dir) + " -q --stop-after-steps 20");
+  ASSERT_EQ(r.exit_code, 130) << r.output;
+  const std::string checkpoint = (out / "checkpoint.h5").string(), before = read_file(out / "globals.csv");
+  std::string changed = text;
+  const auto at = changed.find("E: 20 kPa");
+  ASSERT_NE(at, std::string::npos);
+  changed.replace(at, 9, "E: 25 kPa");
+  write_scene(dir, changed);
+  r = run_adamss("run " + scene + cache_arg(dir) + " -q --resume " + checkpoint);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("scene changed"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--resume-modified"), std::string::npos) << r.output;
+  EXPECT_EQ(read_file(out / "globals.csv"), before) << "a refused resume must not touch the outputs";
+  r = run_adamss("run " + scene + cache_arg(dir) + " -q --resume-modified --resume " + checkpoint);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json j = adamss::test::read_summary(out);
+  EXPECT_EQ(j["status"], "completed");
+  ASSERT_TRUE(j.contains("resume_modified")) << j.dump();
+  EXPECT_NE(j["resume_modified"].dump().find("scene changed"), std::string::npos) << j.dump();
+  // --resume-modified alone is an error.
+  r = run_adamss("run " + scene + " -o " + (dir / "other").string() + cache_arg(dir) + " -q --resume-modified");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--resume-modified"), std::string::npos) << r.output;
+}

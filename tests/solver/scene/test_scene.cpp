@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <sstream>
 #include <string>
 
 #include "common/error.hpp"
@@ -167,6 +168,28 @@ TEST(Scene, InvalidYamlIsAnInputError) {
 
 // A scar segment on the lv recipe (cell field `scar`, 0/1) splits the wall into two materials by
 // `cell_field: {name, min, max}`; every element must belong to exactly one.
+// Issue 24: a key given twice in one mapping is an error naming the key path and both lines
+// (yaml-cpp would silently use the first, PyYAML the last), at the top level, in a nested block
+// mapping, inside a list and in a flow mapping; the same key in two different mappings is fine.
+TEST(Scene, DuplicateKeysAreErrorsNamingBothLines) {
+  // kBase: line 1 is empty, "name: t" is line 2, "run: {t_end: 1 ms}" line 14.
+  std::string e = error_of(kBase + "run: {t_end: 2 ms}\n");
+  EXPECT_NE(e.find("run: duplicate key 'run' on line 14 and line 15"), std::string::npos) << e;
+  e = error_of(replaced(kBase, "    density: 1000 kg/m^3\n", "    density: 1000 kg/m^3\n    density: 2000 kg/m^3\n"));
+  EXPECT_NE(e.find("materials[0].density: duplicate key 'density' on line 7 and line 8"), std::string::npos) << e;
+  e = error_of(replaced(kBase, "{E: 10 kPa, nu: 0.3}", "{E: 10 kPa, nu: 0.3, E: 20 kPa}"));
+  EXPECT_NE(e.find("materials[0].terms[0].virtual_hexahedron.parameters.E: duplicate key 'E' on line 9 and line 9"),
+            std::string::npos)
+      << e;
+  EXPECT_EQ(error_of(kBase), "");
+  // An alias bomb (each level doubles the uses of the one below) is refused, not walked for ever.
+  std::ostringstream bomb;
+  bomb << "a0: &a0 [x, x]\n";
+  for (int k = 1; k <= 25; ++k) bomb << 'a' << k << ": &a" << k << " [*a" << k - 1 << ", *a" << k - 1 << "]\n";
+  e = error_of(bomb.str());
+  EXPECT_NE(e.find("YAML nodes"), std::string::npos) << e;
+}
+
 TEST(Scene, MaterialsSplitByACellField) {
   const std::string scene = R"(
 name: scar
