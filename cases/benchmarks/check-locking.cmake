@@ -1,0 +1,52 @@
+# Locking check (issue 23): runs one scene at several volume penalties p (the scene's `p:` value
+# of its `volume` term, written `p: <number> kPa`, is replaced) and asserts that the reported value
+# changes by at most TOL (relative) from the stiffest run. A locking element stiffens as p grows,
+# so its result keeps moving; a locking-free one converges to the incompressible limit.
+#   cmake -DADAMSS=... -DSCENE=... -DOUT=... -DCACHE=... -DPVALUES=500,5000,50000
+#         -DVALUE="probes,tip,2" -DTOL=0.003 -P check-locking.cmake
+# Every value is printed, pass or fail.
+string(REPLACE "," ";" PVALUES "${PVALUES}")
+file(READ ${SCENE} text)
+get_filename_component(name ${SCENE} NAME_WE)
+string(REGEX MATCH "p: [0-9.e+]+ kPa" found "${text}")
+if(NOT found)
+  message(FATAL_ERROR "${SCENE}: no 'p: <number> kPa' to vary")
+endif()
+file(REMOVE_RECURSE ${OUT})
+file(MAKE_DIRECTORY ${OUT})
+string(REPLACE "," ";" keys "${VALUE}")
+set(values "")
+foreach(p IN LISTS PVALUES)
+  string(REGEX REPLACE "p: [0-9.e+]+ kPa" "p: ${p} kPa" scene "${text}")
+  # Written beside the original so that relative paths in the scene still resolve.
+  get_filename_component(dir ${SCENE} DIRECTORY)
+  set(variant ${OUT}/${name}-p${p}.yaml)
+  file(WRITE ${variant} "${scene}")
+  execute_process(COMMAND ${ADAMSS} run ${variant} -o ${OUT}/p${p} --cache ${CACHE} -q RESULT_VARIABLE rc
+                  WORKING_DIRECTORY ${dir})
+  if(NOT EXISTS ${OUT}/p${p}/summary.json)
+    message(FATAL_ERROR "${name} at p = ${p} kPa: exit ${rc}, no summary.json")
+  endif()
+  file(READ ${OUT}/p${p}/summary.json s)
+  string(JSON status GET "${s}" status)
+  string(JSON v GET "${s}" ${keys})
+  string(JSON dv GET "${s}" total_volume_m3 max_abs_relative_change)
+  message(STATUS "${name}: p = ${p} kPa: ${VALUE} = ${v}, max |dV/V| = ${dv}, status ${status}")
+  if(NOT status STREQUAL "completed")
+    message(FATAL_ERROR "${name} at p = ${p} kPa: status ${status}")
+  endif()
+  list(APPEND values ${v})
+endforeach()
+list(GET values -1 ref)
+set(failures "")
+foreach(v IN LISTS values)
+  execute_process(COMMAND awk "BEGIN{d=(${v})-(${ref}); if (d<0) d=-d; r=(${ref}); if (r<0) r=-r; exit (d <= ${TOL}*r) ? 0 : 1}"
+                  RESULT_VARIABLE bad)
+  if(bad)
+    set(failures "${failures}\n  ${v} differs from the stiffest run's ${ref} by more than ${TOL} (relative)")
+  endif()
+endforeach()
+if(failures)
+  message(FATAL_ERROR "${name} locks:${failures}")
+endif()
+message(STATUS "${name}: ${VALUE} within ${TOL} (relative) over p = ${PVALUES} kPa")
