@@ -82,14 +82,14 @@ template GradientLawKernel<8> make_virtual_hex_kernel<8>(const preprocess::Mesh&
                                                          const std::vector<std::size_t>*);
 
 std::unique_ptr<ForceTerm> make_virtual_hex_term(const preprocess::Mesh& mesh, const AxisFrames& frames,
-                                                 std::shared_ptr<const materials::Law> law,
+                                                 const std::shared_ptr<const materials::Law>& law,
                                                  const std::vector<std::size_t>* element_subset) {
   if (mesh.type == preprocess::ElementType::Tet4) {
     return std::make_unique<StencilTerm<GradientLawKernel<4>, 4>>(
-        make_virtual_hex_kernel<4>(mesh, frames, std::move(law), element_subset));
+        make_virtual_hex_kernel<4>(mesh, frames, law, element_subset));
   }
   return std::make_unique<StencilTerm<GradientLawKernel<8>, 8>>(
-      make_virtual_hex_kernel<8>(mesh, frames, std::move(law), element_subset));
+      make_virtual_hex_kernel<8>(mesh, frames, law, element_subset));
 }
 
 }  // namespace adamss::solver

@@ -99,7 +99,7 @@ template <int K>
 /// type. A scene with several materials makes one term per material, each with its
 /// own law and element subset. Same errors as make_virtual_hex_kernel.
 [[nodiscard]] std::unique_ptr<ForceTerm> make_virtual_hex_term(
-    const preprocess::Mesh& mesh, const AxisFrames& frames, std::shared_ptr<const materials::Law> law,
+    const preprocess::Mesh& mesh, const AxisFrames& frames, const std::shared_ptr<const materials::Law>& law,
     const std::vector<std::size_t>* element_subset = nullptr);
 
 }  // namespace adamss::solver

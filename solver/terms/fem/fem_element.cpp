@@ -95,15 +95,15 @@ template GradientLawKernel<8> make_gauss_point_kernel<8>(const preprocess::Mesh&
                                                          const std::vector<std::size_t>*, const std::string&);
 
 std::unique_ptr<ForceTerm> make_gauss_point_term(const preprocess::Mesh& mesh,
-                                                 std::shared_ptr<const materials::Law> law,
+                                                 const std::shared_ptr<const materials::Law>& law,
                                                  const std::vector<std::size_t>* element_subset,
                                                  const std::string& label) {
   if (mesh.type == preprocess::ElementType::Tet4) {
     return std::make_unique<StencilTerm<GradientLawKernel<4>, 4>>(
-        make_gauss_point_kernel<4>(mesh, std::move(law), element_subset, label));
+        make_gauss_point_kernel<4>(mesh, law, element_subset, label));
   }
   return std::make_unique<StencilTerm<GradientLawKernel<8>, 8>>(
-      make_gauss_point_kernel<8>(mesh, std::move(law), element_subset, label));
+      make_gauss_point_kernel<8>(mesh, law, element_subset, label));
 }
 
 }  // namespace adamss::solver

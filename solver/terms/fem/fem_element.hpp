@@ -47,7 +47,7 @@ template <int K>
 
 /// The term with K chosen by the mesh's element type (same errors).
 [[nodiscard]] std::unique_ptr<ForceTerm> make_gauss_point_term(const preprocess::Mesh& mesh,
-                                                               std::shared_ptr<const materials::Law> law,
+                                                               const std::shared_ptr<const materials::Law>& law,
                                                                const std::vector<std::size_t>* element_subset,
                                                                const std::string& label);
 

@@ -170,26 +170,32 @@ void NodalVolumeTerm<K>::add_jacobian(const StateView& s, JacobianSink& sink) co
     double c = 0.0, v = 0.0;
     for (const int n : local_[e]) c += penalty_.slope(jn[static_cast<std::size_t>(n)], r) / K;
     element_volume_derivatives<K>(element_positions<K>(s.x, elements_[e].data()), v, dv[e], hess);
-    for (int a = 0; a < K; ++a)
+    for (int a = 0; a < K; ++a) {
       for (int b = 0; b < K; ++b) {
         if (a == b) continue;  // H_aa = 0
         sink.add_block(elements_[e][static_cast<std::size_t>(a)], elements_[e][static_cast<std::size_t>(b)],
                        -c * hess.template block<3, 3>(3 * a, 3 * b), zero);
       }
+    }
   }
   // -(U''_n / V0_n) g_n g_n^T on each node's patch.
   std::vector<Eigen::Vector3d> g;
   for (std::size_t n = 0; n < nodes_.size(); ++n) {
     const std::size_t p0 = patch_start_[n], m = patch_start_[n + 1] - p0;
     g.assign(m, Eigen::Vector3d::Zero());
-    for (std::size_t j = around_start_[n]; j < around_start_[n + 1]; ++j)
-      for (int a = 0; a < K; ++a) g[static_cast<std::size_t>(place_[j][static_cast<std::size_t>(a)])] += dv[around_[j]].col(a) / K;
-    const double w = penalty_.curvature(jn[n], r) / volume0_[n];
-    for (std::size_t p = 0; p < m; ++p)
-      for (std::size_t q = 0; q < m; ++q) {
-        sink.add_block(nodes_[static_cast<std::size_t>(patch_[p0 + p])], nodes_[static_cast<std::size_t>(patch_[p0 + q])],
-                       -w * g[p] * g[q].transpose(), zero);
+    for (std::size_t j = around_start_[n]; j < around_start_[n + 1]; ++j) {
+      for (int a = 0; a < K; ++a) {
+        const auto at = static_cast<std::size_t>(place_[j][static_cast<std::size_t>(a)]);
+        g[at] += dv[around_[j]].col(a) / K;
       }
+    }
+    const double w = penalty_.curvature(jn[n], r) / volume0_[n];
+    for (std::size_t p = 0; p < m; ++p) {
+      const Index np = nodes_[static_cast<std::size_t>(patch_[p0 + p])];
+      for (std::size_t q = 0; q < m; ++q) {
+        sink.add_block(np, nodes_[static_cast<std::size_t>(patch_[p0 + q])], -w * g[p] * g[q].transpose(), zero);
+      }
+    }
   }
 }
 

@@ -41,8 +41,8 @@ struct NodalVolumeParams {
 /// hexahedral mesh. Throws adamss::InputError for p <= 0 or not finite, a bad ratio course (as the
 /// element volume term), an out-of-range subset element, an element with reference volume <= 0, or
 /// an empty selection.
-[[nodiscard]] std::unique_ptr<ForceTerm> make_nodal_volume_term(const preprocess::Mesh& mesh,
-                                                                const NodalVolumeParams& params,
-                                                                const std::vector<std::size_t>* element_subset = nullptr);
+[[nodiscard]] std::unique_ptr<ForceTerm> make_nodal_volume_term(
+    const preprocess::Mesh& mesh, const NodalVolumeParams& params,
+    const std::vector<std::size_t>* element_subset = nullptr);
 
 }  // namespace adamss::solver

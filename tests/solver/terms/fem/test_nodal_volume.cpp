@@ -17,9 +17,9 @@
 #include "solver/terms/fem/volume_penalty.hpp"
 
 using namespace adamss;
+using solver::Index;
 using solver::VolumePenalty;
 using solver::VolumePenaltyForm;
-using solver::Index;
 
 namespace {
 
