@@ -56,6 +56,12 @@ void check_options(const EllipsoidMeshOptions& o) {
     throw InputError(w + "base_z must lie strictly between -r_l and r_l of the endocardium (" +
                      std::to_string(o.base_z * 1e3) + " mm against r_l = " + std::to_string(o.endo_r_l * 1e3) + " mm)");
   }
+  for (const double h : {o.helix_endo_rad, o.helix_epi_rad}) {
+    if (!std::isfinite(h) || std::abs(h) > kPi) {
+      throw InputError(w + "helix angles must be finite and within +-180 deg, got " + std::to_string(h * 180.0 / kPi) +
+                       " deg");
+    }
+  }
 }
 
 /// Geometry of the (t, u, v) parametrisation.
@@ -135,9 +141,11 @@ std::vector<std::array<double, 3>> make_elements(const EllipsoidMeshOptions& o, 
   return cell_centre;
 }
 
-/// Fibre frame at each element's cell-centre parameters: helix angle alpha = pi/2 - t pi between
-/// the normalised du and dv directions, sheet = the outward ellipsoid normal made normal to f.
-void assign_fibres(const Shell& sh, const std::vector<std::array<double, 3>>& cell_centre, Mesh& mesh) {
+/// Fibre frame at each element's cell-centre parameters: helix angle alpha = h_endo - t (h_endo -
+/// h_epi) (pi/2 - t pi for the Land defaults, the same floating-point operations) between the
+/// normalised du and dv directions, sheet = the outward ellipsoid normal made normal to f.
+void assign_fibres(const Shell& sh, const std::vector<std::array<double, 3>>& cell_centre, double h_endo, double h_epi,
+                   Mesh& mesh) {
   const std::size_t ne = mesh.element_count();
   mesh.fiber.resize(3, static_cast<Eigen::Index>(ne));
   mesh.sheet.resize(3, static_cast<Eigen::Index>(ne));
@@ -150,7 +158,7 @@ void assign_fibres(const Shell& sh, const std::vector<std::array<double, 3>>& ce
     const Eigen::Vector3d du(rs * std::cos(u) * std::cos(v), rs * std::cos(u) * std::sin(v), -rl * std::sin(u));
     const Eigen::Vector3d dv(-rs * std::sin(u) * std::sin(v), rs * std::sin(u) * std::cos(v), 0.0);
     const Eigen::Vector3d x = sh.point(t, u, v);
-    const double alpha = 0.5 * kPi - t * kPi;
+    const double alpha = h_endo - t * (h_endo - h_epi);
     const Eigen::Vector3d f = (std::sin(alpha) * du.normalized() + std::cos(alpha) * dv.normalized()).normalized();
     Eigen::Vector3d s(x.x() / (rs * rs), x.y() / (rs * rs), x.z() / (rl * rl));  // outward surface normal
     s = (s - s.dot(f) * f).normalized();
@@ -215,7 +223,7 @@ Mesh make_land_ellipsoid(const EllipsoidMeshOptions& o) {
   place_nodes(o, sh, node, mesh);
   const std::vector<std::array<double, 3>> cell_centre = make_elements(o, node, mesh);
   mesh.labels.assign(mesh.element_count(), 1);
-  if (o.fibres) assign_fibres(sh, cell_centre, mesh);
+  if (o.fibres) assign_fibres(sh, cell_centre, o.helix_endo_rad, o.helix_epi_rad, mesh);
   add_node_tags(o, node, mesh);
   mesh.cavities["lv"] = lv_cavity(o, node, mesh);
   mesh.attributes["source"] = "land ellipsoid (structured)";

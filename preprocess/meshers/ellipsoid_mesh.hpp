@@ -31,14 +31,18 @@
 // Cavity::faces; triangles for tetrahedra, the Kuhn split of each quad), closed at the base by
 // close_cavity_openings (the base ring is planar, so the lid is exact), volume_m3 and closed set.
 // Fibres (Land problem 3), per element at the parameters of its centre (t_c, u_c, v_c): helix angle
-// alpha = +90 deg at t = 0 to -90 deg at t = 1 (linear in t), f = sin(alpha) e_u + cos(alpha) e_v,
+// alpha = helix_endo at t = 0 to helix_epi at t = 1 (linear in t; Land: +90 deg to -90 deg),
+// f = sin(alpha) e_u + cos(alpha) e_v,
 // e_u, e_v the unit tangents dx/du, dx/dv of the surface t = t_c; sheet = the unit normal of that
 // surface made orthogonal to f (Gram-Schmidt; it already is, up to rounding); normal = f x sheet.
 // mesh.attributes: "source" = "land ellipsoid (structured)", "topology" = "hex" | "tet".
 //
 // Errors (adamss::InputError, one line naming the option): n_v < 3, n_u < 2, n_t < 1, a grid too
 // large for the 32-bit node index, radii not positive or epicardium not outside the endocardium,
-// |base_z| >= r_l of the endocardium (then the base plane misses the cavity).
+// |base_z| >= r_l of the endocardium (then the base plane misses the cavity), a helix angle that is
+// not finite or beyond +-180 deg.
+#include <numbers>
+
 #include "preprocess/mesh/mesh.hpp"
 
 namespace adamss::preprocess {
@@ -54,6 +58,8 @@ struct EllipsoidMeshOptions {
   double epi_r_l = 20e-3;   ///< m
   double base_z = 5e-3;     ///< m, the base plane
   bool fibres = true;       ///< assign the Land problem-3 fibre frame
+  double helix_endo_rad = 0.5 * std::numbers::pi;  ///< helix angle at the endocardium (t = 0)
+  double helix_epi_rad = -0.5 * std::numbers::pi;  ///< helix angle at the epicardium (t = 1)
 };
 
 /// The structured truncated-ellipsoid mesh described above. InputError for bad options.

@@ -73,8 +73,8 @@ preprocess::Mesh box_mesh(SceneNode& node, std::string& source) {
 }
 
 /// mesh: {ellipsoid: land, divisions: [n_v, n_u, n_t], topology: hex|tet, endo: [r_s, r_l],
-/// epi: [r_s, r_l], base_z: z}: the structured truncated ellipsoid (preprocess/meshers/ellipsoid_mesh.hpp),
-/// built in memory (no cache: it takes milliseconds).
+/// epi: [r_s, r_l], base_z: z, helix_endo: a, helix_epi: a}: the structured truncated ellipsoid
+/// (preprocess/meshers/ellipsoid_mesh.hpp), built in memory (no cache: it takes milliseconds).
 preprocess::Mesh ellipsoid_mesh(SceneNode& node, std::string& source) {
   node.choice("ellipsoid", {"land"});
   preprocess::EllipsoidMeshOptions eo;
@@ -101,6 +101,8 @@ preprocess::Mesh ellipsoid_mesh(SceneNode& node, std::string& source) {
   radii("endo", eo.endo_r_s, eo.endo_r_l);
   radii("epi", eo.epi_r_s, eo.epi_r_l);
   eo.base_z = node.quantity("base_z", Dimension::Length, eo.base_z);
+  eo.helix_endo_rad = node.quantity("helix_endo", Dimension::Angle, eo.helix_endo_rad);
+  eo.helix_epi_rad = node.quantity("helix_epi", Dimension::Angle, eo.helix_epi_rad);
   preprocess::Mesh mesh;
   try {
     mesh = preprocess::make_land_ellipsoid(eo);

@@ -13,11 +13,11 @@
 #include <string>
 
 #include "common/error.hpp"
-#include "preprocess/surfaces/cavities.hpp"
 #include "preprocess/mesh/element_faces.hpp"
-#include "preprocess/meshers/ellipsoid_mesh.hpp"
 #include "preprocess/mesh/face_table.hpp"
 #include "preprocess/mesh/mesh_quality.hpp"
+#include "preprocess/meshers/ellipsoid_mesh.hpp"
+#include "preprocess/surfaces/cavities.hpp"
 
 namespace {
 
@@ -298,4 +298,36 @@ TEST(EllipsoidMesh, BadOptionsNameTheOption) {
   o.base_z = 17e-3;
   EXPECT_NE(error_of(o).find("base_z"), std::string::npos);
   EXPECT_EQ(error_of(divisions(3, 2, 1)), "");
+}
+
+TEST(EllipsoidMesh, HelixAnglesAreOptions) {
+  // A uniform helix angle a: every fibre makes the angle a with the circumferential direction
+  // (-sin v, cos v, 0) of its element, |f . c| = cos a (e_u and e_v are orthogonal), whatever the layer.
+  EllipsoidMeshOptions o = divisions(16, 8, 3);
+  o.helix_endo_rad = o.helix_epi_rad = 30.0 * kPi / 180.0;
+  const Mesh m = make_land_ellipsoid(o);
+  double worst = 0.0;
+  for (std::size_t e = 0; e < m.element_count(); ++e) {
+    const Eigen::Vector3d x = centroid(m, e);
+    const double v = std::atan2(x.y(), x.x());
+    const Eigen::Vector3d c(-std::sin(v), std::cos(v), 0.0);
+    worst = std::max(worst, std::abs(std::abs(m.fiber.col(static_cast<Eigen::Index>(e)).dot(c)) - std::cos(kPi / 6)));
+  }
+  EXPECT_LT(worst, 1e-9);
+  // The Land defaults are +90 deg at the endocardium, -90 deg at the epicardium: the fibres of the
+  // innermost and outermost layers are nearly longitudinal (|f . c| = |sin(t_c pi)| = sin(pi / 6) at
+  // t_c = 1/6, 5/6), the middle layer circumferential.
+  const Mesh d = make_land_ellipsoid(divisions(16, 8, 3));
+  std::set<long> seen;
+  for (std::size_t e = 0; e < d.element_count(); ++e) {
+    const Eigen::Vector3d x = centroid(d, e);
+    const double v = std::atan2(x.y(), x.x());
+    const Eigen::Vector3d c(-std::sin(v), std::cos(v), 0.0);
+    seen.insert(std::lround(1e6 * std::abs(d.fiber.col(static_cast<Eigen::Index>(e)).dot(c))));
+  }
+  EXPECT_EQ(seen, (std::set<long>{500000, 1000000}));
+  o.helix_epi_rad = 200.0 * kPi / 180.0;
+  EXPECT_NE(error_of(o).find("helix angles"), std::string::npos) << error_of(o);
+  o.helix_epi_rad = std::nan("");
+  EXPECT_NE(error_of(o).find("helix angles"), std::string::npos);
 }

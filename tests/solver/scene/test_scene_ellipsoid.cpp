@@ -8,8 +8,8 @@
 
 #include "common/error.hpp"
 #include "preprocess/meshers/ellipsoid_mesh.hpp"
-#include "solver/geometry/axis_frame.hpp"
 #include "solver/core/model.hpp"
+#include "solver/geometry/axis_frame.hpp"
 #include "solver/scene/scene.hpp"
 
 using namespace adamss;
@@ -122,5 +122,18 @@ TEST(SceneEllipsoid, BadKeysAreNamed) {
   EXPECT_NE(error_of(replaced(kScene, recipe, "{ellipsoid: land, phantom: lv}")).find("exactly one of"),
             std::string::npos);
   EXPECT_NE(error_of(replaced(kScene, recipe, "{ellipsoid: land, voxel_size: 1 mm}")).find("mesh.voxel_size"),
+            std::string::npos);
+}
+
+TEST(SceneEllipsoid, HelixAnglesAreRecipeKeys) {
+  // helix_endo = helix_epi = 0: every fibre is circumferential (no z component); the default
+  // (+-90 deg) is not. A helix angle past 180 deg is an error naming the recipe.
+  const auto flat =
+      load(replaced(kScene, "divisions: [12, 6, 2]}", "divisions: [12, 6, 2], helix_endo: 0 deg, helix_epi: 0 deg}"));
+  EXPECT_LT(flat.model.mesh->fiber.row(2).cwiseAbs().maxCoeff(), 1e-12);
+  const auto land = load(kScene);
+  EXPECT_GT(land.model.mesh->fiber.row(2).cwiseAbs().maxCoeff(), 0.5);
+  EXPECT_NE(error_of(replaced(kScene, "divisions: [12, 6, 2]}", "divisions: [12, 6, 2], helix_epi: 200 deg}"))
+                .find("helix angles"),
             std::string::npos);
 }
