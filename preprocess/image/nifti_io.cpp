@@ -345,6 +345,19 @@ Eigen::Matrix4d read_affine(const fs::path& path, const nifti_image& nim, const 
   return a;
 }
 
+/// Reads a gzip stream to its end, so that zlib checks the CRC-32 and length of the trailer
+/// (it only does so when a read reaches the end of the stream; the voxels may stop before it). False
+/// when zlib reports an error (a CRC or length mismatch, a damaged stream). Bytes after the voxel
+/// data are allowed (NIfTI does not forbid them) and ignored.
+bool gzip_trailer_ok(znzFile fp) {
+  std::array<unsigned char, 1 << 16> scratch{};
+  for (;;) {
+    const std::size_t got = znzread(scratch.data(), 1, scratch.size(), fp);
+    if (got == static_cast<std::size_t>(-1)) return false;
+    if (got < scratch.size()) return true;
+  }
+}
+
 /// Reads the voxel bytes (step 3 of the file comment) and swaps them to native order.
 std::unique_ptr<unsigned char[]> read_voxels(const fs::path& path, const nifti_image& nim, std::int64_t nbytes) {
   const auto n = static_cast<std::size_t>(nbytes);
@@ -360,10 +373,16 @@ std::unique_ptr<unsigned char[]> read_voxels(const fs::path& path, const nifti_i
   const bool seek_ok = znzseek(fp, static_cast<znz_off_t>(nim.iname_offset), SEEK_SET) >= 0;
   // znzread returns (size_t)-1 when zlib reports a corrupt stream.
   const std::size_t got = seek_ok ? znzread(buf.get(), 1, n, fp) : 0;
+  const bool trailer_ok = got != n || !gz || gzip_trailer_ok(fp);
   znzclose(fp);
   if (got != n) {
     fail_read(path, got > n ? std::string("corrupt compressed voxel data")
                             : fmt::format("truncated or corrupt voxel data (read {} of {} bytes)", got, n));
+  }
+  if (!trailer_ok) {
+    fail_read(path,
+              "corrupt gzip file: the CRC-32 or the length in the gzip trailer does not match the data "
+              "(`gzip -t` reports the same); the voxels read may be wrong");
   }
   if (nim.swapsize > 1 && nim.byteorder != nifti_short_order()) {
     nifti_swap_Nbytes(nbytes / nim.swapsize, nim.swapsize, buf.get());

@@ -819,3 +819,33 @@ TEST_F(NiftiIo, WriteFailuresNameThePath) {
 }
 
 }  // namespace
+
+TEST_F(NiftiIo, GzipTrailerIsChecked) {
+  // A gzip stream whose voxels end long before the stream does (here: 200 kB of bytes after the
+  // voxel data, as when a corrupted header shrinks a dimension). Reading the voxels never reaches
+  // the gzip trailer, where zlib checks the CRC-32 (bytes -8..-5) and the length (-4..-1), so the
+  // reader drains the stream to its end: the intact file reads (trailing bytes are allowed), a
+  // flipped bit in the trailer is an error, as `gzip -t` says.
+  const LabelImage img = make_labels(5, 4, 3, 7);
+  const fs::path plain = file("plain.nii");
+  write_label_image(plain, img);
+  std::vector<unsigned char> content = slurp(plain);
+  std::uint32_t state = 12345;
+  for (int i = 0; i < 200000; ++i) {
+    state = state * 1664525u + 1013904223u;
+    content.push_back(static_cast<unsigned char>(state >> 24));
+  }
+  const fs::path good = file("good.nii.gz");
+  spit_gz(good, content);
+  EXPECT_EQ(read_label_image(good).labels, img.labels);
+  const std::vector<unsigned char> bytes = slurp(good);
+  ASSERT_GT(bytes.size(), 100000u);
+  for (const std::size_t from_end : {8u, 5u, 4u, 1u}) {
+    SCOPED_TRACE("byte -" + std::to_string(from_end));
+    std::vector<unsigned char> bad = bytes;
+    bad[bad.size() - from_end] ^= 0x01;
+    const fs::path p = file("bad.nii.gz");
+    spit(p, bad);
+    expect_input_error([&] { read_label_image(p); }, {"bad.nii.gz", "gzip", "CRC-32"});
+  }
+}
