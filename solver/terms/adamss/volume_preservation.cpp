@@ -1,12 +1,14 @@
 #include "solver/terms/adamss/volume_preservation.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <string>
 
 #include "common/error.hpp"
+#include "solver/core/element_subset.hpp"
 #include "solver/geometry/element_rules.hpp"
 
 namespace adamss::solver {
@@ -84,15 +86,21 @@ void check_volume_ratio(const TimeCourse& r, const std::string& who) {
       if (vals.empty()) throw InputError(who + ": r (target volume ratio) table is empty");
       break;
     case TimeCourse::Kind::Twitch:
-      throw InputError(
-          who + ": r (target volume ratio) cannot be a twitch course (it returns to 0, a zero target "
-          "volume); use a ramp or a table");
+      throw InputError(who +
+                       ": r (target volume ratio) cannot be a twitch course (it returns to 0, a zero target "
+                       "volume); use a ramp or a table");
   }
   for (double v : vals) {
     if (!std::isfinite(v) || !(v > 0.0)) {
-      throw InputError(who + ": r (target volume ratio V_target/V0) must be finite and > 0, got " +
-                       fmt(v) + " (" + r.describe() + ")");
+      throw InputError(who + ": r (target volume ratio V_target/V0) must be finite and > 0, got " + fmt(v) + " (" +
+                       r.describe() + ")");
     }
+  }
+}
+
+void check_volume_penalty(double p, const std::string& who) {
+  if (!std::isfinite(p) || !(p > 0.0)) {
+    throw InputError(who + ": p (volume penalty coefficient, Pa) must be finite and > 0, got " + fmt(p));
   }
 }
 
@@ -152,7 +160,8 @@ double VolumeKernel<K>::volume_ratio(std::size_t i, const Mat3N<K>& x) const {
 
 template <int K>
 double VolumeKernel<K>::energy(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& /*v*/, double t) const {
-  if (form != VolumePenaltyForm::Quadratic) return volume0[i] * VolumePenalty{form, p}.value(volume_ratio(i, x), ratio(t));
+  if (form != VolumePenaltyForm::Quadratic)
+    return volume0[i] * VolumePenalty{form, p}.value(volume_ratio(i, x), ratio(t));
   const double d = volume_ratio(i, x) - ratio(t);
   return p * volume0[i] * d * d;
 }
@@ -195,10 +204,7 @@ template struct VolumeKernel<8>;
 template <int K>
 VolumeKernel<K> make_volume_kernel(const preprocess::Mesh& mesh, const AxisFrames* frames, const VolumeParams& params,
                                    const std::vector<std::size_t>* element_subset) {
-  if (!std::isfinite(params.p) || !(params.p > 0.0)) {
-    throw InputError("volume_preservation: p (volume penalty coefficient, Pa) must be finite and > 0, got " +
-                     fmt(params.p));
-  }
+  check_volume_penalty(params.p, "volume_preservation");
   check_volume_ratio(params.ratio, "volume_preservation");
   const preprocess::ElementType want = K == 4 ? preprocess::ElementType::Tet4 : preprocess::ElementType::Hex8;
   if (mesh.type != want) {
@@ -214,17 +220,10 @@ VolumeKernel<K> make_volume_kernel(const preprocess::Mesh& mesh, const AxisFrame
   if (aniso && frames->type != want) {
     throw InputError("volume_preservation: axis-frame element type does not match the mesh");
   }
-  const std::size_t ne = mesh.element_count();
-  std::vector<char> selected(ne, element_subset ? 0 : 1);
-  if (element_subset) {
-    for (std::size_t e : *element_subset) {
-      if (e >= ne) {
-        throw InputError("volume_preservation: element " + std::to_string(e) + " out of range (mesh has " +
-                         std::to_string(ne) + ")");
-      }
-      selected[e] = 1;
-    }
-  }
+  // The selected elements, checked against the mesh; the isotropic items run in ascending order.
+  std::vector<std::size_t> selected = selected_elements(mesh, element_subset, "volume_preservation");
+  std::sort(selected.begin(), selected.end());
+  selected.erase(std::unique(selected.begin(), selected.end()), selected.end());
   VolumeKernel<K> kern;
   kern.distribution = params.distribution;
   kern.p = params.p;
@@ -249,10 +248,8 @@ VolumeKernel<K> make_volume_kernel(const preprocess::Mesh& mesh, const AxisFrame
       kern.gradient.push_back(grads[k]);
     }
   } else {
-    for (std::size_t e = 0; e < ne; ++e) {
-      if (!selected[e]) continue;
+    for (const std::size_t e : selected)
       push(e, element_volume_of<K>(element_positions<K>(mesh.nodes, mesh.element(e))));
-    }
   }
   return kern;
 }

@@ -71,9 +71,9 @@
 #include <vector>
 
 #include "preprocess/mesh/mesh.hpp"
-#include "solver/geometry/axis_frame.hpp"
 #include "solver/core/stencil_term.hpp"
 #include "solver/core/time_course.hpp"
+#include "solver/geometry/axis_frame.hpp"
 #include "solver/terms/fem/volume_penalty.hpp"
 
 namespace adamss::solver {
@@ -86,14 +86,16 @@ enum class VolumeDistribution {
 /// "anisotropic" / "isotropic".
 [[nodiscard]] const char* volume_distribution_name(VolumeDistribution d);
 
+/// InputError (prefixed `who`) unless the penalty coefficient p (Pa) is finite and > 0.
+void check_volume_penalty(double p, const std::string& who);
 /// InputError (prefixed `who`) unless the target-ratio course r(t) is finite and > 0 at the values
 /// that define it (a twitch course, which returns to 0, is refused).
 void check_volume_ratio(const TimeCourse& r, const std::string& who);
 
 struct VolumeParams {
-  double p = 0.0;                                ///< penalty coefficient (Pa), > 0
+  double p = 0.0;                                         ///< penalty coefficient (Pa), > 0
   VolumePenaltyForm form = VolumePenaltyForm::Quadratic;  ///< U(J; r), solver/terms/fem/volume_penalty.hpp
-  TimeCourse ratio = TimeCourse::constant(1.0);  ///< r(t) = V_target / V0 (dimensionless), > 0
+  TimeCourse ratio = TimeCourse::constant(1.0);           ///< r(t) = V_target / V0 (dimensionless), > 0
   VolumeDistribution distribution = VolumeDistribution::Anisotropic;
 };
 
@@ -116,13 +118,13 @@ struct VolumeKernel {
   static constexpr bool kHasJacobian = true;
 
   VolumeDistribution distribution = VolumeDistribution::Anisotropic;
-  double p = 0.0;                                     ///< Pa
+  double p = 0.0;                                         ///< Pa
   VolumePenaltyForm form = VolumePenaltyForm::Quadratic;  ///< U(J; r); quadratic is eq. 2.86 / 2.101
-  TimeCourse ratio = TimeCourse::constant(1.0);       ///< r(t)
-  std::vector<std::array<Index, K>> elements;         ///< node indices of each element
-  std::vector<std::size_t> mesh_element;              ///< mesh element index of each item (messages)
-  std::vector<double> volume0;                        ///< V0 (m^3)
-  std::vector<Eigen::Matrix<double, K, 3>> gradient;  ///< anisotropic only: G (1/m), F = X G
+  TimeCourse ratio = TimeCourse::constant(1.0);           ///< r(t)
+  std::vector<std::array<Index, K>> elements;             ///< node indices of each element
+  std::vector<std::size_t> mesh_element;                  ///< mesh element index of each item (messages)
+  std::vector<double> volume0;                            ///< V0 (m^3)
+  std::vector<Eigen::Matrix<double, K, 3>> gradient;      ///< anisotropic only: G (1/m), F = X G
 
   [[nodiscard]] std::string name() const { return "volume_preservation"; }
   [[nodiscard]] std::size_t size() const { return elements.size(); }

@@ -38,8 +38,8 @@ class NodalVolumeTerm final : public ForceTerm {
   void add_couplings(std::vector<std::vector<Index>>& adj) const override;
 
  private:
-  /// Current element volumes ve (m^3) and nodal volume ratios J_n.
-  void ratios(const Eigen::Matrix3Xd& x, std::vector<double>& ve, std::vector<double>& jn) const;
+  /// Current nodal volume ratios J_n = V_n / V0_n.
+  [[nodiscard]] std::vector<double> ratios(const Eigen::Matrix3Xd& x) const;
   /// Node patches (elements around each node and their nodes' places in the patch).
   void build_patches();
 
@@ -123,20 +123,19 @@ void NodalVolumeTerm<K>::build_patches() {
 }
 
 template <int K>
-void NodalVolumeTerm<K>::ratios(const Eigen::Matrix3Xd& x, std::vector<double>& ve, std::vector<double>& jn) const {
-  ve.resize(elements_.size());
-  jn.assign(nodes_.size(), 0.0);
+std::vector<double> NodalVolumeTerm<K>::ratios(const Eigen::Matrix3Xd& x) const {
+  std::vector<double> jn(nodes_.size(), 0.0);
   for (std::size_t e = 0; e < elements_.size(); ++e) {
-    ve[e] = element_volume_of<K>(element_positions<K>(x, elements_[e].data()));
-    for (const int n : local_[e]) jn[static_cast<std::size_t>(n)] += ve[e] / K;
+    const double ve = element_volume_of<K>(element_positions<K>(x, elements_[e].data()));
+    for (const int n : local_[e]) jn[static_cast<std::size_t>(n)] += ve / K;
   }
   for (std::size_t n = 0; n < nodes_.size(); ++n) jn[n] /= volume0_[n];
+  return jn;
 }
 
 template <int K>
 double NodalVolumeTerm<K>::energy(const StateView& s) const {
-  std::vector<double> ve, jn;
-  ratios(s.x, ve, jn);
+  std::vector<double> jn = ratios(s.x);
   const double r = ratio_(s.t);
   double e = 0.0;
   for (std::size_t n = 0; n < nodes_.size(); ++n) e += volume0_[n] * penalty_.value(jn[n], r);
@@ -145,8 +144,7 @@ double NodalVolumeTerm<K>::energy(const StateView& s) const {
 
 template <int K>
 void NodalVolumeTerm<K>::add_forces(const StateView& s, Eigen::Matrix3Xd& f) const {
-  std::vector<double> ve, jn;
-  ratios(s.x, ve, jn);
+  std::vector<double> jn = ratios(s.x);
   const double r = ratio_(s.t);
   for (double& j : jn) j = penalty_.slope(j, r);  // now U'_n
   for (std::size_t e = 0; e < elements_.size(); ++e) {
@@ -159,8 +157,7 @@ void NodalVolumeTerm<K>::add_forces(const StateView& s, Eigen::Matrix3Xd& f) con
 
 template <int K>
 void NodalVolumeTerm<K>::add_jacobian(const StateView& s, JacobianSink& sink) const {
-  std::vector<double> ve, jn;
-  ratios(s.x, ve, jn);
+  std::vector<double> jn = ratios(s.x);
   const double r = ratio_(s.t);
   const Eigen::Matrix3d zero = Eigen::Matrix3d::Zero();
   // -sum_e c_e H_e on the element stencils; keep dV_e/dx for the patch sums.
@@ -214,10 +211,7 @@ void NodalVolumeTerm<K>::add_couplings(std::vector<std::vector<Index>>& adj) con
 
 std::unique_ptr<ForceTerm> make_nodal_volume_term(const preprocess::Mesh& mesh, const NodalVolumeParams& params,
                                                   const std::vector<std::size_t>* element_subset) {
-  if (!std::isfinite(params.penalty.p) || !(params.penalty.p > 0.0)) {
-    throw InputError(std::string(kTerm) + ": p (volume penalty coefficient, Pa) must be finite and > 0, got " +
-                     std::to_string(params.penalty.p));
-  }
+  check_volume_penalty(params.penalty.p, kTerm);
   check_volume_ratio(params.ratio, kTerm);
   const std::vector<std::size_t> selected = selected_elements(mesh, element_subset, kTerm);
   if (selected.empty()) throw InputError(std::string(kTerm) + ": no elements selected");

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "common/error.hpp"
+#include "scene_fixtures.hpp"
 #include "solver/scene/scene.hpp"
 
 using namespace adamss;
@@ -28,37 +29,12 @@ integrator: {type: symplectic_euler, dt: 10 us}
 run: {t_end: 1 ms}
 )";
 
-solver::SceneOptions options() {
-  solver::SceneOptions o;
-  o.cache_dir = std::filesystem::temp_directory_path() / "adamss-test-scene-cache";
-  return o;
-}
-
-solver::LoadedScene load(const std::string& text) {
-  return solver::load_scene_text(text, "scene.yaml", options());
-}
-
-/// The InputError message of loading `text` ("" if it loads).
-std::string error_of(const std::string& text) {
-  try {
-    load(text);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
-std::string replaced(std::string s, const std::string& from, const std::string& to) {
-  const auto at = s.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  if (at != std::string::npos) s.replace(at, from.size(), to);
-  return s;
-}
+using test::replaced;
 
 }  // namespace
 
 TEST(Scene, BaseSceneAssemblesOnlyWhatItNames) {
-  const auto sc = load(kBase);
+  const auto sc = test::load_scene(kBase);
   EXPECT_EQ(sc.model.node_count(), 3u * 3u * 4u);
   EXPECT_EQ(sc.model.mesh->element_count(), 2u * 2u * 3u * 6u);
   ASSERT_EQ(sc.model.terms.size(), 1u);
@@ -72,58 +48,63 @@ TEST(Scene, BaseSceneAssemblesOnlyWhatItNames) {
 }
 
 TEST(Scene, IsotropicVolumeAloneBuildsNoAxisFrames) {
-  const auto sc = load(replaced(kBase, "- virtual_hexahedron: {law: svk, parameters: {E: 10 kPa, nu: 0.3}}",
-                                "- volume: {p: 1 kPa, distribution: isotropic}"));
+  const auto sc = test::load_scene(replaced(kBase, "- virtual_hexahedron: {law: svk, parameters: {E: 10 kPa, nu: 0.3}}",
+                                            "- volume: {p: 1 kPa, distribution: isotropic}"));
   EXPECT_EQ(sc.axis_frame_elements, 0u);
   EXPECT_EQ(sc.model.terms[0]->name(), "volume_preservation");
 }
 
 TEST(Scene, UnknownKeysAreNamedWithTheirPath) {
-  EXPECT_NE(
-      error_of(replaced(kBase, "run: {t_end: 1 ms}", "run: {t_end: 1 ms, tend: 2}")).find("run.tend: unknown key"),
-      std::string::npos);
-  EXPECT_NE(error_of(replaced(kBase, "{law: svk,", "{lawz: 1, law: svk,"))
+  EXPECT_NE(test::scene_error(replaced(kBase, "run: {t_end: 1 ms}", "run: {t_end: 1 ms, tend: 2}"))
+                .find("run.tend: unknown key"),
+            std::string::npos);
+  EXPECT_NE(test::scene_error(replaced(kBase, "{law: svk,", "{lawz: 1, law: svk,"))
                 .find("materials[0].terms[0].virtual_hexahedron.lawz: unknown key"),
             std::string::npos);
-  EXPECT_NE(error_of(kBase + "extra: 1\n").find("extra: unknown key"), std::string::npos);
-  EXPECT_NE(error_of(replaced(kBase, "- virtual_hexahedron:", "- virtual_hexahedra:")).find("unknown force term"),
-            std::string::npos);
+  EXPECT_NE(test::scene_error(kBase + "extra: 1\n").find("extra: unknown key"), std::string::npos);
+  EXPECT_NE(
+      test::scene_error(replaced(kBase, "- virtual_hexahedron:", "- virtual_hexahedra:")).find("unknown force term"),
+      std::string::npos);
 }
 
 TEST(Scene, MissingRequiredKeysAndWrongTypes) {
-  EXPECT_NE(error_of(replaced(kBase, "run: {t_end: 1 ms}", "run: {}")).find("run.t_end: missing required key"),
+  EXPECT_NE(test::scene_error(replaced(kBase, "run: {t_end: 1 ms}", "run: {}")).find("run.t_end: missing required key"),
             std::string::npos);
-  EXPECT_NE(error_of(replaced(kBase, "density: 1000 kg/m^3", "density: [1, 2]")).find("materials[0].density"),
+  EXPECT_NE(test::scene_error(replaced(kBase, "density: 1000 kg/m^3", "density: [1, 2]")).find("materials[0].density"),
             std::string::npos);
-  EXPECT_NE(error_of(replaced(kBase, "type: symplectic_euler", "type: leapfrog")).find("integrator.type"),
+  EXPECT_NE(test::scene_error(replaced(kBase, "type: symplectic_euler", "type: leapfrog")).find("integrator.type"),
             std::string::npos);
-  EXPECT_NE(error_of(replaced(kBase, "fix: xyz", "fix: xw")).find("boundary[0].fix"), std::string::npos);
+  EXPECT_NE(test::scene_error(replaced(kBase, "fix: xyz", "fix: xw")).find("boundary[0].fix"), std::string::npos);
 }
 
 TEST(Scene, ImpossibleValuesAndWrongUnits) {
-  EXPECT_NE(error_of(replaced(kBase, "density: 1000 kg/m^3", "density: -5")).find("materials[0].density: must be > 0"),
+  EXPECT_NE(test::scene_error(replaced(kBase, "density: 1000 kg/m^3", "density: -5"))
+                .find("materials[0].density: must be > 0"),
             std::string::npos);
-  EXPECT_NE(error_of(replaced(kBase, "dt: 10 us", "dt: 0")).find("integrator.dt: must be > 0"), std::string::npos);
-  EXPECT_NE(error_of(replaced(kBase, "dt: 10 us", "dt: 10 mm")).find("expected a time"), std::string::npos);
-  EXPECT_NE(error_of(replaced(kBase, "E: 10 kPa", "E: -10 kPa")).find("virtual_hexahedron"), std::string::npos);
-  EXPECT_NE(error_of(replaced(kBase, "- virtual_hexahedron: {law: svk, parameters: {E: 10 kPa, nu: 0.3}}",
-                              "- volume: {p: -1 kPa}"))
+  EXPECT_NE(test::scene_error(replaced(kBase, "dt: 10 us", "dt: 0")).find("integrator.dt: must be > 0"),
+            std::string::npos);
+  EXPECT_NE(test::scene_error(replaced(kBase, "dt: 10 us", "dt: 10 mm")).find("expected a time"), std::string::npos);
+  EXPECT_NE(test::scene_error(replaced(kBase, "E: 10 kPa", "E: -10 kPa")).find("virtual_hexahedron"),
+            std::string::npos);
+  EXPECT_NE(test::scene_error(replaced(kBase, "- virtual_hexahedron: {law: svk, parameters: {E: 10 kPa, nu: 0.3}}",
+                                       "- volume: {p: -1 kPa}"))
                 .find("materials[0].terms[0].volume.p: must be > 0"),
             std::string::npos);
-  EXPECT_NE(error_of(replaced(kBase, "labels: [1]", "labels: [7]")).find("materials[0].labels"), std::string::npos);
+  EXPECT_NE(test::scene_error(replaced(kBase, "labels: [1]", "labels: [7]")).find("materials[0].labels"),
+            std::string::npos);
 }
 
 TEST(Scene, TimeStepFarBeyondTheCriticalStepIsAnError) {
   const std::string big = replaced(kBase, "dt: 10 us", "dt: 50 ms");
-  EXPECT_NE(error_of(big).find("critical step"), std::string::npos);
+  EXPECT_NE(test::scene_error(big).find("critical step"), std::string::npos);
   // Allowed when asked for; a warning is kept.
-  const auto sc = load(replaced(big, "dt: 50 ms}", "dt: 50 ms, check_dt: false}"));
+  const auto sc = test::load_scene(replaced(big, "dt: 50 ms}", "dt: 50 ms, check_dt: false}"));
   ASSERT_FALSE(sc.warnings.empty());
   EXPECT_NE(sc.warnings[0].find("h_c"), std::string::npos);
 }
 
 TEST(Scene, BoundaryConditionsAndCourses) {
-  const auto sc = load(replaced(kBase, "    fix: xyz\n", R"(    fix: xyz
+  const auto sc = test::load_scene(replaced(kBase, "    fix: xyz\n", R"(    fix: xyz
   - select: {region: {plane: {point: [0, 0, 3 mm], normal: [0, 0, 1], tolerance: 0.001 mm}}}
     control: {axis: z, displacement: {table: {times: [0, 1 ms], values: [0, 0.3 mm]}}}
   - select: {nodes: [13]}
@@ -135,7 +116,7 @@ TEST(Scene, BoundaryConditionsAndCourses) {
   EXPECT_TRUE(c.controls().back().velocity);
   EXPECT_NEAR(c.controls().back().course(1e-3), 2e-3, 1e-15);
   // The same coordinate twice is an error naming the entry.
-  EXPECT_NE(error_of(replaced(kBase, "    fix: xyz\n", R"(    fix: xyz
+  EXPECT_NE(test::scene_error(replaced(kBase, "    fix: xyz\n", R"(    fix: xyz
   - select: {nodes: [0]}
     control: {axis: z, displacement: 1 mm}
 )"))
@@ -144,25 +125,25 @@ TEST(Scene, BoundaryConditionsAndCourses) {
 }
 
 TEST(Scene, MeshRecipeIsCached) {
-  const auto a = load(kBase);
+  const auto a = test::load_scene(kBase);
   ASSERT_TRUE(std::filesystem::exists(a.mesh_source));
   const auto t = std::filesystem::last_write_time(a.mesh_source);
-  const auto b = load(kBase);
+  const auto b = test::load_scene(kBase);
   EXPECT_EQ(a.mesh_source, b.mesh_source);
   EXPECT_EQ(std::filesystem::last_write_time(b.mesh_source), t);
-  EXPECT_NE(error_of(replaced(kBase, "mesh: {phantom: slab,", "mesh: {file: nothing.h5, phantom: slab,"))
+  EXPECT_NE(test::scene_error(replaced(kBase, "mesh: {phantom: slab,", "mesh: {file: nothing.h5, phantom: slab,"))
                 .find("exactly one of file:, phantom:"),
             std::string::npos);
-  EXPECT_NE(error_of(replaced(kBase,
-                              "mesh: {phantom: slab, slab_size: [2, 2, 3], voxel_size: 1 mm, topology: tet6m, "
-                              "fibre: [0, 0, 1], sheet: [1, 0, 0]}",
-                              "mesh: {file: nothing.h5}"))
+  EXPECT_NE(test::scene_error(replaced(kBase,
+                                       "mesh: {phantom: slab, slab_size: [2, 2, 3], voxel_size: 1 mm, topology: tet6m, "
+                                       "fibre: [0, 0, 1], sheet: [1, 0, 0]}",
+                                       "mesh: {file: nothing.h5}"))
                 .find("does not exist"),
             std::string::npos);
 }
 
 TEST(Scene, InvalidYamlIsAnInputError) {
-  EXPECT_NE(error_of("mesh: [unclosed").find("not valid YAML"), std::string::npos);
+  EXPECT_NE(test::scene_error("mesh: [unclosed").find("not valid YAML"), std::string::npos);
   EXPECT_THROW(solver::load_scene("/nonexistent/scene.yaml"), InputError);
 }
 
@@ -173,20 +154,21 @@ TEST(Scene, InvalidYamlIsAnInputError) {
 // mapping, inside a list and in a flow mapping; the same key in two different mappings is fine.
 TEST(Scene, DuplicateKeysAreErrorsNamingBothLines) {
   // kBase: line 1 is empty, "name: t" is line 2, "run: {t_end: 1 ms}" line 14.
-  std::string e = error_of(kBase + "run: {t_end: 2 ms}\n");
+  std::string e = test::scene_error(kBase + "run: {t_end: 2 ms}\n");
   EXPECT_NE(e.find("run: duplicate key 'run' on line 14 and line 15"), std::string::npos) << e;
-  e = error_of(replaced(kBase, "    density: 1000 kg/m^3\n", "    density: 1000 kg/m^3\n    density: 2000 kg/m^3\n"));
+  e = test::scene_error(
+      replaced(kBase, "    density: 1000 kg/m^3\n", "    density: 1000 kg/m^3\n    density: 2000 kg/m^3\n"));
   EXPECT_NE(e.find("materials[0].density: duplicate key 'density' on line 7 and line 8"), std::string::npos) << e;
-  e = error_of(replaced(kBase, "{E: 10 kPa, nu: 0.3}", "{E: 10 kPa, nu: 0.3, E: 20 kPa}"));
+  e = test::scene_error(replaced(kBase, "{E: 10 kPa, nu: 0.3}", "{E: 10 kPa, nu: 0.3, E: 20 kPa}"));
   EXPECT_NE(e.find("materials[0].terms[0].virtual_hexahedron.parameters.E: duplicate key 'E' on line 9 and line 9"),
             std::string::npos)
       << e;
-  EXPECT_EQ(error_of(kBase), "");
+  EXPECT_EQ(test::scene_error(kBase), "");
   // An alias bomb (each level doubles the uses of the one below) is refused, not walked for ever.
   std::ostringstream bomb;
   bomb << "a0: &a0 [x, x]\n";
   for (int k = 1; k <= 25; ++k) bomb << 'a' << k << ": &a" << k << " [*a" << k - 1 << ", *a" << k - 1 << "]\n";
-  e = error_of(bomb.str());
+  e = test::scene_error(bomb.str());
   EXPECT_NE(e.find("YAML nodes"), std::string::npos) << e;
 }
 
@@ -214,7 +196,7 @@ boundary:
 integrator: {type: static, dt: 10 ms}
 run: {t_end: 10 ms}
 )";
-  const auto sc = load(scene);
+  const auto sc = test::load_scene(scene);
   const auto& f = sc.model.mesh->cell_scalars.at("scar");
   const auto n_scar = (f.array() > 0.5).count();
   EXPECT_GT(n_scar, 0);
@@ -228,19 +210,21 @@ run: {t_end: 10 ms}
   EXPECT_EQ(healthy, 2);
   EXPECT_EQ(scar, 1);
   // Overlapping ranges, a missing field, a range with no element, a scar on a slab.
-  EXPECT_NE(error_of(replaced(scene, "{name: scar, min: 0.5}", "{name: scar, min: 0}")).find("already belongs"),
-            std::string::npos);
-  EXPECT_NE(error_of(replaced(scene, "{name: scar, min: 0.5}", "{name: infarct, min: 0.5}"))
+  EXPECT_NE(
+      test::scene_error(replaced(scene, "{name: scar, min: 0.5}", "{name: scar, min: 0}")).find("already belongs"),
+      std::string::npos);
+  EXPECT_NE(test::scene_error(replaced(scene, "{name: scar, min: 0.5}", "{name: infarct, min: 0.5}"))
                 .find("materials[1].cell_field.name: the mesh has no cell field 'infarct'"),
             std::string::npos);
-  EXPECT_NE(error_of(replaced(scene, "{name: scar, min: 0.5}", "{name: scar, min: 2}")).find("no element"),
+  EXPECT_NE(test::scene_error(replaced(scene, "{name: scar, min: 0.5}", "{name: scar, min: 2}")).find("no element"),
             std::string::npos);
-  EXPECT_NE(
-      error_of(replaced(scene, "{name: scar, min: 0.5}", "{name: scar, min: 1, max: 0}")).find("min must be <= max"),
-      std::string::npos);
-  EXPECT_NE(error_of(replaced(scene, "    cell_field: {name: scar, min: 0.5}\n", "")).find("already belongs"),
+  EXPECT_NE(test::scene_error(replaced(scene, "{name: scar, min: 0.5}", "{name: scar, min: 1, max: 0}"))
+                .find("min must be <= max"),
             std::string::npos);
-  EXPECT_NE(error_of(replaced(scene, "angle: 30 deg", "angle: 0 deg")).find("mesh.scar.angle"), std::string::npos);
-  EXPECT_NE(error_of(replaced(kBase, "voxel_size: 1 mm,", "voxel_size: 1 mm, scar: {},")).find("lv and biv"),
+  EXPECT_NE(test::scene_error(replaced(scene, "    cell_field: {name: scar, min: 0.5}\n", "")).find("already belongs"),
+            std::string::npos);
+  EXPECT_NE(test::scene_error(replaced(scene, "angle: 30 deg", "angle: 0 deg")).find("mesh.scar.angle"),
+            std::string::npos);
+  EXPECT_NE(test::scene_error(replaced(kBase, "voxel_size: 1 mm,", "voxel_size: 1 mm, scar: {},")).find("lv and biv"),
             std::string::npos);
 }

@@ -8,6 +8,7 @@
 
 #include "common/error.hpp"
 #include "preprocess/meshers/ellipsoid_mesh.hpp"
+#include "scene_fixtures.hpp"
 #include "solver/core/model.hpp"
 #include "solver/geometry/axis_frame.hpp"
 #include "solver/scene/scene.hpp"
@@ -32,32 +33,12 @@ integrator: {type: symplectic_euler, dt: 1 us}
 run: {t_end: 1 ms}
 )";
 
-solver::LoadedScene load(const std::string& text) {
-  solver::SceneOptions o;
-  o.cache_dir = std::filesystem::temp_directory_path() / "adamss-test-scene-cache";
-  return solver::load_scene_text(text, "scene.yaml", o);
-}
-
-std::string error_of(const std::string& text) {
-  try {
-    load(text);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
-std::string replaced(std::string s, const std::string& from, const std::string& to) {
-  const auto at = s.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  if (at != std::string::npos) s.replace(at, from.size(), to);
-  return s;
-}
+using test::replaced;
 
 }  // namespace
 
 TEST(SceneEllipsoid, LandEllipsoidLoads) {
-  const auto sc = load(kScene);
+  const auto sc = test::load_scene(kScene);
   const preprocess::Mesh& m = *sc.model.mesh;
   EXPECT_EQ(m.type, preprocess::ElementType::Hex8);
   EXPECT_EQ(m.element_count(), 12u * 6u * 2u);
@@ -91,7 +72,8 @@ TEST(SceneEllipsoid, AxisFramesOfTheApexWedges) {
 }
 
 TEST(SceneEllipsoid, TetrahedraAndOtherRadii) {
-  const auto sc = load(replaced(kScene, "{ellipsoid: land, divisions: [12, 6, 2]}",
+  const auto sc =
+      test::load_scene(replaced(kScene, "{ellipsoid: land, divisions: [12, 6, 2]}",
                                 "{ellipsoid: land, divisions: [12, 6, 2], topology: tet, endo: [20 mm, 30 mm], "
                                 "epi: [25 mm, 35 mm], base_z: 0 mm}"));
   const preprocess::Mesh& m = *sc.model.mesh;
@@ -106,34 +88,39 @@ TEST(SceneEllipsoid, TetrahedraAndOtherRadii) {
 
 TEST(SceneEllipsoid, BadKeysAreNamed) {
   const std::string recipe = "{ellipsoid: land, divisions: [12, 6, 2]}";
-  EXPECT_NE(error_of(replaced(kScene, recipe, "{ellipsoid: land, divisions: [2, 6, 2]}")).find("mesh.divisions"),
+  EXPECT_NE(
+      test::scene_error(replaced(kScene, recipe, "{ellipsoid: land, divisions: [2, 6, 2]}")).find("mesh.divisions"),
+      std::string::npos);
+  EXPECT_NE(test::scene_error(replaced(kScene, recipe, "{ellipsoid: land, divisions: [12, 6]}")).find("mesh.divisions"),
             std::string::npos);
-  EXPECT_NE(error_of(replaced(kScene, recipe, "{ellipsoid: land, divisions: [12, 6]}")).find("mesh.divisions"),
+  EXPECT_NE(
+      test::scene_error(replaced(kScene, recipe, "{ellipsoid: land, divisions: [12, 1, 2]}")).find("mesh.divisions"),
+      std::string::npos);
+  EXPECT_NE(test::scene_error(replaced(kScene, recipe, "{ellipsoid: sphere}")).find("mesh.ellipsoid"),
             std::string::npos);
-  EXPECT_NE(error_of(replaced(kScene, recipe, "{ellipsoid: land, divisions: [12, 1, 2]}")).find("mesh.divisions"),
+  EXPECT_NE(test::scene_error(replaced(kScene, recipe, "{ellipsoid: land, topology: tet6m}")).find("mesh.topology"),
             std::string::npos);
-  EXPECT_NE(error_of(replaced(kScene, recipe, "{ellipsoid: sphere}")).find("mesh.ellipsoid"), std::string::npos);
-  EXPECT_NE(error_of(replaced(kScene, recipe, "{ellipsoid: land, topology: tet6m}")).find("mesh.topology"),
+  EXPECT_NE(test::scene_error(replaced(kScene, recipe, "{ellipsoid: land, endo: [7 mm]}")).find("mesh.endo"),
             std::string::npos);
-  EXPECT_NE(error_of(replaced(kScene, recipe, "{ellipsoid: land, endo: [7 mm]}")).find("mesh.endo"), std::string::npos);
-  EXPECT_NE(error_of(replaced(kScene, recipe, "{ellipsoid: land, epi: [6 mm, 20 mm]}")).find("epi radii"),
+  EXPECT_NE(test::scene_error(replaced(kScene, recipe, "{ellipsoid: land, epi: [6 mm, 20 mm]}")).find("epi radii"),
             std::string::npos);
-  EXPECT_NE(error_of(replaced(kScene, recipe, "{ellipsoid: land, base_z: 18 mm}")).find("base_z"), std::string::npos);
-  EXPECT_NE(error_of(replaced(kScene, recipe, "{ellipsoid: land, phantom: lv}")).find("exactly one of"),
+  EXPECT_NE(test::scene_error(replaced(kScene, recipe, "{ellipsoid: land, base_z: 18 mm}")).find("base_z"),
             std::string::npos);
-  EXPECT_NE(error_of(replaced(kScene, recipe, "{ellipsoid: land, voxel_size: 1 mm}")).find("mesh.voxel_size"),
+  EXPECT_NE(test::scene_error(replaced(kScene, recipe, "{ellipsoid: land, phantom: lv}")).find("exactly one of"),
+            std::string::npos);
+  EXPECT_NE(test::scene_error(replaced(kScene, recipe, "{ellipsoid: land, voxel_size: 1 mm}")).find("mesh.voxel_size"),
             std::string::npos);
 }
 
 TEST(SceneEllipsoid, HelixAnglesAreRecipeKeys) {
   // helix_endo = helix_epi = 0: every fibre is circumferential (no z component); the default
   // (+-90 deg) is not. A helix angle past 180 deg is an error naming the recipe.
-  const auto flat =
-      load(replaced(kScene, "divisions: [12, 6, 2]}", "divisions: [12, 6, 2], helix_endo: 0 deg, helix_epi: 0 deg}"));
+  const auto flat = test::load_scene(
+      replaced(kScene, "divisions: [12, 6, 2]}", "divisions: [12, 6, 2], helix_endo: 0 deg, helix_epi: 0 deg}"));
   EXPECT_LT(flat.model.mesh->fiber.row(2).cwiseAbs().maxCoeff(), 1e-12);
-  const auto land = load(kScene);
+  const auto land = test::load_scene(kScene);
   EXPECT_GT(land.model.mesh->fiber.row(2).cwiseAbs().maxCoeff(), 0.5);
-  EXPECT_NE(error_of(replaced(kScene, "divisions: [12, 6, 2]}", "divisions: [12, 6, 2], helix_epi: 200 deg}"))
+  EXPECT_NE(test::scene_error(replaced(kScene, "divisions: [12, 6, 2]}", "divisions: [12, 6, 2], helix_epi: 200 deg}"))
                 .find("helix angles"),
             std::string::npos);
 }

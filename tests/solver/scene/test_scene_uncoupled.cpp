@@ -8,6 +8,7 @@
 #include <string>
 
 #include "common/error.hpp"
+#include "scene_fixtures.hpp"
 #include "solver/scene/scene.hpp"
 
 using namespace adamss;
@@ -32,21 +33,17 @@ integrator: {type: symplectic_euler, dt: 10 us}
 run: {t_end: 1 ms}
 )";
 
+/// kScene with its law term.
+std::string with_term(const std::string& term) {
+  return test::replaced(kScene, "TERM", term);
+}
+
 solver::LoadedScene load(const std::string& term) {
-  std::string text = kScene;
-  text.replace(text.find("TERM"), 4, term);
-  solver::SceneOptions o;
-  o.cache_dir = std::filesystem::temp_directory_path() / "adamss-test-scene-cache";
-  return solver::load_scene_text(text, "scene.yaml", o);
+  return test::load_scene(with_term(term));
 }
 
 std::string error_of(const std::string& term) {
-  try {
-    load(term);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return test::scene_error(with_term(term));
 }
 
 }  // namespace
