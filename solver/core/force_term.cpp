@@ -4,6 +4,18 @@
 
 namespace adamss::solver {
 
+void JacobianSink::add_stencil(const Index* nodes, int n, const double* dfdx, const double* dfdv) {
+  const Eigen::Index ld = 3 * static_cast<Eigen::Index>(n);
+  using Block = Eigen::Map<const Eigen::Matrix3d, 0, Eigen::OuterStride<>>;
+  for (int a = 0; a < n; ++a) {
+    for (int b = 0; b < n; ++b) {
+      const Eigen::Index off = 3 * (static_cast<Eigen::Index>(b) * ld + a);
+      add_block(nodes[a], nodes[b], Block(dfdx + off, Eigen::OuterStride<>(ld)),
+                Block(dfdv + off, Eigen::OuterStride<>(ld)));
+    }
+  }
+}
+
 void require_jacobians(const std::vector<std::unique_ptr<ForceTerm>>& terms, const std::string& solver_name) {
   std::string missing;
   for (const auto& t : terms) {

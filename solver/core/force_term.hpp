@@ -35,6 +35,11 @@ class JacobianSink {
  public:
   virtual ~JacobianSink() = default;
   virtual void add_block(Index a, Index b, const Eigen::Matrix3d& dfdx, const Eigen::Matrix3d& dfdv) = 0;
+  /// Adds the dense local Jacobians of one stencil of n nodes: `dfdx` and `dfdv` are 3n x 3n,
+  /// column-major, block (a, b) = d f_{nodes[a]} / d x_{nodes[b]} at rows 3a, columns 3b. The
+  /// default hands them on block by block (add_block); a sparse-matrix sink scatters the whole
+  /// stencil through its precomputed positions (solver/time/petsc/petsc_matrix.hpp).
+  virtual void add_stencil(const Index* nodes, int n, const double* dfdx, const double* dfdv);
 };
 
 class ForceTerm {

@@ -139,21 +139,45 @@ class StencilTerm final : public ForceTerm {
     }
   }
 
+  /// Jacobian blocks of all items. Items are evaluated in parallel (OpenMP) a chunk at a time
+  /// into per-item local matrices, which are then handed to the sink in item order, one
+  /// add_stencil per item: the sums are the same bit for bit whatever the number of threads.
   void add_jacobian(const StateView& s, JacobianSink& sink) const override {
     if constexpr (Kernel::kHasJacobian) {
-      Mat3N<N> x, v;
-      MatJ<N> kx, kv;
-      for (std::size_t i = 0; i < kernel_.size(); ++i) {
-        const std::array<Index, N> st = kernel_.stencil(i);
-        gather(s, st, x, v);
-        kx.setZero();
-        kv.setZero();
-        kernel_.jacobian(i, x, v, s.t, kx, kv);
-        for (int a = 0; a < N; ++a) {
-          for (int b = 0; b < N; ++b) {
-            sink.add_block(st[static_cast<std::size_t>(a)], st[static_cast<std::size_t>(b)],
-                           kx.template block<3, 3>(3 * a, 3 * b), kv.template block<3, 3>(3 * a, 3 * b));
+      const std::size_t n = kernel_.size();
+      for (std::size_t first = 0; first < n; first += kJacobianChunk) {
+        const std::size_t count = std::min(kJacobianChunk, n - first);
+        jac_x_.resize(static_cast<std::size_t>(kLocal) * count);
+        jac_v_.resize(static_cast<std::size_t>(kLocal) * count);
+        const auto nc = static_cast<std::ptrdiff_t>(count);
+        std::ptrdiff_t failed_item = -1;
+        std::exception_ptr failure;
+#pragma omp parallel for schedule(static) if (count >= kParallelMin)
+        for (std::ptrdiff_t c = 0; c < nc; ++c) {
+          const std::size_t i = first + static_cast<std::size_t>(c);
+          Mat3N<N> x, v;
+          gather(s, kernel_.stencil(i), x, v);
+          Eigen::Map<MatJ<N>> kx(jac_x_.data() + kLocal * static_cast<std::size_t>(c));
+          Eigen::Map<MatJ<N>> kv(jac_v_.data() + kLocal * static_cast<std::size_t>(c));
+          try {
+            MatJ<N> lx = MatJ<N>::Zero(), lv = MatJ<N>::Zero();
+            kernel_.jacobian(i, x, v, s.t, lx, lv);
+            kx = lx;
+            kv = lv;
+          } catch (...) {
+#pragma omp critical(adamss_stencil_failure)
+            if (failed_item < 0 || c < failed_item) {  // report the lowest failing item
+              failed_item = c;
+              failure = std::current_exception();
+            }
+            kx.setZero();
+            kv.setZero();
           }
+        }
+        if (failure) std::rethrow_exception(failure);
+        for (std::size_t c = 0; c < count; ++c) {
+          const std::array<Index, N> st = kernel_.stencil(first + c);
+          sink.add_stencil(st.data(), N, jac_x_.data() + kLocal * c, jac_v_.data() + kLocal * c);
         }
       }
     } else {
@@ -197,6 +221,8 @@ class StencilTerm final : public ForceTerm {
   }
 
   static constexpr std::size_t kParallelMin = 256;
+  static constexpr std::size_t kJacobianChunk = 1024;                         ///< items per parallel batch
+  static constexpr std::size_t kLocal = static_cast<std::size_t>(9 * N * N);  ///< entries of one MatJ
   Kernel kernel_;
   // Work space of add_forces (not thread-safe across concurrent calls on the same term).
   mutable Eigen::Matrix<double, 3 * N, Eigen::Dynamic> local_;
@@ -204,6 +230,7 @@ class StencilTerm final : public ForceTerm {
   mutable std::vector<std::size_t> scatter_begin_, scatter_slot_;
   mutable std::size_t scatter_items_ = 0;
   mutable bool scatter_ready_ = false;
+  mutable std::vector<double> jac_x_, jac_v_;  ///< a chunk's local Jacobians (add_jacobian)
 };
 
 }  // namespace adamss::solver

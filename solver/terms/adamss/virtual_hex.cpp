@@ -8,45 +8,81 @@ namespace adamss::solver {
 
 template <int K>
 double GradientLawKernel<K>::energy(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& /*v*/, double /*t*/) const {
-  const Eigen::Matrix3d F = deformation_gradient(i, x);
-  return volume0[i] * law->energy(fibre_strain(i, F));
+  double e = 0.0;
+  const auto np = static_cast<std::size_t>(points);
+  for (std::size_t p = i * np; p < (i + 1) * np; ++p)
+    e += volume0[p] * law->energy(fibre_strain(p, deformation_gradient(p, x)));
+  return e;
 }
 
 template <int K>
 void GradientLawKernel<K>::forces(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& /*v*/, double /*t*/,
                                   Mat3N<K>& f) const {
-  const Eigen::Matrix3d F = deformation_gradient(i, x);
-  const Eigen::Matrix3d& B = frame[i];
-  const Eigen::Matrix3d S = materials::from_fibre_frame(B, law->stress(fibre_strain(i, F)));
-  const Eigen::Matrix3d P = F * S;
-  // f_a = -V0 P g_a for all a at once: -V0 P G^T.
-  f.noalias() -= volume0[i] * P * gradient[i].transpose();
+  const auto np = static_cast<std::size_t>(points);
+  for (std::size_t p = i * np; p < (i + 1) * np; ++p) {
+    const Eigen::Matrix3d F = deformation_gradient(p, x);
+    const Eigen::Matrix3d S = materials::from_fibre_frame(frame[p], law->stress(fibre_strain(p, F)));
+    // f_a = -V0 P g_a for all a at once: -V0 P G^T.
+    f.noalias() -= (volume0[p] * (F * S)) * gradient[p].transpose();
+  }
 }
+
+namespace {
+
+/// Bm (6 x 3K, Voigt strain rows 11, 22, 33, 23, 13, 12): column 3b + j is dE_f for
+/// delta x_b = e_j, from u = row j of F_f and g = g~_b (virtual_hex.hpp, the derivation).
+template <int K>
+void strain_displacement(const Eigen::Matrix3d& Ff, const Eigen::Matrix<double, 3, K>& gt,
+                         Eigen::Matrix<double, 6, 3 * K>& bm) {
+  for (int b = 0; b < K; ++b) {
+    const double g0 = gt(0, b), g1 = gt(1, b), g2 = gt(2, b);
+    for (int j = 0; j < 3; ++j) {
+      const double u0 = Ff(j, 0), u1 = Ff(j, 1), u2 = Ff(j, 2);
+      auto c = bm.col(3 * b + j);
+      c(0) = u0 * g0;
+      c(1) = u1 * g1;
+      c(2) = u2 * g2;
+      c(3) = u1 * g2 + u2 * g1;
+      c(4) = u0 * g2 + u2 * g0;
+      c(5) = u0 * g1 + u1 * g0;
+    }
+  }
+}
+
+}  // namespace
 
 template <int K>
 void GradientLawKernel<K>::jacobian(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& /*v*/, double /*t*/,
                                     MatJ<K>& dfdx, MatJ<K>& /*dfdv*/) const {
-  const Eigen::Matrix3d F = deformation_gradient(i, x);
-  const Eigen::Matrix3d& B = frame[i];
-  const Eigen::Matrix3d Ef = fibre_strain(i, F);
-  const Eigen::Matrix3d S = materials::from_fibre_frame(B, law->stress(Ef));
-  const Eigen::Matrix<double, K, 3>& G = gradient[i];
-  const double v0 = volume0[i];
-  const Eigen::Matrix<double, 3, K> gt = G.transpose();  // column a = g_a
-  const Eigen::Matrix<double, 3, K> sg = S * gt;         // column a = S g_a
-  for (int b = 0; b < K; ++b) {
-    const Eigen::Vector3d gb = gt.col(b);
-    for (int j = 0; j < 3; ++j) {
-      // dE = sym(F^T e_j g_b^T); F^T e_j = row j of F.
-      const Eigen::Vector3d fj = F.row(j).transpose();
-      const Eigen::Matrix3d dE = 0.5 * (fj * gb.transpose() + gb * fj.transpose());
-      const Eigen::Matrix3d dS =
-          materials::from_fibre_frame(B, law->apply_tangent(Ef, materials::to_fibre_frame(B, dE)));
-      // df_a = -V0 [ (g_b . S g_a) e_j + F dS g_a ] for all a: 3 x K.
-      Eigen::Matrix<double, 3, K> df = F * (dS * gt);
-      df.row(j) += gb.transpose() * sg;
-      df *= -v0;
-      for (int a = 0; a < K; ++a) dfdx.template block<3, 1>(3 * a, 3 * b + j) += df.col(a);
+  // -V0 [Bm^T D Bm + (g~ S_f g~^T) (x) I] summed over the item's points (virtual_hex.hpp).
+  Eigen::Matrix<double, K, K> geo = Eigen::Matrix<double, K, K>::Zero();
+  MatJ<K> kl = MatJ<K>::Zero();  // the upper blocks, mirrored at the end
+  Eigen::Matrix<double, 6, 3 * K> bm;
+  const auto np = static_cast<std::size_t>(points);
+  for (std::size_t p = i * np; p < (i + 1) * np; ++p) {
+    const Eigen::Matrix3d& B = frame[p];
+    const Eigen::Matrix3d Ff = deformation_gradient(p, x) * B;
+    const Eigen::Matrix3d Ef = materials::green_strain<double>(Ff);
+    const Eigen::Matrix<double, 3, K> gt = B.transpose() * gradient[p].transpose();  // column a = g~_a
+    const double v0 = volume0[p];
+    const Eigen::Matrix3d Sf = law->stress(Ef);
+    const materials::Matrix6d D = law->tangent(Ef);
+    strain_displacement<K>(Ff, gt, bm);
+    const Eigen::Matrix<double, 6, 3 * K> dbm = (-v0) * (D * bm);
+    // Bm^T D Bm is symmetric (D is, a hyperelastic law's tangent): the blocks a <= b only.
+    for (int a = 0; a < K; ++a) {
+      for (int b = a; b < K; ++b) {
+        kl.template block<3, 3>(3 * a, 3 * b).noalias() +=
+            bm.template middleCols<3>(3 * a).transpose().lazyProduct(dbm.template middleCols<3>(3 * b));
+      }
+    }
+    geo.noalias() -= v0 * (gt.transpose() * (Sf * gt));
+  }
+  for (int a = 0; a < K; ++a) {
+    for (int b = a; b < K; ++b) {
+      kl.template block<3, 3>(3 * a, 3 * b).diagonal().array() += geo(a, b);
+      dfdx.template block<3, 3>(3 * a, 3 * b) += kl.template block<3, 3>(3 * a, 3 * b);
+      if (b != a) dfdx.template block<3, 3>(3 * b, 3 * a) += kl.template block<3, 3>(3 * a, 3 * b).transpose();
     }
   }
 }

@@ -28,14 +28,24 @@
 // F = Z Z0^{-1} (deformation_gradient_from_points); for tetrahedra it equals the FEM
 // gradient of eqs. (2.68)-(2.72), so this term is then the linear-FEM internal force.
 //
-// Jacobian (derivation): perturb node b by delta x_b = e_j (j = 0, 1, 2). Then
-//   dF  = e_j g_b^T
-//   dE  = sym(F^T dF) = 1/2 (F^T e_j g_b^T + g_b e_j^T F)
-//   dS  = B C_f(E_f)[B^T dE B] B^T     (apply_tangent of the law, fibre frame)
-//   dP  = dF S + F dS
-//   df_a = -V0 dP g_a = -V0 [ (g_b . S g_a) e_j + F dS g_a ]
-// so column 3b + j of the local 3K x 3K matrix holds df_a / d(x_b)_j for all a.
-// That is 3K apply_tangent calls per element. dF/dv = 0, so df/dv = 0.
+// Jacobian (derivation), written in the fibre frame: F_f = F B, g~_a = B^T g_a (so that
+// F_f g~_a = F g_a), E_f = 1/2 (F_f^T F_f - I). Perturb node b by delta x_b = e_j (j = 0, 1, 2):
+//   dF_f = e_j g~_b^T,   dE_f = sym(F_f^T e_j g~_b^T) = sym(u g~_b^T),  u = F_f^T e_j (row j of F_f)
+// in Voigt strain form (11, 22, 33, 23, 13, 12; engineering shear, materials/voigt.hpp)
+//   dE_v = Bm_b e_j,  column j of the 6 x 3 matrix Bm_b:
+//          (u0 g0, u1 g1, u2 g2, u1 g2 + u2 g1, u0 g2 + u2 g0, u0 g1 + u1 g0)   (g = g~_b)
+// With the law's Voigt tangent D = dS_f/dE_f (6 x 6, one evaluation per point) and
+// dP g_a = dF S g_a + F dS g_a:
+//   d f_a / d x_b = -V0 [ Bm_a^T D Bm_b + (g~_a . S_f g~_b) I ]          (3 x 3 block (a, b))
+// -- the material and the geometric (initial-stress) stiffness of total-Lagrangian FEM. The
+// whole 3K x 3K matrix is -V0 (Bm^T D Bm + (g~ S_f g~^T) (x) I), Bm = [Bm_0 ... Bm_{K-1}]
+// (6 x 3K). It is symmetric; dF/dv = 0, so df/dv = 0.
+//
+// Items and points: an item is one element; it carries `points` evaluation points (1 for the
+// virtual hexahedron's axis F and the linear tetrahedron, 8 for the trilinear hexahedron's
+// Gauss points, solver/terms/fem/fem_element.hpp), each with its own (G, B, V0) at index
+// i * points + q. Energy, forces and Jacobian are the sums over the item's points, so one
+// element hands the assembler one 3K x 3K matrix.
 //
 // No allocation in the per-element calls (fixed-size Eigen only).
 #include <array>
@@ -61,9 +71,10 @@ struct GradientLawKernel {
   static constexpr bool kHasJacobian = true;
 
   std::vector<std::array<Index, K>> elements;         ///< node indices of each element
-  std::vector<Eigen::Matrix<double, K, 3>> gradient;  ///< G (1/m): F = X G
-  std::vector<Eigen::Matrix3d> frame;                 ///< B = [f s n], fibre frame -> global
-  std::vector<double> volume0;                        ///< V0 (m^3)
+  int points = 1;                                     ///< evaluation points per item (element)
+  std::vector<Eigen::Matrix<double, K, 3>> gradient;  ///< G (1/m): F = X G, per point (i * points + q)
+  std::vector<Eigen::Matrix3d> frame;                 ///< B = [f s n], fibre frame -> global, per point
+  std::vector<double> volume0;                        ///< V0 (m^3), the point's weight, per point
   std::shared_ptr<const materials::Law> law;
   std::string label = "virtual_hexahedron";  ///< term name (fem_element.hpp reuses the kernel)
 
@@ -71,11 +82,11 @@ struct GradientLawKernel {
   [[nodiscard]] std::size_t size() const { return elements.size(); }
   [[nodiscard]] std::array<Index, K> stencil(std::size_t i) const { return elements[i]; }
 
-  /// F = X G of item i.
-  [[nodiscard]] Eigen::Matrix3d deformation_gradient(std::size_t i, const Mat3N<K>& x) const { return x * gradient[i]; }
-  /// Green strain in the fibre frame, E_f = B^T 1/2 (F^T F - I) B.
-  [[nodiscard]] Eigen::Matrix3d fibre_strain(std::size_t i, const Eigen::Matrix3d& F) const {
-    return materials::green_strain<double>(F * frame[i]);
+  /// F = X G at point p (= item * points + q).
+  [[nodiscard]] Eigen::Matrix3d deformation_gradient(std::size_t p, const Mat3N<K>& x) const { return x * gradient[p]; }
+  /// Green strain in the fibre frame at point p, E_f = B^T 1/2 (F^T F - I) B.
+  [[nodiscard]] Eigen::Matrix3d fibre_strain(std::size_t p, const Eigen::Matrix3d& F) const {
+    return materials::green_strain<double>(F * frame[p]);
   }
 
   [[nodiscard]] double energy(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& v, double t) const;

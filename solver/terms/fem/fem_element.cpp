@@ -50,8 +50,9 @@ GradientLawKernel<K> make_gauss_point_kernel(const preprocess::Mesh& mesh,
   GradientLawKernel<K> kern;
   kern.law = law;
   kern.label = label;
+  kern.points = kPoints;
   const std::vector<std::size_t> elements = selected_elements(mesh, element_subset, label);
-  kern.elements.reserve(elements.size() * kPoints);
+  kern.elements.reserve(elements.size());
   for (const std::size_t e : elements) {
     const Index* n = mesh.element(e);
     std::array<Index, K> st{};
@@ -61,6 +62,7 @@ GradientLawKernel<K> make_gauss_point_kernel(const preprocess::Mesh& mesh,
       x0.col(a) = mesh.nodes.col(n[a]);
     }
     const Eigen::Matrix3d b = element_frame(mesh, e, label);
+    kern.elements.push_back(st);
     for (int q = 0; q < kPoints; ++q) {
       Eigen::Matrix<double, K, 3> gamma;
       double w = 0.0;
@@ -78,7 +80,6 @@ GradientLawKernel<K> make_gauss_point_kernel(const preprocess::Mesh& mesh,
         os << label << ": element " << e << " is inverted or flat at Gauss point " << q << " (det J = " << det << ")";
         throw InputError(os.str());
       }
-      kern.elements.push_back(st);
       kern.gradient.push_back(gamma * j0.inverse());
       kern.frame.push_back(b);
       kern.volume0.push_back(w * det);

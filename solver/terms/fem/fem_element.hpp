@@ -13,8 +13,8 @@
 //     at the 8 Gauss points removes them. On tetrahedra both are the same linear element
 //     (the axis-frame F is then exactly the element's affine F).
 //
-// Per quadrature point q of element e (an item of the stencil term, all on the element's
-// K nodes):
+// Per quadrature point q of element e (one item of the stencil term per element, with its
+// points at i * points + q, all on the element's K nodes):
 //   G_q  = dN/dX at q = Gamma_q J0_q^{-1}    (K x 3, 1/m); Gamma_q = dN/dr, J0_q = X0 Gamma_q
 //   V_q  = w_q det J0_q                      (m^3); w = 1/8 (hex, unit cube), 1/6 (tet)
 //   F    = x G_q,  E = 1/2 (F^T F - I),  E_f = B^T E B,  S = B S_f(E_f) B^T,  P = F S
@@ -35,7 +35,8 @@
 namespace adamss::solver {
 
 /// Builds the Gauss-point kernel for K = 4 (tet mesh) or 8 (hex mesh); `label` becomes the
-/// term name. Items are element-major: item i belongs to element subset[i / points].
+/// term name. Item i is element subset[i] (all elements when null), with `points` = 8 (hex) or
+/// 1 (tet) Gauss points at i * points + q.
 /// Throws adamss::InputError for a null law, a type mismatch, a subset index out of range,
 /// a non-finite or degenerate fibre frame (naming the element), or a Gauss point with
 /// det J0 <= 0 (an inverted or flat element, naming it).

@@ -7,9 +7,9 @@
 // solves A u = b once or several times with the same matrix (the KSP keeps its factorisation
 // until the matrix is assembled again, so a second solve is a back-substitution).
 //
-// Linear solver: by default a direct LU factorisation (KSPPREONLY + PCLU) up to 60 000 unknowns
-// -- exact Newton steps, robust for nearly incompressible and thin structures where Krylov + AMG
-// struggles -- and GMRES + GAMG above, with the particle reference coordinates for GAMG's
+// Linear solver: by default a direct LU factorisation (KSPPREONLY + PCLU, by MUMPS when PETSc
+// has it, else PETSc's own) up to 60 000 unknowns -- exact Newton steps, robust for nearly incompressible and thin
+// structures where Krylov + AMG struggles -- and GMRES + GAMG above, with the particle reference coordinates for GAMG's
 // rigid-body near-null space. Tolerances ksp_rtol and ksp_max_it; any PETSc option
 // (-ksp_type, -pc_type, -ksp_monitor, ...) overrides them (KSPSetFromOptions). The KSP starts
 // every solve from a zero initial guess.

@@ -9,6 +9,20 @@ namespace adamss::solver {
 
 namespace {
 bool g_started = false;
+
+/// Open MPI settings for a process that was not started by mpirun (a singleton), unless the
+/// environment already sets them: no orted daemon (ess_singleton_isolated) and only the
+/// in-process transport (pml ob1 + btl self). Without them MPI_Init spends ~0.35 s of a run's
+/// start-up in transports a single rank never uses (libpsm2's calibration sleeps, the orted
+/// spawn), measured with strace on this machine kind: 0.43 s -> 0.09 s for a tiny static run.
+void prepare_singleton_mpi() {
+  if (std::getenv("OMPI_COMM_WORLD_SIZE") != nullptr || std::getenv("PMIX_RANK") != nullptr ||
+      std::getenv("PMI_RANK") != nullptr)
+    return;  // launched by mpirun / srun: leave MPI alone
+  setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
+  setenv("OMPI_MCA_pml", "ob1", 0);
+  setenv("OMPI_MCA_btl", "self", 0);
+}
 }  // namespace
 
 void petsc_check(PetscErrorCode ierr, const char* what) {
@@ -26,6 +40,7 @@ void ensure_petsc(const std::string& options) {
   PetscBool running = PETSC_FALSE;
   PetscInitialized(&running);
   if (!running) {
+    prepare_singleton_mpi();
     const PetscErrorCode ierr = PetscInitializeNoArguments();
     if (ierr != 0)
       throw NumericalError("PETSc failed to initialise (error " + std::to_string(static_cast<int>(ierr)) + ")");

@@ -2,7 +2,8 @@
 // PETSc start-up and error handling for the implicit and static solvers.
 //
 // ensure_petsc() initialises PETSc once per process (MPI singleton when not started by
-// mpirun) on PETSC_COMM_WORLD; options come from the scene (`integrator.petsc_options`, a
+// mpirun, with Open MPI told to start no daemon and no network transport: petsc_env.cpp) on
+// PETSC_COMM_WORLD; options come from the scene (`integrator.petsc_options`, a
 // string such as "-ksp_type gmres -pc_type gamg", to which `adamss run --petsc` appends its
 // own) and from the PETSC_OPTIONS environment variable.
 // PETSc errors are turned into adamss::NumericalError carrying PETSc's message; PETSc's own

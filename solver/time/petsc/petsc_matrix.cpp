@@ -1,6 +1,7 @@
 #include "solver/time/petsc/petsc_matrix.hpp"
 
 #include <algorithm>
+#include <string>
 
 #include "common/error.hpp"
 #include "solver/time/petsc/petsc_env.hpp"
@@ -9,16 +10,40 @@ namespace adamss::solver {
 
 class BlockMatrix::Sink final : public JacobianSink {
  public:
-  explicit Sink(Mat a) : a_(a) {}
+  explicit Sink(BlockMatrix& m) : m_(m) {}
   void add_block(Index a, Index b, const Eigen::Matrix3d& dfdx, const Eigen::Matrix3d& dfdv) override {
-    const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> blk = cx * dfdx + cv * dfdv;
-    const PetscInt r = a, c = b;
-    petsc_check(MatSetValuesBlocked(a_, 1, &r, 1, &c, blk.data(), ADD_VALUES), "MatSetValuesBlocked");
+    PetscScalar* v = m_.values();
+    const PetscInt k = 3 * m_.block_position(a, b);
+    for (int r = 0; r < 3; ++r) {
+      PetscScalar* row = v + m_.row_start_[static_cast<std::size_t>(3 * a + r)] + k;
+      for (int c = 0; c < 3; ++c) row[c] += cx * dfdx(r, c) + cv * dfdv(r, c);
+    }
+  }
+  void add_stencil(const Index* nodes, int n, const double* dfdx, const double* dfdv) override {
+    PetscScalar* v = m_.values();
+    const std::size_t ld = 3 * static_cast<std::size_t>(n);
+    const bool with_v = cv != 0.0;
+    for (int a = 0; a < n; ++a) {
+      const std::size_t ra = static_cast<std::size_t>(3 * nodes[a]);
+      for (int b = 0; b < n; ++b) {
+        const PetscInt k = 3 * m_.block_position(nodes[a], nodes[b]);
+        for (int r = 0; r < 3; ++r) {
+          PetscScalar* row = v + m_.row_start_[ra + static_cast<std::size_t>(r)] + k;
+          // Column-major local matrices: entry (3a + r, 3b + c) at (3b + c) ld + 3a + r.
+          const std::size_t e0 = (3 * static_cast<std::size_t>(b)) * ld + 3 * static_cast<std::size_t>(a) + r;
+          for (std::size_t c = 0; c < 3; ++c) {
+            double add = cx * dfdx[e0 + c * ld];
+            if (with_v) add += cv * dfdv[e0 + c * ld];
+            row[c] += add;
+          }
+        }
+      }
+    }
   }
   double cx = 0.0, cv = 0.0;
 
  private:
-  Mat a_;
+  BlockMatrix& m_;
 };
 
 BlockMatrix::BlockMatrix(const preprocess::Mesh& mesh, const std::vector<std::unique_ptr<ForceTerm>>* terms)
@@ -36,13 +61,17 @@ BlockMatrix::BlockMatrix(const preprocess::Mesh& mesh, const std::vector<std::un
     for (const auto& t : *terms) t->add_couplings(adj);
   }
   std::vector<PetscInt> nnz(static_cast<std::size_t>(n_));
+  brow_.assign(static_cast<std::size_t>(n_) + 1, 0);
   for (PetscInt i = 0; i < n_; ++i) {
     auto& row = adj[static_cast<std::size_t>(i)];
     row.push_back(i);
     std::sort(row.begin(), row.end());
     row.erase(std::unique(row.begin(), row.end()), row.end());
     nnz[static_cast<std::size_t>(i)] = static_cast<PetscInt>(row.size());
+    brow_[static_cast<std::size_t>(i) + 1] = brow_[static_cast<std::size_t>(i)] + static_cast<PetscInt>(row.size());
   }
+  bcol_.reserve(static_cast<std::size_t>(brow_.back()));
+  for (const auto& row : adj) bcol_.insert(bcol_.end(), row.begin(), row.end());
   petsc_check(MatCreate(PETSC_COMM_WORLD, &a_), "MatCreate");
   petsc_check(MatSetSizes(a_, PETSC_DECIDE, PETSC_DECIDE, 3 * n_, 3 * n_), "MatSetSizes");
   petsc_check(MatSetType(a_, MATAIJ), "MatSetType");
@@ -59,16 +88,63 @@ BlockMatrix::BlockMatrix(const preprocess::Mesh& mesh, const std::vector<std::un
         MatSetValuesBlocked(a_, 1, &i, static_cast<PetscInt>(cols.size()), cols.data(), zeros.data(), INSERT_VALUES),
         "MatSetValuesBlocked");
   }
-  assemble();
-  sink_ = std::make_unique<Sink>(a_);
+  petsc_check(MatAssemblyBegin(a_, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+  petsc_check(MatAssemblyEnd(a_, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+  record_layout();
+  sink_ = std::make_unique<Sink>(*this);
+}
+
+void BlockMatrix::record_layout() {
+  // PETSc's CSR: row r's entries at [ia[r], ia[r + 1]) with sorted columns ja. Every scalar row
+  // 3a + r must hold exactly the columns 3 b + c of a's block columns b, in order.
+  PetscInt nrows = 0;
+  const PetscInt* ia = nullptr;
+  const PetscInt* ja = nullptr;
+  PetscBool done = PETSC_FALSE;
+  petsc_check(MatGetRowIJ(a_, 0, PETSC_FALSE, PETSC_FALSE, &nrows, &ia, &ja, &done), "MatGetRowIJ");
+  if (done != PETSC_TRUE || nrows != 3 * n_)
+    throw NumericalError("BlockMatrix: PETSc did not give the CSR row pointers of the Jacobian");
+  row_start_.assign(ia, ia + 3 * n_);
+  bool ok = true;
+  for (PetscInt a = 0; a < n_ && ok; ++a) {
+    const PetscInt b0 = brow_[static_cast<std::size_t>(a)], nb = brow_[static_cast<std::size_t>(a) + 1] - b0;
+    for (PetscInt r = 0; r < 3 && ok; ++r) {
+      const PetscInt row = 3 * a + r;
+      ok = ia[row + 1] - ia[row] == 3 * nb;
+      for (PetscInt kk = 0; kk < nb && ok; ++kk)
+        for (PetscInt c = 0; c < 3 && ok; ++c)
+          ok = ja[ia[row] + 3 * kk + c] == 3 * bcol_[static_cast<std::size_t>(b0 + kk)] + c;
+    }
+  }
+  petsc_check(MatRestoreRowIJ(a_, 0, PETSC_FALSE, PETSC_FALSE, &nrows, &ia, &ja, &done), "MatRestoreRowIJ");
+  if (!ok) throw NumericalError("BlockMatrix: PETSc's storage of the Jacobian is not the 3 x 3 block layout");
 }
 
 BlockMatrix::~BlockMatrix() {
+  if (vals_ != nullptr) MatSeqAIJRestoreArray(a_, &vals_);
   if (a_ != nullptr) MatDestroy(&a_);
 }
 
+PetscInt BlockMatrix::block_position(Index a, Index b) const {
+  const auto first = bcol_.begin() + brow_[static_cast<std::size_t>(a)];
+  const auto last = bcol_.begin() + brow_[static_cast<std::size_t>(a) + 1];
+  const auto it = std::lower_bound(first, last, b);
+  if (it == last || *it != b) {
+    throw NumericalError("Jacobian block (" + std::to_string(a) + ", " + std::to_string(b) +
+                         ") is outside the preallocated pattern: a force term couples nodes that share no element "
+                         "and did not list the pair in add_couplings");
+  }
+  return static_cast<PetscInt>(it - first);
+}
+
+PetscScalar* BlockMatrix::values() {
+  if (vals_ == nullptr) petsc_check(MatSeqAIJGetArray(a_, &vals_), "MatSeqAIJGetArray");
+  return vals_;
+}
+
 void BlockMatrix::zero() {
-  petsc_check(MatZeroEntries(a_), "MatZeroEntries");
+  PetscScalar* v = values();
+  std::fill(v, v + 9 * static_cast<std::size_t>(brow_.back()), 0.0);
 }
 
 JacobianSink& BlockMatrix::sink(double cx, double cv) {
@@ -78,21 +154,20 @@ JacobianSink& BlockMatrix::sink(double cx, double cv) {
 }
 
 void BlockMatrix::add_diagonal(const Eigen::VectorXd& mass, double c) {
+  PetscScalar* v = values();
   for (PetscInt i = 0; i < n_; ++i) {
-    for (PetscInt d = 0; d < 3; ++d) {
-      const PetscInt r = 3 * i + d;
-      const double v = c * mass[i];
-      petsc_check(MatSetValues(a_, 1, &r, 1, &r, &v, ADD_VALUES), "MatSetValues");
-    }
+    const PetscInt k = 3 * block_position(i, i);
+    for (PetscInt d = 0; d < 3; ++d) v[row_start_[static_cast<std::size_t>(3 * i + d)] + k + d] += c * mass[i];
   }
 }
 
 void BlockMatrix::assemble() {
-  petsc_check(MatAssemblyBegin(a_, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
-  petsc_check(MatAssemblyEnd(a_, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+  if (vals_ != nullptr) petsc_check(MatSeqAIJRestoreArray(a_, &vals_), "MatSeqAIJRestoreArray");
+  vals_ = nullptr;
 }
 
 void BlockMatrix::eliminate(const std::vector<PetscInt>& dofs, Vec x, Vec b) {
+  assemble();
   petsc_check(MatZeroRowsColumns(a_, static_cast<PetscInt>(dofs.size()), dofs.data(), 1.0, x, b), "MatZeroRowsColumns");
 }
 

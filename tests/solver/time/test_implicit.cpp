@@ -148,6 +148,38 @@ TEST(Implicit, AssembledJacobianEqualsTheBlockwiseProduct) {
   VecDestroy(&out1);
 }
 
+TEST(Implicit, BlockMatrixRefusesABlockOutsideItsPattern) {
+  // 1 x 1 x 3 hexahedra: nodes of the first and the last element share no element, so their
+  // block is not preallocated; writing it is an error that names both nodes (PETSc would have
+  // silently needed a new allocation before). Blocks inside the pattern land where MatGetValues
+  // finds them.
+  auto model = block_model(1, 1, 3, preprocess::Topology::Hex);
+  solver::BlockMatrix a(*model->mesh);
+  a.zero();
+  const Eigen::Matrix3d blk = (Eigen::Matrix3d() << 1, 2, 3, 4, 5, 6, 7, 8, 9).finished();
+  const Eigen::Matrix3d zero = Eigen::Matrix3d::Zero();
+  const preprocess::Index* first = model->mesh->element(0);
+  const preprocess::Index* last = model->mesh->element(2);
+  a.sink(2.0, 0.0).add_block(first[0], first[6], blk, zero);
+  try {
+    a.sink(1.0, 0.0).add_block(first[0], last[6], blk, zero);
+    FAIL() << "no error for a block outside the pattern";
+  } catch (const NumericalError& e) {
+    EXPECT_NE(std::string(e.what()).find("(" + std::to_string(first[0]) + ", " + std::to_string(last[6]) + ")"),
+              std::string::npos)
+        << e.what();
+  }
+  a.assemble();
+  for (PetscInt r = 0; r < 3; ++r) {
+    for (PetscInt c = 0; c < 3; ++c) {
+      const PetscInt row = 3 * first[0] + r, col = 3 * first[6] + c;
+      PetscScalar v = 0.0;
+      ASSERT_EQ(MatGetValues(a.mat(), 1, &row, 1, &col, &v), 0);
+      EXPECT_EQ(v, 2.0 * blk(r, c));
+    }
+  }
+}
+
 TEST(Implicit, StaticNewtonConvergesQuadratically) {
   // A Hunter block stretched 4 % along the fibre in one load step: in the residual history of
   // Newton, once e_k = r_k / r_0 < 1e-2, e_{k+1} <= C e_k^2 with a modest C (quadratic phase).

@@ -14,8 +14,8 @@
 #include "materials/kinematics.hpp"
 #include "preprocess/meshers/box_mesh.hpp"
 #include "solver/geometry/axis_frame.hpp"
-#include "solver/terms/fem/fem_element.hpp"
 #include "solver/terms/adamss/virtual_hex.hpp"
+#include "solver/terms/fem/fem_element.hpp"
 #include "support/fibre_fixtures.hpp"
 
 using namespace adamss;
@@ -104,7 +104,9 @@ TEST(FemElement, GaussVolumesSumToTheExactElementVolume) {
   auto mesh = distorted_box("hex");
   const auto kern =
       solver::make_gauss_point_kernel<8>(mesh, materials::make_law("svk", {{"E", 1e3}, {"nu", 0.3}}), nullptr, "f");
-  ASSERT_EQ(kern.size(), 8 * mesh.element_count());
+  ASSERT_EQ(kern.size(), mesh.element_count());  // one item per element ...
+  ASSERT_EQ(kern.points, 8);                     // ... with its 8 Gauss points
+  ASSERT_EQ(kern.volume0.size(), 8 * mesh.element_count());
   double v = 0.0;
   for (const double q : kern.volume0) v += q;
   EXPECT_NEAR(v, 1.5e-9, 1e-12 * 1.5e-9);  // interior nodes moved, the box is unchanged
