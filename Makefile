@@ -51,6 +51,7 @@ bench: configure
 	@$(BUILD_DIR)/bench/bench_forces --benchmark_counters_tabular=true \
 	  --benchmark_out=$(BENCH_RESULTS)/kernels.json --benchmark_out_format=json
 	@bench/hybmss_cube.sh $(BUILD_DIR)/app/adamss $(BENCH_RESULTS)/hybmss_cube.json
+	@bench/solver.sh $(BUILD_DIR)/app/adamss $(BENCH_RESULTS)/solver.json
 	@if [ -f bench/pareto/run.sh ] && [ "$(BENCH_QUICK)" != 1 ]; then \
 	  bash bench/pareto/run.sh $(BUILD_DIR)/app/adamss $(BENCH_RESULTS); fi
 	@bench/make_report.sh $(BENCH_RESULTS) $(BUILD_DIR) $(if $(filter bench/results,$(BENCH_RESULTS)),bench/report.md,$(BENCH_RESULTS)/report.md)
