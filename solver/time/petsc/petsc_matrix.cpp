@@ -111,9 +111,10 @@ void BlockMatrix::record_layout() {
     for (PetscInt r = 0; r < 3 && ok; ++r) {
       const PetscInt row = 3 * a + r;
       ok = ia[row + 1] - ia[row] == 3 * nb;
-      for (PetscInt kk = 0; kk < nb && ok; ++kk)
+      for (PetscInt kk = 0; kk < nb && ok; ++kk) {
         for (PetscInt c = 0; c < 3 && ok; ++c)
           ok = ja[ia[row] + 3 * kk + c] == 3 * bcol_[static_cast<std::size_t>(b0 + kk)] + c;
+      }
     }
   }
   petsc_check(MatRestoreRowIJ(a_, 0, PETSC_FALSE, PETSC_FALSE, &nrows, &ia, &ja, &done), "MatRestoreRowIJ");
