@@ -4,7 +4,7 @@
 # of the explicit step, the HybMSS cube, and the Pareto section if bench/pareto/run.sh wrote one.
 # Needs bash, awk, gnuplot (no python, no jq).
 # Usage: bench/make_report.sh RESULTS_DIR [BUILD_DIR] [REPORT_MD]
-#   RESULTS_DIR  holds stream.json, kernels.json, hybmss_cube.json (+ pareto.md, pareto_*.png)
+#   RESULTS_DIR  holds stream.json, kernels.json, hybmss_cube.json, solver.json (+ pareto.md, pareto_*.png)
 #   BUILD_DIR    the CMake build the binaries came from (compiler and flags); default build
 #   REPORT_MD    default: RESULTS_DIR/../report.md
 # Writes RESULTS_DIR/machine.json, scaling.json, kernel_table.tsv, roofline.png, scaling.png.
@@ -339,6 +339,24 @@ fi
     awk -F'[:,}]' '/"nu"/ {printf "| %s | %s | %s | %s | %s | %s | %s | %s / %s |\n", $2+0, $4+0, $6+0, $8+0, $10+0, $14+0, $16+0, $18+0, $20+0}' "$res/hybmss_cube.json"
   else
     echo "(no hybmss_cube.json)"
+  fi
+  echo
+  echo "## Implicit solver (bench/solver.sh)"
+  echo
+  if [[ -f $res/solver.json ]]; then
+    echo "Static benchmark scenes, one thread, fastest of the repeats; time split from PETSc's -log_view"
+    echo "(the rest of PETSc's total is residuals, Jacobian assembly, elimination and output)."
+    echo
+    echo "| scene | wall (s) | load steps | Newton | linear | LU factorisations (s) | solves (s) | assembly and residuals (s) |"
+    echo "|---|---|---|---|---|---|---|---|"
+    python3 - "$res/solver.json" <<'PY'
+import json, sys
+for r in json.load(open(sys.argv[1]))["runs"]:
+    print(f"| {r['scene']} | {r['wall_s']:.2f} | {r['steps']} | {r['newton_iterations']} | {r['linear_iterations']} |"
+          f" {r['factorisation_s']:.2f} ({r['factorisations']}) | {r['solve_s']:.2f} ({r['solves']}) | {r['assembly_and_residuals_s']:.2f} |")
+PY
+  else
+    echo "(no solver.json)"
   fi
   echo
   if [[ -f $res/pareto.md ]]; then

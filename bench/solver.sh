@@ -44,7 +44,7 @@ for scene in $scenes; do
   newton=$(sed -n 's/.*"newton_iterations": *\([0-9]*\).*/\1/p' "$tmp/best.json" | head -1)
   linear=$(sed -n 's/.*"linear_iterations": *\([0-9]*\).*/\1/p' "$tmp/best.json" | head -1)
   steps=$(sed -n 's/.*"steps": *\([0-9]*\).*/\1/p' "$tmp/best.json" | head -1)
-  per_fact=$(awk -v n="$nfact" -v t="$tfact" 'BEGIN {printf "%.4f", n > 0 ? t / n : 0}')
+  per_fact=$(awk -v n="$nfact" -v t="$tfact" 'BEGIN {printf "%.4f", (n > 0) ? t / n : 0}')
   echo "$name: wall $best s (fastest of $repeat), $steps load steps, $newton Newton, $linear linear;" \
     "factorisation $tfact s ($nfact x $per_fact s), solves $tsolve s ($nsolve), assembly and residuals $rest s"
   rows="$rows${rows:+,}
