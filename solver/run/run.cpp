@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "solver/core/stop_flag.hpp"
 #include "solver/run/checkpoint.hpp"
 #include "solver/run/loop_state.hpp"
 #include "solver/run/stability_check.hpp"
@@ -150,6 +151,12 @@ bool RunLoop::step(State& s) {
   StepReport& rep = loop_.last_report;
   try {
     rep = integ_->step(s, h);
+  } catch (const StepInterrupted&) {
+    // A signal inside the step (solver/core/stop_flag.hpp): s is the state before the step, so
+    // this is the stop at the top of the loop, one step early.
+    stop("interrupted", "interrupted by " + signals_.name() + " at t = " + std::to_string(s.t) + " s (inside a step)");
+    checkpoint(s);
+    return false;
   } catch (const NumericalError& e) {
     fail(s, "failed", std::string(e.what()) + " (at t = " + std::to_string(s.t) + " s)");
     return false;

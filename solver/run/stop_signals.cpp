@@ -1,18 +1,15 @@
 #include "solver/run/stop_signals.hpp"
 
-#include <atomic>
 #include <csignal>
+
+#include "solver/core/stop_flag.hpp"
 
 namespace adamss::solver {
 
 namespace {
 
-std::atomic<bool> g_stop{false};
-std::atomic<int> g_signal{0};
-
 extern "C" void on_stop_signal(int sig) {
-  g_signal.store(sig);
-  g_stop.store(true);
+  request_stop(sig);
 }
 
 }  // namespace
@@ -23,8 +20,7 @@ struct StopSignals::Saved {
 };
 
 StopSignals::StopSignals() : saved_(std::make_unique<Saved>()) {
-  g_stop.store(false);
-  g_signal.store(0);
+  clear_stop();
   struct sigaction sa {};
   sa.sa_handler = on_stop_signal;
   sigemptyset(&sa.sa_mask);
@@ -38,11 +34,11 @@ StopSignals::~StopSignals() {
 }
 
 bool StopSignals::requested() const {
-  return g_stop.load();
+  return stop_requested();
 }
 
 std::string StopSignals::name() const {
-  return g_signal.load() == SIGTERM ? "SIGTERM" : "SIGINT";
+  return stop_signal() == SIGTERM ? "SIGTERM" : "SIGINT";
 }
 
 }  // namespace adamss::solver

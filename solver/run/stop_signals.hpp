@@ -1,7 +1,9 @@
 #pragma once
-// SIGINT and SIGTERM during a run: the handler only records the signal; the run loop polls
-// requested() between two accepted steps and then stops with a resumable checkpoint (status
-// "interrupted"), so a signal never cuts a step, its retries or an output file in half.
+// SIGINT and SIGTERM during a run: the handler only records the signal (solver/core/stop_flag.hpp);
+// the run loop polls requested() between two accepted steps, and the implicit integrators poll it
+// at every Newton and Krylov iteration and abandon the step (StepInterrupted); either way the run
+// stops with a resumable checkpoint of the last accepted state (status "interrupted"), so a signal
+// never cuts an output file in half and a long implicit step does not delay it.
 #include <memory>
 #include <string>
 

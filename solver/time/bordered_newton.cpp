@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "solver/core/stop_flag.hpp"
 #include "solver/terms/loads/cavity_constraint.hpp"
 #include "solver/time/petsc/jacobian_solver.hpp"
 
@@ -104,6 +105,7 @@ bool bordered_newton(StepEquations& eq, JacobianSolver& linear, CavityBorder& bo
   Eigen::VectorXd rv;
   double r0 = 0.0;
   for (int it = 0;; ++it) {
+    throw_if_stop_requested("bordered Newton");
     eq.residual(u, r);
     const double nr = r.norm();
     const bool volumes_ok = border.residuals(eq.positions(u), rv);

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <utility>
 
+#include "solver/core/stop_flag.hpp"
 #include "solver/time/petsc/jacobian_solver.hpp"
 
 namespace adamss::solver {
@@ -58,6 +59,7 @@ bool damped_newton(StaticEquations& eq, JacobianSolver& linear, Eigen::Matrix3Xd
   Eigen::Matrix3Xd f, dx, trial, r;
   eq.residual(x, f);
   for (int it = 0;; ++it) {
+    throw_if_stop_requested("static Newton");
     const double nr = f.norm();
     if (!std::isfinite(nr)) return false;
     if (!pending) {

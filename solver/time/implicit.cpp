@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "common/error.hpp"
+#include "solver/core/stop_flag.hpp"
 #include "solver/terms/loads/cavity_constraint.hpp"
 #include "solver/time/bordered_newton.hpp"
 #include "solver/time/damped_newton.hpp"
@@ -53,6 +54,7 @@ StepReport ImplicitIntegrator::step(State& s, double dt) {
   double h = std::clamp(dt, set_.dt_min, set_.dt_max);
   for (;;) {
     if (attempt(s, h, rep)) break;
+    throw_if_stop_requested(name().c_str());  // a failed attempt is not retried after a signal
     ++rep.rejected;
     h *= 0.5;
     if (h < set_.dt_min) {

@@ -238,6 +238,41 @@ TEST(Restart, SigtermWritesAResumableCheckpoint) {
   EXPECT_FALSE(fs::exists(dir / "out" / "summary.json.tmp"));
 }
 
+TEST(Restart, SigtermInsideALongStaticStepStopsAtOnce) {
+  // Land problem 1's beam (40 x 4 x 4 hexahedra) in one load step: its Newton iterations and two
+  // retries take several seconds. SIGTERM 1.5 s in lands inside that step; the run must stop
+  // there (status interrupted, 0 steps, the checkpoint of t = 0) instead of finishing the step,
+  // and the resumed run's first step must equal that of an uninterrupted run bit for bit.
+  const auto dir = scratch_dir("restart_sigterm_newton");
+  std::ifstream in(std::string(ADAMSS_SOURCE_DIR) + "/cases/benchmarks/land-p1.yaml");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string text = ss.str();
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{"dt: 0.1 s", "dt: 1 s"},
+                                 {"frame_interval: 0.25 s", "frame_interval: 1 s"}}) {
+    const auto at = text.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+  }
+  const auto scene = write_scene(dir, text);
+  const std::string cmd = "OMP_NUM_THREADS=1 timeout --preserve-status -s TERM 1.5 " + std::string(ADAMSS_BINARY) +
+                          " run " + scene.string() + " -o " + (dir / "out").string() + cache_arg(dir) + " -q";
+  const int rc = std::system(cmd.c_str());
+  EXPECT_EQ(WEXITSTATUS(rc), 130);
+  const auto j = summary_without_wall(dir / "out");
+  EXPECT_EQ(j["status"], "interrupted");
+  EXPECT_NE(j["reason"].get<std::string>().find("inside a step"), std::string::npos) << j["reason"];
+  EXPECT_EQ(j["steps"], 0);
+  ASSERT_TRUE(fs::exists(dir / "out" / "checkpoint.h5"));
+  auto r = run_adamss("run " + scene.string() + cache_arg(dir) + " -q --stop-after-steps 1 --resume " +
+                      (dir / "out" / "checkpoint.h5").string());
+  EXPECT_EQ(r.exit_code, 130) << r.output;
+  r = run_adamss("run " + scene.string() + " -o " + (dir / "full").string() + cache_arg(dir) +
+                 " -q --stop-after-steps 1");
+  EXPECT_EQ(r.exit_code, 130) << r.output;
+  EXPECT_EQ(strip_wall(dir / "full" / "globals.csv"), strip_wall(dir / "out" / "globals.csv"));
+}
+
 namespace {
 
 /// A small circulation scene (the Land ellipsoid, 6 x 3 x 1 divisions, tets; static, bordered

@@ -4,12 +4,22 @@
 
 #include <cstring>
 
+#include "solver/core/stop_flag.hpp"
 #include "solver/time/petsc/petsc_env.hpp"
 #include "solver/time/petsc/petsc_matrix.hpp"
 
 namespace adamss::solver {
 
 namespace {
+
+/// KSP's default convergence test, and a stop request (SIGINT/SIGTERM) ends the Krylov
+/// iterations as a divergence: the Newton loop then abandons the step (StepInterrupted).
+PetscErrorCode converged_or_stopped(KSP ksp, PetscInt it, PetscReal rnorm, KSPConvergedReason* reason, void* ctx) {
+  const PetscErrorCode ierr = KSPConvergedDefault(ksp, it, rnorm, reason, ctx);
+  if (ierr != 0) return ierr;
+  if (*reason == KSP_CONVERGED_ITERATING && stop_requested()) *reason = KSP_DIVERGED_BREAKDOWN;
+  return 0;
+}
 
 /// Below this many unknowns the default linear solver is a direct LU factorisation.
 constexpr PetscInt kDirectSolveMaxDofs = 60000;
@@ -75,6 +85,10 @@ void JacobianSolver::Petsc::configure(const Eigen::Matrix3Xd& x_ref, double ksp_
     petsc_check(PCSetCoordinates(pc, 3, static_cast<PetscInt>(xr.cols()), xr.data()), "PCSetCoordinates");
   }
   petsc_check(KSPSetTolerances(ksp, ksp_rtol, PETSC_DEFAULT, PETSC_DEFAULT, ksp_max_it), "KSPSetTolerances");
+  void* conv = nullptr;
+  petsc_check(KSPConvergedDefaultCreate(&conv), "KSPConvergedDefaultCreate");
+  petsc_check(KSPSetConvergenceTest(ksp, converged_or_stopped, conv, KSPConvergedDefaultDestroy),
+              "KSPSetConvergenceTest");
   petsc_check(KSPSetFromOptions(ksp), "KSPSetFromOptions");
 }
 

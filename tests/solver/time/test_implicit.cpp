@@ -5,6 +5,7 @@
 #include <petscmat.h>
 
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <memory>
 #include <random>
@@ -14,6 +15,7 @@
 #include "preprocess/meshers/box_mesh.hpp"
 #include "solver/core/boundary.hpp"
 #include "solver/core/mass.hpp"
+#include "solver/core/stop_flag.hpp"
 #include "solver/geometry/axis_frame.hpp"
 #include "solver/geometry/surface.hpp"
 #include "solver/terms/adamss/material_friction.hpp"
@@ -177,6 +179,55 @@ TEST(Implicit, BlockMatrixRefusesABlockOutsideItsPattern) {
       ASSERT_EQ(MatGetValues(a.mat(), 1, &row, 1, &col, &v), 0);
       EXPECT_EQ(v, 2.0 * blk(r, c));
     }
+  }
+}
+
+namespace {
+/// A term that requests a stop (as the SIGTERM handler does) the first time its Jacobian is
+/// assembled, and otherwise adds nothing.
+class StopOnJacobian final : public solver::ForceTerm {
+ public:
+  [[nodiscard]] std::string name() const override { return "stop_on_jacobian"; }
+  [[nodiscard]] bool has_energy() const override { return true; }
+  [[nodiscard]] bool has_jacobian() const override { return true; }
+  [[nodiscard]] double energy(const solver::StateView& /*s*/) const override { return 0.0; }
+  void add_forces(const solver::StateView& /*s*/, Eigen::Matrix3Xd& /*f*/) const override {}
+  void add_jacobian(const solver::StateView& /*s*/, solver::JacobianSink& /*sink*/) const override {
+    if (++calls == 1) solver::request_stop(SIGTERM);
+  }
+  mutable int calls = 0;
+};
+}  // namespace
+
+TEST(Implicit, AStopRequestInsideNewtonAbandonsTheStep) {
+  // The stop arrives during the first Newton iteration of a static step: the next iteration
+  // throws StepInterrupted instead of going on (or, after a failure, retrying at dt / 2), and
+  // the state handed to the step is untouched -- the run loop checkpoints it (solver/run/run.cpp).
+  // Without the request the same step converges.
+  for (const auto kind :
+       {solver::ImplicitIntegrator::Kind::Static, solver::ImplicitIntegrator::Kind::BackwardEulerNewton}) {
+    auto model = block_model(2, 2, 4, preprocess::Topology::Tet6m);
+    const auto frames = solver::build_axis_frames(*model->mesh);
+    model->terms.push_back(
+        solver::make_virtual_hex_term(*model->mesh, frames, materials::make_law("hunter_canine", {})));
+    const auto top = clamp_bottom(*model);
+    for (const auto n : top)
+      model->constraints.control(n, 2, solver::TimeCourse::ramp(0.0, 0.16e-3, 0.0, 1.0), false, "t");
+    auto stopper = std::make_unique<StopOnJacobian>();
+    const StopOnJacobian* probe = stopper.get();
+    model->terms.push_back(std::move(stopper));
+    solver::System sys(*model);
+    solver::ImplicitIntegrator integ(sys, kind, solver::ImplicitSettings{});
+    State s{model->x_ref, Eigen::Matrix3Xd::Zero(3, model->x_ref.cols()), 0.0};
+    solver::clear_stop();
+    EXPECT_THROW((void)integ.step(s, 0.5), solver::StepInterrupted);
+    EXPECT_EQ(probe->calls, 1) << "the step went on after the stop request";
+    EXPECT_EQ(s.t, 0.0);
+    EXPECT_TRUE(s.x == model->x_ref);
+    solver::clear_stop();
+    const auto rep = integ.step(s, 0.5);
+    EXPECT_GT(rep.newton_iterations, 0);
+    EXPECT_EQ(s.t, 0.5);
   }
 }
 
