@@ -1,7 +1,5 @@
 #include "solver/scene/scene.hpp"
 
-#include "preprocess/mesh/element_faces.hpp"
-
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -11,6 +9,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "preprocess/mesh/element_faces.hpp"
 #include "solver/scene/scene_loads.hpp"
 #include "solver/scene/scene_materials.hpp"
 #include "solver/scene/scene_mesh.hpp"
@@ -209,6 +208,49 @@ void check_critical_step(LoadedScene& sc, double max_c2, bool check_dt) {
   sc.warnings.push_back(os.str());
 }
 
+/// Above this many projected steps a run needs run.max_steps (an explicit intent to stop early).
+constexpr double kMaxPlannedSteps = 1e9;
+/// Above this projected output volume (frames + globals.csv) the scene loads with a warning.
+constexpr double kLargeOutputBytes = 1e9;
+
+/// What the run is about to do, checked before it starts (issue 24): the time step must advance
+/// time at t_end in double precision; t_end / dt above 1e9 steps is an error unless run.max_steps
+/// bounds it; a projected output above 1 GB is a warning with the projected size. The output
+/// estimate counts 8-byte values: per frame 3 x (positions, displacements, velocities, forces)
+/// per node plus the connectivity and ~4 fields per element; per globals row ~20 columns of 17
+/// characters, plus 3 per probe and 8 for cavities.
+void check_run_plan(LoadedScene& sc) {
+  const RunSettings& run = sc.run;
+  std::ostringstream os;
+  if (!(run.t_end + run.dt > run.t_end) || !(run.dt > 1e-15 * run.t_end)) {
+    os << "integrator.dt = " << run.dt << " s is below the time resolution at run.t_end = " << run.t_end
+       << " s (relative step < 1e-15: t + dt would not advance t in double precision)";
+    throw InputError(os.str());
+  }
+  const double steps = run.t_end / run.dt;
+  if (steps > kMaxPlannedSteps && run.max_steps == 0) {
+    os << "run.t_end / integrator.dt = " << steps << " steps (more than " << kMaxPlannedSteps
+       << "); raise dt, lower t_end, or set run.max_steps to run a bounded part of it";
+    throw InputError(os.str());
+  }
+  const Model& m = sc.model;
+  const double nodes = static_cast<double>(m.node_count());
+  const double elements = static_cast<double>(m.mesh->element_count());
+  const double frame_bytes = 8.0 * (12.0 * nodes + elements * (preprocess::nodes_per_element(m.mesh->type) + 4.0));
+  const double frames = run.export_interval > 0.0 ? run.t_end / run.export_interval + 1.0 : 2.0;
+  const double rows = run.globals_interval > 0.0
+                          ? run.t_end / run.globals_interval + 1.0
+                          : std::min(steps, run.max_steps > 0 ? static_cast<double>(run.max_steps) : steps);
+  const double row_bytes = 17.0 * (28.0 + 3.0 * static_cast<double>(m.probes.size()));
+  const double total = frames * frame_bytes + rows * row_bytes;
+  if (total > kLargeOutputBytes) {
+    os << "the run will write about " << total / 1e9 << " GB: " << frames << " frames of ~" << frame_bytes / 1e6
+       << " MB (output.frame_interval) and " << rows << " globals.csv rows of ~" << row_bytes
+       << " bytes (output.globals_interval; 0 = every step)";
+    sc.warnings.push_back(os.str());
+  }
+}
+
 LoadedScene assemble(const YAML::Node& root_yaml, const fs::path& origin, const SceneOptions& opt) {
   LoadedScene sc;
   sc.file = origin;
@@ -231,6 +273,7 @@ LoadedScene assemble(const YAML::Node& root_yaml, const fs::path& origin, const 
   load_output(root, sc.run, model);
   root.finish();
   check_critical_step(sc, max_c2, check_dt);
+  check_run_plan(sc);
   return sc;
 }
 

@@ -103,6 +103,26 @@ TEST(Scene, TimeStepFarBeyondTheCriticalStepIsAnError) {
   EXPECT_NE(sc.warnings[0].find("h_c"), std::string::npos);
 }
 
+TEST(Scene, TheRunPlanIsCheckedBeforeTheRun) {
+  // dt below the time resolution at t_end: time would never advance.
+  EXPECT_NE(test::scene_error(replaced(kBase, "dt: 10 us", "dt: 1e-320 s")).find("time resolution"), std::string::npos);
+  EXPECT_NE(test::scene_error(replaced(kBase, "dt: 10 us", "dt: 1e-19 s")).find("time resolution"), std::string::npos);
+  // 10^12 steps: an error naming the count, unless run.max_steps bounds the run.
+  const std::string huge = replaced(kBase, "t_end: 1 ms", "t_end: 1e7 s");
+  const std::string err = test::scene_error(huge);
+  EXPECT_NE(err.find("1e+12 steps"), std::string::npos) << err;
+  EXPECT_NE(err.find("run.max_steps"), std::string::npos) << err;
+  EXPECT_EQ(test::scene_error(replaced(huge, "t_end: 1e7 s}", "t_end: 1e7 s, max_steps: 1000}")), "");
+  // 10^6 frames of this 36-node mesh (~10 kB each) and a globals row per step: ~10 GB, a warning
+  // with the projected size; the base scene (100 steps, default frames) has none.
+  const auto big = test::load_scene(replaced(huge, "t_end: 1e7 s}", "t_end: 10 s, max_steps: 1000}") +
+                                    "output: {frame_interval: 10 us}\n");
+  ASSERT_EQ(big.warnings.size(), 1u);
+  EXPECT_NE(big.warnings[0].find("GB"), std::string::npos) << big.warnings[0];
+  EXPECT_NE(big.warnings[0].find("frame_interval"), std::string::npos) << big.warnings[0];
+  EXPECT_TRUE(test::load_scene(kBase).warnings.empty());
+}
+
 TEST(Scene, BoundaryConditionsAndCourses) {
   const auto sc = test::load_scene(replaced(kBase, "    fix: xyz\n", R"(    fix: xyz
   - select: {region: {plane: {point: [0, 0, 3 mm], normal: [0, 0, 1], tolerance: 0.001 mm}}}
