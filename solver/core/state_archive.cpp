@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <system_error>
 
+#include "common/durable.hpp"
 #include "common/error.hpp"
 
 namespace adamss::solver {
@@ -176,11 +177,18 @@ void StateArchive::write_hdf5(const fs::path& file, const std::map<std::string, 
     fs::remove(tmp, ec);  // the last good checkpoint stays as it was
     throw IoError("error while writing " + tmp.string() + " (disk full?)");
   }
+  try {
+    sync_file(tmp);  // the data on disk before the name points at them (common/durable.hpp)
+  } catch (const IoError&) {
+    fs::remove(tmp, ec);
+    throw;
+  }
   fs::rename(tmp, file, ec);
   if (ec) {
     fs::remove(tmp, ec);
     throw IoError("cannot rename " + tmp.string() + " to " + file.string() + ": " + ec.message());
   }
+  sync_directory(file.parent_path());
 }
 
 namespace {

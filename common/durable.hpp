@@ -1,0 +1,17 @@
+#pragma once
+// Durable replacement of a file: the data reach the disk before the file is renamed into place,
+// and the rename itself is made durable, so that after a power loss or a kernel crash the target
+// holds either the old or the new content, never an empty or partial file (a rename alone orders
+// nothing: the renamed name can survive a crash while the data blocks did not).
+#include <filesystem>
+
+namespace adamss {
+
+/// fsync of `file` (its data and metadata). IoError naming the file when it cannot be opened or
+/// synced (e.g. EIO, a full disk reported late).
+void sync_file(const std::filesystem::path& file);
+
+/// fsync of the folder `dir`, making a rename or creation inside it durable. IoError as above.
+void sync_directory(const std::filesystem::path& dir);
+
+}  // namespace adamss
