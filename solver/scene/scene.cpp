@@ -208,6 +208,49 @@ void check_critical_step(LoadedScene& sc, double max_c2, bool check_dt) {
   sc.warnings.push_back(os.str());
 }
 
+/// Warnings for a model that loads but is likely not what was meant (issue 24): every coordinate
+/// of every node fixed or controlled (nothing is free to move), and elements listed twice (the
+/// same node set; they double the stiffness and the mass there). The first duplicate pair is named.
+void check_model_plausibility(LoadedScene& sc) {
+  const Model& m = sc.model;
+  const auto& mask = m.constraints.mask();
+  if (!mask.empty() && std::all_of(mask.begin(), mask.end(), [](std::uint8_t b) { return (b & 7U) == 7U; })) {
+    sc.warnings.push_back("boundary: all " + std::to_string(mask.size()) +
+                          " nodes have all three coordinates fixed or controlled: no degree of freedom is free");
+  }
+  const preprocess::Mesh& mesh = *m.mesh;
+  const auto k = static_cast<std::size_t>(preprocess::nodes_per_element(mesh.type));
+  const std::size_t n = mesh.element_count();
+  std::vector<Index> keys(n * k);
+  for (std::size_t e = 0; e < n; ++e) {
+    std::copy(mesh.element(e), mesh.element(e) + k, keys.begin() + static_cast<std::ptrdiff_t>(e * k));
+    std::sort(keys.begin() + static_cast<std::ptrdiff_t>(e * k),
+              keys.begin() + static_cast<std::ptrdiff_t>((e + 1) * k));
+  }
+  std::vector<std::size_t> order(n);
+  for (std::size_t e = 0; e < n; ++e) order[e] = e;
+  const auto key = [&](std::size_t e) { return keys.begin() + static_cast<std::ptrdiff_t>(e * k); };
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return std::lexicographical_compare(key(a), key(a) + static_cast<std::ptrdiff_t>(k), key(b),
+                                        key(b) + static_cast<std::ptrdiff_t>(k)) ||
+           (std::equal(key(a), key(a) + static_cast<std::ptrdiff_t>(k), key(b)) && a < b);
+  });
+  std::size_t duplicates = 0;
+  std::size_t first_a = 0, first_b = 0;
+  for (std::size_t i = 1; i < n; ++i) {
+    if (!std::equal(key(order[i - 1]), key(order[i - 1]) + static_cast<std::ptrdiff_t>(k), key(order[i]))) continue;
+    if (duplicates++ == 0) {
+      first_a = order[i - 1];
+      first_b = order[i];
+    }
+  }
+  if (duplicates > 0) {
+    sc.warnings.push_back("mesh: " + std::to_string(duplicates) +
+                          " element(s) repeat another's node set (first: elements " + std::to_string(first_a) +
+                          " and " + std::to_string(first_b) + "); each copy adds its stiffness and mass again");
+  }
+}
+
 /// Above this many projected steps a run needs run.max_steps (an explicit intent to stop early).
 constexpr double kMaxPlannedSteps = 1e9;
 /// Above this projected output volume (frames + globals.csv) the scene loads with a warning.
@@ -274,6 +317,7 @@ LoadedScene assemble(const YAML::Node& root_yaml, const fs::path& origin, const 
   root.finish();
   check_critical_step(sc, max_c2, check_dt);
   check_run_plan(sc);
+  check_model_plausibility(sc);
   return sc;
 }
 

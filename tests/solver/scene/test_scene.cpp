@@ -6,6 +6,8 @@
 #include <string>
 
 #include "common/error.hpp"
+#include "preprocess/mesh/mesh_io.hpp"
+#include "preprocess/meshers/box_mesh.hpp"
 #include "scene_fixtures.hpp"
 #include "solver/scene/scene.hpp"
 
@@ -121,6 +123,34 @@ TEST(Scene, TheRunPlanIsCheckedBeforeTheRun) {
   EXPECT_NE(big.warnings[0].find("GB"), std::string::npos) << big.warnings[0];
   EXPECT_NE(big.warnings[0].find("frame_interval"), std::string::npos) << big.warnings[0];
   EXPECT_TRUE(test::load_scene(kBase).warnings.empty());
+}
+
+TEST(Scene, EveryNodeFixedIsAWarning) {
+  const auto all = test::load_scene(replaced(kBase, "{plane: {point: [0, 0, 0], normal: [0, 0, 1]}}",
+                                             "{box: {min: [-1 mm, -1 mm, -1 mm], max: [5 mm, 5 mm, 5 mm]}}"));
+  ASSERT_EQ(all.warnings.size(), 1u);
+  EXPECT_NE(all.warnings[0].find("all 36 nodes"), std::string::npos) << all.warnings[0];
+  EXPECT_TRUE(test::load_scene(kBase).warnings.empty());  // the bottom face only
+}
+
+TEST(Scene, ARepeatedElementIsAWarningNamingIt) {
+  // A 1 x 1 x 2 hexahedral box whose first element is listed again as element 2.
+  preprocess::Mesh mesh = preprocess::make_box_mesh({1e-3, 1e-3, 2e-3}, {1, 1, 2}, "hex");
+  const std::vector<preprocess::Index> first(mesh.element(0), mesh.element(0) + 8);
+  mesh.connectivity.insert(mesh.connectivity.end(), first.begin(), first.end());
+  mesh.labels.push_back(mesh.labels[0]);
+  const auto file = std::filesystem::temp_directory_path() / "adamss-test-repeated-element.h5";
+  preprocess::write_mesh_h5(file, mesh);
+  std::string text = replaced(
+      kBase,
+      "{phantom: slab, slab_size: [2, 2, 3], voxel_size: 1 mm, topology: tet6m, fibre: [0, 0, 1], sheet: [1, 0, 0]}",
+      "{file: " + file.string() + "}");
+  text = replaced(text, "virtual_hexahedron: {law: svk,", "fem_element: {law: svk,");
+  const auto sc = test::load_scene(text);
+  ASSERT_EQ(sc.warnings.size(), 1u);
+  EXPECT_NE(sc.warnings[0].find("1 element(s) repeat"), std::string::npos) << sc.warnings[0];
+  EXPECT_NE(sc.warnings[0].find("elements 0 and 2"), std::string::npos) << sc.warnings[0];
+  std::filesystem::remove(file);
 }
 
 TEST(Scene, BoundaryConditionsAndCourses) {
