@@ -104,8 +104,7 @@ class StencilTerm final : public ForceTerm {
     local_.resize(3 * N, static_cast<Eigen::Index>(n));
     const auto ni = static_cast<std::ptrdiff_t>(n);
     const bool par = n >= kParallelMin;
-    std::ptrdiff_t failed_item = -1;
-    std::exception_ptr failure;
+    LowestFailure failure;
 #pragma omp parallel for schedule(static) if (par)
     for (std::ptrdiff_t ii = 0; ii < ni; ++ii) {
       const auto i = static_cast<std::size_t>(ii);
@@ -115,16 +114,11 @@ class StencilTerm final : public ForceTerm {
       try {
         kernel_.forces(i, x, v, s.t, fl);
       } catch (...) {
-#pragma omp critical(adamss_stencil_failure)
-        if (failed_item < 0 || ii < failed_item) {  // report the lowest failing item
-          failed_item = ii;
-          failure = std::current_exception();
-        }
-        fl.setZero();
+        failure.record(ii);
       }
       local_.col(ii) = Eigen::Map<const Eigen::Matrix<double, 3 * N, 1>>(fl.data());
     }
-    if (failure) std::rethrow_exception(failure);
+    failure.rethrow();
     const auto rows = static_cast<std::ptrdiff_t>(scatter_node_.size());
 #pragma omp parallel for schedule(static) if (par)
     for (std::ptrdiff_t r = 0; r < rows; ++r) {
@@ -147,37 +141,27 @@ class StencilTerm final : public ForceTerm {
       const std::size_t n = kernel_.size();
       for (std::size_t first = 0; first < n; first += kJacobianChunk) {
         const std::size_t count = std::min(kJacobianChunk, n - first);
-        jac_x_.resize(static_cast<std::size_t>(kLocal) * count);
-        jac_v_.resize(static_cast<std::size_t>(kLocal) * count);
+        jac_x_.resize(count);
+        jac_v_.resize(count);
         const auto nc = static_cast<std::ptrdiff_t>(count);
-        std::ptrdiff_t failed_item = -1;
-        std::exception_ptr failure;
+        LowestFailure failure;
 #pragma omp parallel for schedule(static) if (count >= kParallelMin)
         for (std::ptrdiff_t c = 0; c < nc; ++c) {
-          const std::size_t i = first + static_cast<std::size_t>(c);
+          const auto cu = static_cast<std::size_t>(c);
           Mat3N<N> x, v;
-          gather(s, kernel_.stencil(i), x, v);
-          Eigen::Map<MatJ<N>> kx(jac_x_.data() + kLocal * static_cast<std::size_t>(c));
-          Eigen::Map<MatJ<N>> kv(jac_v_.data() + kLocal * static_cast<std::size_t>(c));
+          gather(s, kernel_.stencil(first + cu), x, v);
+          jac_x_[cu].setZero();
+          jac_v_[cu].setZero();
           try {
-            MatJ<N> lx = MatJ<N>::Zero(), lv = MatJ<N>::Zero();
-            kernel_.jacobian(i, x, v, s.t, lx, lv);
-            kx = lx;
-            kv = lv;
+            kernel_.jacobian(first + cu, x, v, s.t, jac_x_[cu], jac_v_[cu]);
           } catch (...) {
-#pragma omp critical(adamss_stencil_failure)
-            if (failed_item < 0 || c < failed_item) {  // report the lowest failing item
-              failed_item = c;
-              failure = std::current_exception();
-            }
-            kx.setZero();
-            kv.setZero();
+            failure.record(c);
           }
         }
-        if (failure) std::rethrow_exception(failure);
+        failure.rethrow();
         for (std::size_t c = 0; c < count; ++c) {
           const std::array<Index, N> st = kernel_.stencil(first + c);
-          sink.add_stencil(st.data(), N, jac_x_.data() + kLocal * c, jac_v_.data() + kLocal * c);
+          sink.add_stencil(st.data(), N, jac_x_[c].data(), jac_v_[c].data());
         }
       }
     } else {
@@ -186,6 +170,27 @@ class StencilTerm final : public ForceTerm {
   }
 
  private:
+  /// The lowest-numbered item whose kernel call threw inside a parallel loop; rethrown after the
+  /// loop, so the error reported does not depend on the number of threads. record() is called
+  /// from the catch block.
+  class LowestFailure {
+   public:
+    void record(std::ptrdiff_t item) {
+#pragma omp critical(adamss_stencil_failure)
+      if (item_ < 0 || item < item_) {
+        item_ = item;
+        error_ = std::current_exception();
+      }
+    }
+    void rethrow() const {
+      if (error_) std::rethrow_exception(error_);
+    }
+
+   private:
+    std::ptrdiff_t item_ = -1;
+    std::exception_ptr error_;
+  };
+
   static void gather(const StateView& s, const std::array<Index, N>& st, Mat3N<N>& x, Mat3N<N>& v) {
     for (int a = 0; a < N; ++a) {
       x.col(a) = s.x.col(st[static_cast<std::size_t>(a)]);
@@ -221,8 +226,7 @@ class StencilTerm final : public ForceTerm {
   }
 
   static constexpr std::size_t kParallelMin = 256;
-  static constexpr std::size_t kJacobianChunk = 1024;                         ///< items per parallel batch
-  static constexpr std::size_t kLocal = static_cast<std::size_t>(9 * N * N);  ///< entries of one MatJ
+  static constexpr std::size_t kJacobianChunk = 1024;  ///< items per parallel batch of add_jacobian
   Kernel kernel_;
   // Work space of add_forces (not thread-safe across concurrent calls on the same term).
   mutable Eigen::Matrix<double, 3 * N, Eigen::Dynamic> local_;
@@ -230,7 +234,7 @@ class StencilTerm final : public ForceTerm {
   mutable std::vector<std::size_t> scatter_begin_, scatter_slot_;
   mutable std::size_t scatter_items_ = 0;
   mutable bool scatter_ready_ = false;
-  mutable std::vector<double> jac_x_, jac_v_;  ///< a chunk's local Jacobians (add_jacobian)
+  mutable std::vector<MatJ<N>> jac_x_, jac_v_;  ///< a chunk's local Jacobians (add_jacobian)
 };
 
 }  // namespace adamss::solver

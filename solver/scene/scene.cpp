@@ -230,10 +230,10 @@ void check_model_plausibility(LoadedScene& sc) {
   std::vector<std::size_t> order(n);
   for (std::size_t e = 0; e < n; ++e) order[e] = e;
   const auto key = [&](std::size_t e) { return keys.begin() + static_cast<std::ptrdiff_t>(e * k); };
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+  // Stable: elements with the same node set stay in index order, so the first pair is named lowest first.
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
     return std::lexicographical_compare(key(a), key(a) + static_cast<std::ptrdiff_t>(k), key(b),
-                                        key(b) + static_cast<std::ptrdiff_t>(k)) ||
-           (std::equal(key(a), key(a) + static_cast<std::ptrdiff_t>(k), key(b)) && a < b);
+                                        key(b) + static_cast<std::ptrdiff_t>(k));
   });
   std::size_t duplicates = 0;
   std::size_t first_a = 0, first_b = 0;

@@ -70,9 +70,9 @@ void JacobianSolver::Petsc::configure(const Eigen::Matrix3Xd& x_ref, double ksp_
   if (a.size() <= kDirectSolveMaxDofs) {
     petsc_check(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
     petsc_check(PCSetType(pc, PCLU), "PCSetType");
-    // MUMPS when PETSc has it: its own fill-reducing ordering (METIS/AMD, chosen by MUMPS)
-    // and BLAS-3 supernodes. PETSc's built-in LU with its default nested dissection needed
-    // 2x the time per factorisation on Land problem 1 (40 x 4 x 4 hexahedra: 37 ms -> 18 ms,
+    // MUMPS when PETSc has it: its own fill-reducing ordering (chosen by MUMPS; Debian's MUMPS
+    // has neither METIS nor SCOTCH and picks AMF) and BLAS-3 supernodes. PETSc's built-in LU with its default nested
+    // dissection needed 2x the time per factorisation on Land problem 1 (40 x 4 x 4 hexahedra: 37 ms -> 18 ms,
     // -log_view, with OpenBLAS as the BLAS).
     PetscBool mumps = PETSC_FALSE;
     petsc_check(MatGetFactorAvailable(a.mat(), MATSOLVERMUMPS, MAT_FACTOR_LU, &mumps), "MatGetFactorAvailable");

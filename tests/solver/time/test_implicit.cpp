@@ -79,6 +79,19 @@ std::vector<preprocess::Index> clamp_bottom(solver::Model& m) {
   return top;
 }
 
+/// The 2 x 2 x 4 Hunter block (tet6m, fibres along z) with its bottom clamped and its top face
+/// moved 0.16 mm along z over t = 0 ... 1 s (a 4 % stretch along the fibre); `top` receives the
+/// top-face nodes.
+std::unique_ptr<solver::Model> stretched_hunter_block(std::vector<preprocess::Index>& top) {
+  auto model = block_model(2, 2, 4, preprocess::Topology::Tet6m);
+  const auto frames = solver::build_axis_frames(*model->mesh);
+  model->terms.push_back(solver::make_virtual_hex_term(*model->mesh, frames, materials::make_law("hunter_canine", {})));
+  top = clamp_bottom(*model);
+  for (const auto n : top)
+    model->constraints.control(n, 2, solver::TimeCourse::ramp(0.0, 0.16e-3, 0.0, 1.0), false, "t");
+  return model;
+}
+
 }  // namespace
 
 TEST(Implicit, AssembledJacobianEqualsTheBlockwiseProduct) {
@@ -206,13 +219,8 @@ TEST(Implicit, AStopRequestInsideNewtonAbandonsTheStep) {
   // Without the request the same step converges.
   for (const auto kind :
        {solver::ImplicitIntegrator::Kind::Static, solver::ImplicitIntegrator::Kind::BackwardEulerNewton}) {
-    auto model = block_model(2, 2, 4, preprocess::Topology::Tet6m);
-    const auto frames = solver::build_axis_frames(*model->mesh);
-    model->terms.push_back(
-        solver::make_virtual_hex_term(*model->mesh, frames, materials::make_law("hunter_canine", {})));
-    const auto top = clamp_bottom(*model);
-    for (const auto n : top)
-      model->constraints.control(n, 2, solver::TimeCourse::ramp(0.0, 0.16e-3, 0.0, 1.0), false, "t");
+    std::vector<preprocess::Index> top;
+    auto model = stretched_hunter_block(top);
     auto stopper = std::make_unique<StopOnJacobian>();
     const StopOnJacobian* probe = stopper.get();
     model->terms.push_back(std::move(stopper));
@@ -234,15 +242,12 @@ TEST(Implicit, AStopRequestInsideNewtonAbandonsTheStep) {
 TEST(Implicit, StaticNewtonConvergesQuadratically) {
   // A Hunter block stretched 4 % along the fibre in one load step: in the residual history of
   // Newton, once e_k = r_k / r_0 < 1e-2, e_{k+1} <= C e_k^2 with a modest C (quadratic phase).
-  auto model = block_model(2, 2, 4, preprocess::Topology::Tet6m);
+  std::vector<preprocess::Index> top;
+  auto model = stretched_hunter_block(top);
   const auto frames = solver::build_axis_frames(*model->mesh);
-  model->terms.push_back(solver::make_virtual_hex_term(*model->mesh, frames, materials::make_law("hunter_canine", {})));
   solver::VolumeParams vp;
   vp.p = 2e4;
   model->terms.push_back(solver::make_volume_term(*model->mesh, &frames, vp));
-  const auto top = clamp_bottom(*model);
-  for (const auto n : top)
-    model->constraints.control(n, 2, solver::TimeCourse::ramp(0.0, 0.16e-3, 0.0, 1.0), false, "t");
   solver::System sys(*model);
   solver::ImplicitSettings set;
   set.adapt = false;
