@@ -10,10 +10,10 @@
 
 #include "app/commands.hpp"
 #include "common/error.hpp"
-#include "preprocess/surfaces/cavities.hpp"
+#include "preprocess/image/nifti_io.hpp"
 #include "preprocess/mesh/mesh_io.hpp"
 #include "preprocess/mesh/mesh_quality.hpp"
-#include "preprocess/image/nifti_io.hpp"
+#include "preprocess/surfaces/cavities.hpp"
 
 namespace adamss::app {
 namespace {
@@ -33,7 +33,7 @@ json image_info(const std::string& path) {
   using namespace preprocess;
   const auto t0 = Clock::now();
   NiftiNotes notes;
-  const LabelImage img = read_label_image(path, &notes);
+  const LabelImage img = read_label_image(path, &notes, LabelScaling::kApply);
   const double secs = std::chrono::duration<double>(Clock::now() - t0).count();
   const Grid& g = img.grid;
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = Eigen::Vector3d::Constant(-1e300);

@@ -30,6 +30,7 @@ struct MeshArgs {
   std::string fiber;
   std::string sheet;
   bool strict = false;
+  bool allow_scaled_labels = false;
   std::string output;
   std::string vtu;
   bool no_vtu = false;
@@ -182,7 +183,7 @@ preprocess::MeshRequest request_from_options(const MeshArgs& a) {
   const bool rule = rule_requested(a);
   if (req.topology == Topology::Cgal) req.cgal = cgal_options(a);
   if (!rule && a.fiber.empty() != a.sheet.empty()) throw InputError("--fiber and --sheet must be given together");
-  req.image = ImageFile{a.image};
+  req.image = ImageFile{a.image, a.allow_scaled_labels};
   req.source = a.image;
   req.solid_labels.assign(a.solid.begin(), a.solid.end());
   if (rule) {
@@ -314,6 +315,8 @@ void run_mesh(const MeshArgs& a) {
   check_outputs_against_inputs(a, req, out);
   if (auto* rule = std::get_if<preprocess::RuleFibres>(&req.fibres)) rule->options = rule_options(a);
   req.on_fibres = print_fibres;
+  // Header notes (unit assumed, scaling applied) and open cavities, on stderr as soon as found.
+  req.on_warning = [](const std::string& w) { std::cerr << "adamss mesh: warning: " << w << "\n"; };
 
   const preprocess::MeshBuild b = preprocess::build_mesh(req);
 
@@ -350,6 +353,9 @@ void add_mesh_command(CLI::App& app) {
                   "fibres from Laplace transmural coordinates");
   sub->add_option("--sheet", args->sheet, "Sheet vector image on the same lattice");
   sub->add_flag("--strict", args->strict, "Reject elements without a valid fibre sample instead of filling them");
+  sub->add_flag("--allow-scaled-labels", args->allow_scaled_labels,
+                "Apply the image header's scl_slope/scl_inter to the labels (without it a scaled label image is "
+                "refused: an intercept of 1 would turn the background label 0 into 1)");
   sub->add_option("-o,--output", args->output, "Output mesh.h5")->required();
   sub->add_option("--vtu", args->vtu, "Where to write the .vtu (default: the output name with .vtu)");
   sub->add_flag("--no-vtu", args->no_vtu, "Do not write the .vtu");

@@ -681,8 +681,14 @@ void write_nifti1(const fs::path& path, const Grid& grid, const std::array<std::
 
 }  // namespace
 
-LabelImage read_label_image(const std::filesystem::path& path, NiftiNotes* notes) {
+LabelImage read_label_image(const std::filesystem::path& path, NiftiNotes* notes, LabelScaling scaling) {
   Loaded in = load(path, Kind::kLabels);
+  if (in.scaled && scaling == LabelScaling::kRefuse) {
+    fail_read(path, fmt::format("the header scales the stored values (scl_slope = {}, scl_inter = {}), which would "
+                                "change every label (0 would become {}); reset scl_slope to 0 or 1 and scl_inter to "
+                                "0, or ask for the scaling (adamss mesh --allow-scaled-labels)",
+                                in.slope, in.inter, in.inter));
+  }
   LabelImage image;
   image.grid = in.grid;
   image.labels.resize(in.grid.voxel_count());

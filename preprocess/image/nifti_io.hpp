@@ -26,7 +26,14 @@ struct NiftiNotes {
 /// Throws adamss::InputError naming the file for: a missing or truncated file, a
 /// non-3-D image (a 4th dimension of size 1 is accepted), another type, a
 /// non-integral float, NaN/Inf in the affine, zero or non-finite spacing.
-LabelImage read_label_image(const std::filesystem::path& path, NiftiNotes* notes = nullptr);
+///
+/// A header with scl_slope/scl_inter other than "none" (slope 0, or slope 1 with intercept 0)
+/// would change the labels (intercept 1 makes the background label 0 into 1, and the whole
+/// background would be meshed). LabelScaling::kRefuse (the default) makes such a file an
+/// InputError that says so; kApply applies the scaling and adds a warning to `notes`.
+enum class LabelScaling { kRefuse, kApply };
+LabelImage read_label_image(const std::filesystem::path& path, NiftiNotes* notes = nullptr,
+                            LabelScaling scaling = LabelScaling::kRefuse);
 
 /// Reads a 3-component vector image (fibre/sheet field): dims (nx, ny, nz, 1, 3)
 /// as NIfTI stores vectors (intent VECTOR), or (nx, ny, nz, 3). float32 or float64.

@@ -26,13 +26,29 @@ struct Overloaded : F... {
 template <class... F>
 Overloaded(F...) -> Overloaded<F...>;
 
+/// Records a warning in the build and hands it to the request's on_warning at once.
+void warn(const MeshRequest& request, MeshBuild& out, const std::string& text) {
+  out.warnings.push_back(text);
+  if (request.on_warning) request.on_warning(text);
+}
+
+/// The header notes of an image just read, as warnings of the build.
+void warn_notes(const MeshRequest& request, MeshBuild& out, const NiftiNotes& notes) {
+  for (const std::string& w : notes.warnings) warn(request, out, w);
+}
+
 /// The label image of the request; a phantom brings its analytic fibre and sheet fields too.
-Phantom source_image(const ImageSource& source) {
-  return std::visit(Overloaded{[](const ImageFile& f) {
-                                 return Phantom{read_label_image(f.path), {}, {}};
+Phantom source_image(const MeshRequest& request, MeshBuild& out) {
+  return std::visit(Overloaded{[&](const ImageFile& f) {
+                                 NiftiNotes notes;
+                                 const LabelScaling scaling =
+                                     f.apply_label_scaling ? LabelScaling::kApply : LabelScaling::kRefuse;
+                                 Phantom p{read_label_image(f.path, &notes, scaling), {}, {}};
+                                 warn_notes(request, out, notes);
+                                 return p;
                                },
                                [](const PhantomImage& p) { return make_phantom(p.kind, p.options); }},
-                    source);
+                    request.image);
 }
 
 /// The volume mesh of the solid labels: CGAL Mesh_3 or the voxel lattice.
@@ -61,8 +77,12 @@ double add_fibres(const MeshRequest& request, const Phantom& source, MeshBuild& 
     return out.rule_fibres->total_seconds;
   }
   if (const auto* files = std::get_if<FibreImages>(&request.fibres)) {
-    const VectorImage f = read_vector_image(files->fiber_file);
-    const VectorImage s = read_vector_image(files->sheet_file);
+    NiftiNotes fiber_notes;
+    NiftiNotes sheet_notes;
+    const VectorImage f = read_vector_image(files->fiber_file, &fiber_notes);
+    warn_notes(request, out, fiber_notes);
+    const VectorImage s = read_vector_image(files->sheet_file, &sheet_notes);
+    warn_notes(request, out, sheet_notes);
     out.image_fibres =
         assign_fibres(out.mesh, source.image.grid, f, files->fiber_file, s, files->sheet_file, files->strict);
     out.mesh.attributes["fiber_source"] = files->fiber_file;
@@ -117,6 +137,7 @@ void add_surfaces(const MeshRequest& request, const LabelImage& image, MeshBuild
   for (const PlaneTagRequest& p : request.tag_planes) add_plane_tag(out.mesh, p);
   if (!request.cavities.empty()) {
     check_cavity_labels_present(image, request.cavities);
+    for (const std::string& w : cavity_border_warnings(image, request.cavities)) warn(request, out, w);
     add_cavities(out.mesh, faces, request.cavities, &out.cavities);
   }
 }
@@ -124,7 +145,9 @@ void add_surfaces(const MeshRequest& request, const LabelImage& image, MeshBuild
 /// The requested cell fields: scalar images from files, then the phantom's scar segment.
 void add_fields(const MeshRequest& request, const LabelImage& image, MeshBuild& out) {
   for (const CellFieldSpec& f : request.cell_fields) {
-    const ScalarImage field = read_scalar_image(f.file);
+    NiftiNotes notes;
+    const ScalarImage field = read_scalar_image(f.file, &notes);
+    warn_notes(request, out, notes);
     out.cell_fields.push_back(add_cell_field(out.mesh, f.name, field, f.method));
     out.mesh.attributes["cell_field_" + f.name] = f.file + ":" + interpolation_name(f.method);
   }
@@ -148,7 +171,7 @@ void check_mesh(MeshBuild& out) {
 MeshBuild build_mesh(const MeshRequest& request) {
   MeshBuild out;
   auto t = Clock::now();
-  const Phantom source = source_image(request.image);
+  const Phantom source = source_image(request, out);
   out.times.read = since(t);
 
   t = Clock::now();

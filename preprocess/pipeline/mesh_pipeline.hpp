@@ -34,6 +34,9 @@ struct MeshBuild {
   std::optional<QualitySummary> quality;       ///< request.check only
   std::optional<ConformityReport> conformity;  ///< request.check only
   MeshStageTimes times;
+  /// What the user should know but that does not stop the build: header notes of the images
+  /// read (unit assumed, scaling applied, ...), cavities open at the image border.
+  std::vector<std::string> warnings;
 };
 
 /// Runs the pipeline of `request`. InputError for bad inputs (files, labels, planes, cavities);

@@ -24,6 +24,9 @@ struct MeshBuild;
 /// The labelled image is read from a NIfTI file.
 struct ImageFile {
   std::string path;
+  /// Apply the header's scl_slope/scl_inter to the labels (read_label_image's LabelScaling);
+  /// false: a scaled label image is an InputError.
+  bool apply_label_scaling = false;
 };
 
 /// The labelled image is a synthetic phantom (preprocess/image/phantom.hpp), made in memory.
@@ -79,6 +82,9 @@ struct MeshRequest {
   bool check = false;
   /// Called once the fibres are on the mesh (to report them before the later stages run).
   std::function<void(const MeshBuild&)> on_fibres;
+  /// Called with each warning as it is found (image headers, cavities), before the later stages
+  /// run; every warning is also kept in MeshBuild::warnings.
+  std::function<void(const std::string&)> on_warning;
 };
 
 }  // namespace adamss::preprocess

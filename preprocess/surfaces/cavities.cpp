@@ -2,8 +2,10 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <set>
 #include <sstream>
 #include <unordered_map>
@@ -365,6 +367,49 @@ void check_cavity_labels_present(const LabelImage& image, const std::vector<Cavi
                        " does not occur in the image (labels present: " + present + ")");
     }
   }
+}
+
+std::vector<std::string> cavity_border_warnings(const LabelImage& image, const std::vector<CavitySpec>& specs) {
+  const std::array<std::int64_t, 3> n{image.grid.dims[0], image.grid.dims[1], image.grid.dims[2]};
+  // Voxels of each cavity label on each of the six image faces (i = 0, i = nx - 1, j = 0, ...); a
+  // voxel on an edge or corner counts once in `total` and on each face it touches.
+  std::map<std::int32_t, std::array<std::int64_t, 7>> border;  // [0..5] faces, [6] total
+  for (const CavitySpec& s : specs) border[s.label] = {};
+  auto visit = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
+    const auto it = border.find(image.at(i, j, k));
+    if (it == border.end()) return;
+    std::array<std::int64_t, 7>& c = it->second;
+    const std::array<std::int64_t, 3> ijk{i, j, k};
+    for (std::size_t a = 0; a < 3; ++a) {
+      c[2 * a] += ijk[a] == 0 ? 1 : 0;
+      c[2 * a + 1] += ijk[a] == n[a] - 1 ? 1 : 0;
+    }
+    ++c[6];
+  };
+  for (std::int64_t k = 0; k < n[2]; ++k) {
+    for (std::int64_t j = 0; j < n[1]; ++j) {
+      if (j == 0 || j == n[1] - 1 || k == 0 || k == n[2] - 1) {
+        for (std::int64_t i = 0; i < n[0]; ++i) visit(i, j, k);
+      } else {
+        visit(0, j, k);
+        if (n[0] > 1) visit(n[0] - 1, j, k);
+      }
+    }
+  }
+  static constexpr std::array<const char*, 6> kFace{"i = 0", "i = nx-1", "j = 0", "j = ny-1", "k = 0", "k = nz-1"};
+  std::vector<std::string> out;
+  for (const CavitySpec& s : specs) {
+    const std::array<std::int64_t, 7>& c = border.at(s.label);
+    if (c[6] == 0) continue;
+    std::string faces;
+    for (std::size_t f = 0; f < 6; ++f)
+      if (c[f] > 0) faces += (faces.empty() ? "" : ", ") + std::string(kFace[f]) + ": " + std::to_string(c[f]);
+    out.push_back(describe(s) + ": " + std::to_string(c[6]) + " voxels of label " + std::to_string(s.label) +
+                  " lie on the image border (" + faces +
+                  "); the image cuts the cavity open there and the lid laid over the cut is not anatomy, so its "
+                  "volume is likely too small (pad the image, or crop it so the cavity ends inside)");
+  }
+  return out;
 }
 
 void add_cavities(Mesh& mesh, const std::vector<BoundaryFace>& faces, const std::vector<CavitySpec>& specs,

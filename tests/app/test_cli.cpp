@@ -2,6 +2,7 @@
 // one-line errors of bad input.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
 

@@ -27,6 +27,7 @@ namespace fs = std::filesystem;
 using adamss::InputError;
 using adamss::preprocess::Grid;
 using adamss::preprocess::LabelImage;
+using adamss::preprocess::LabelScaling;
 using adamss::preprocess::NiftiNotes;
 using adamss::preprocess::read_label_image;
 using adamss::preprocess::read_vector_image;
@@ -577,7 +578,7 @@ TEST_F(NiftiIo, UnsupportedTypesRejectedByName) {
   expect_input_error([&] { read_label_image(file("rgb.nii.gz")); }, {"rgb.nii.gz", "rgb24"});
 }
 
-TEST_F(NiftiIo, ScaleSlopeAndInterceptApplied) {
+TEST_F(NiftiIo, ScaledLabelsAreRefusedUnlessScalingIsAsked) {
   HandFile h;
   h.dims = {3, 4, 1, 1, 1, 1, 1, 1};
   h.datatype = NIFTI_TYPE_INT16;
@@ -585,14 +586,19 @@ TEST_F(NiftiIo, ScaleSlopeAndInterceptApplied) {
   h.scl_slope = 2.0;
   h.scl_inter = 1.0;
   h.write(file("s.nii"));
+  // Refused unless asked: the intercept would turn label 0 into 1.
+  expect_input_error([&] { read_label_image(file("s.nii")); },
+                     {"s.nii", "scl_slope = 2", "scl_inter = 1", "0 would become 1", "--allow-scaled-labels"});
   NiftiNotes notes;
-  EXPECT_EQ(read_label_image(file("s.nii"), &notes).labels, (std::vector<std::int32_t>{1, 3, 5, 7}));
+  EXPECT_EQ(read_label_image(file("s.nii"), &notes, LabelScaling::kApply).labels,
+            (std::vector<std::int32_t>{1, 3, 5, 7}));
   EXPECT_EQ(notes.warnings.size(), 1u);
   // slope 0.5 makes 1 -> 0.5: not a label.
   h.scl_slope = 0.5;
   h.scl_inter = 0.0;
   h.write(file("half.nii"));
-  expect_input_error([&] { read_label_image(file("half.nii")); }, {"half.nii", "(1, 0, 0)", "0.5", "scl_slope"});
+  expect_input_error([&] { read_label_image(file("half.nii"), nullptr, LabelScaling::kApply); },
+                     {"half.nii", "(1, 0, 0)", "0.5", "scl_slope"});
   // (1, 0) and slope 0 mean no scaling.
   for (const double slope : {0.0, 1.0}) {
     h.scl_slope = slope;

@@ -406,3 +406,42 @@ TEST(Cavities, StaircaseOpeningsWithCollinearVerticesAreTriangulatedExactly) {
 }
 
 }  // namespace
+
+// A cavity label on the image border: the image cuts the cavity open. The phantom's cavity lies
+// inside its image (no warning); cropped through the apex, the warning counts the cavity voxels on
+// the new bottom layer; a single voxel in a corner counts once and names its three faces.
+TEST(Cavities, ACavityCutOpenByTheImageBorderIsWarnedAbout) {
+  const PhantomMesh pm = phantom_mesh("lv", 1.25e-3, Topology::Tet6m);
+  EXPECT_TRUE(cavity_border_warnings(pm.image, {{"lv", 2}}).empty());
+
+  const Grid& g = pm.image.grid;
+  std::int64_t k_lowest = g.dims[2];
+  for (std::int64_t k = 0; k < g.dims[2] && k_lowest == g.dims[2]; ++k)
+    for (std::int64_t j = 0; j < g.dims[1]; ++j)
+      for (std::int64_t i = 0; i < g.dims[0]; ++i)
+        if (pm.image.at(i, j, k) == 2) k_lowest = k;
+  ASSERT_LT(k_lowest + 3, g.dims[2]);
+  const std::int64_t cut = k_lowest + 2;
+  LabelImage cropped;
+  cropped.grid = g;
+  cropped.grid.dims[2] = g.dims[2] - cut;
+  cropped.grid.index_to_world.col(3) += static_cast<double>(cut) * g.index_to_world.col(2);
+  cropped.labels.assign(pm.image.labels.begin() + static_cast<std::ptrdiff_t>(g.linear(0, 0, cut)),
+                        pm.image.labels.end());
+  std::int64_t on_layer = 0;
+  for (std::int64_t j = 0; j < g.dims[1]; ++j)
+    for (std::int64_t i = 0; i < g.dims[0]; ++i) on_layer += cropped.at(i, j, 0) == 2 ? 1 : 0;
+  ASSERT_GT(on_layer, 4);
+  const std::vector<std::string> w = cavity_border_warnings(cropped, {{"lv", 2}});
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("cavity 'lv' (label 2): " + std::to_string(on_layer) + " voxels"), std::string::npos) << w[0];
+  EXPECT_NE(w[0].find("(k = 0: " + std::to_string(on_layer) + ")"), std::string::npos) << w[0];
+  EXPECT_NE(w[0].find("too small"), std::string::npos) << w[0];
+
+  LabelImage corner = pm.image;
+  corner.labels[corner.grid.linear(0, 0, 0)] = 2;
+  const std::vector<std::string> c = cavity_border_warnings(corner, {{"lv", 2}, {"rv", 3}});
+  ASSERT_EQ(c.size(), 1u);
+  EXPECT_NE(c[0].find(": 1 voxels of label 2"), std::string::npos) << c[0];
+  EXPECT_NE(c[0].find("(i = 0: 1, j = 0: 1, k = 0: 1)"), std::string::npos) << c[0];
+}
