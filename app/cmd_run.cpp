@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "app/commands.hpp"
+#include "common/durable.hpp"
 #include "common/error.hpp"
 #include "solver/run/checkpoint.hpp"
 #include "solver/run/output_lock.hpp"
@@ -110,6 +111,12 @@ nlohmann::json summary_json(const solver::LoadedScene& sc, const solver::RunOutc
   j["rejected_steps"] = out.rejected_steps;
   j["newton_iterations"] = out.newton_iterations;
   j["linear_iterations"] = out.linear_iterations;
+  // Resident memory (MB; null = not sampled, e.g. a run shorter than a quarter of t_end).
+  const auto mb = [](double v) { return v >= 0.0 ? nlohmann::json(v) : nlohmann::json(nullptr); };
+  j["resident_memory_MB"] = {{"start", mb(out.resident_mb.start)},
+                             {"at_quarter_of_t_end", mb(out.resident_mb.quarter)},
+                             {"final", mb(out.resident_mb.final)},
+                             {"peak", mb(out.resident_mb.peak)}};
   j["dt_s"] = {{"initial", sc.run.dt},
                {"min_used", out.dt_min_used},
                {"max_used", out.dt_max_used},
@@ -135,11 +142,11 @@ nlohmann::json summary_json(const solver::LoadedScene& sc, const solver::RunOutc
   return j;
 }
 
-/// Writes `j` to `file` via `file`.tmp renamed over it (solver::replace_file: IoError on failure).
+/// Writes `j` to `file` via `file`.tmp renamed over it (replace_file, common/durable.hpp: IoError on failure).
 void write_json(const fs::path& file, const nlohmann::json& j) {
   std::ostringstream o;
   o << std::setw(2) << j << "\n";
-  solver::replace_file(file, {o.str()});
+  replace_file(file, {o.str()});
 }
 
 /// After an I/O error during the run: summary.json says "failed" with the reason, if it can still

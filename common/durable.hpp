@@ -4,6 +4,8 @@
 // holds either the old or the new content, never an empty or partial file (a rename alone orders
 // nothing: the renamed name can survive a crash while the data blocks did not).
 #include <filesystem>
+#include <initializer_list>
+#include <string_view>
 
 namespace adamss {
 
@@ -13,5 +15,12 @@ void sync_file(const std::filesystem::path& file);
 
 /// fsync of the folder `dir`, making a rename or creation inside it durable. IoError as above.
 void sync_directory(const std::filesystem::path& dir);
+
+/// Writes `parts` one after the other to `path`.tmp and renames it over `path`; with `durable`,
+/// the data are fsync'ed before the rename and the folder after it. IoError naming the file and
+/// the system's reason ("No space left on device") if anything fails; the .tmp is then removed
+/// and `path` keeps its old content.
+void replace_file(const std::filesystem::path& path, std::initializer_list<std::string_view> parts,
+                  bool durable = false);
 
 }  // namespace adamss

@@ -4,6 +4,7 @@
 // for every HDF5 reader and writer of the project.
 #include <hdf5.h>
 
+#include <string>
 #include <utility>
 
 namespace adamss::preprocess {
@@ -60,5 +61,25 @@ class SilenceHdf5Errors {
   void* data_ = nullptr;
   bool saved_ok_ = false;
 };
+
+/// A new HDF5 file that lives in memory only (the core driver, no backing store; `name` is only
+/// its label): the library never touches the disk, so a full disk cannot fail inside it (libhdf5
+/// 1.10 left a file it could not flush open and crashed at exit). file_image gives the bytes,
+/// which replace_file (common/durable.hpp) writes with every error checked. Invalid on failure.
+inline Hdf5Handle create_memory_file(const std::string& name) {
+  const Hdf5Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  if (!fapl.valid() || H5Pset_fapl_core(fapl.get(), std::size_t{1} << 20, 0) < 0) return {};
+  return {H5Fcreate(name.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose};
+}
+
+/// The bytes of an open (memory) file, flushed first; empty on failure.
+inline std::string file_image(hid_t file) {
+  if (H5Fflush(file, H5F_SCOPE_LOCAL) < 0) return {};
+  const ssize_t n = H5Fget_file_image(file, nullptr, 0);
+  if (n <= 0) return {};
+  std::string bytes(static_cast<std::size_t>(n), '\0');
+  if (H5Fget_file_image(file, bytes.data(), static_cast<std::size_t>(n)) != n) return {};
+  return bytes;
+}
 
 }  // namespace adamss::preprocess

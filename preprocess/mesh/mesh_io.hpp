@@ -23,12 +23,17 @@ namespace adamss::preprocess {
 
 inline constexpr int kMeshFormatVersion = 1;
 
-/// Writes mesh.h5 (replacing the file atomically: written to a temporary name, then renamed).
+/// Writes mesh.h5: built in memory, then written to a temporary name, fsync'ed and renamed over
+/// `path` (common/durable.hpp replace_file). InputError for a mesh that cannot be stored (NaN
+/// nodes, indices out of range, a missing folder); IoError naming the file and the system's
+/// reason when writing fails (a full disk: "No space left on device"), `path` then unchanged.
 void write_mesh_h5(const std::filesystem::path& path, const Mesh& mesh);
 
 /// Reads mesh.h5. Throws adamss::InputError naming the file and the dataset for a
 /// missing file, a file that is not HDF5, a missing or mis-shaped dataset, an
-/// unknown element type, or node indices out of range.
+/// unknown element type, or node indices out of range. The file is read in a child process
+/// first (common/guarded_read.hpp), so that a corrupted file on which libhdf5 crashes or hangs is
+/// an InputError too.
 Mesh read_mesh_h5(const std::filesystem::path& path);
 
 /// Writes an unstructured-grid .vtu (ParaView) with cell data "label", "volume",

@@ -23,7 +23,9 @@
 #include <utility>
 #include <vector>
 
+#include "common/durable.hpp"
 #include "common/error.hpp"
+#include "common/guarded_read.hpp"
 #include "preprocess/mesh/hdf5_handle.hpp"
 #include "preprocess/mesh/mesh_io.hpp"
 
@@ -127,7 +129,7 @@ void write_dataset(const Ctx& ctx, hid_t loc, const std::string& name, const std
   hsize_t count = 1;
   for (const hsize_t d : dims) count *= d;
   if (count > 0 && H5Dwrite(ds.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
-    ctx.fail("dataset " + full + ": cannot write (disk full?)");
+    ctx.fail("dataset " + full + ": cannot write (out of memory?)");
 }
 
 void write_attribute(const Ctx& ctx, hid_t obj, const std::string& name, const std::string& where, hid_t file_type,
@@ -734,20 +736,31 @@ void write_mesh_h5(const std::filesystem::path& path, const Mesh& mesh) {
   if (!parent.empty() && !fs::is_directory(parent, ec))
     ctx.fail("cannot write: directory " + parent.string() + " does not exist");
 
-  const fs::path tmp = fs::path(path.string() + ".tmp");
-  const SilenceHdf5Errors silence;
-  try {
-    Hdf5Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
-    if (!file.valid()) ctx.fail("cannot create " + tmp.string() + " (permissions? directory missing?)");
+  // The file is built in memory and written in one checked, durable replace (hdf5_handle.hpp).
+  std::string image;
+  {
+    const SilenceHdf5Errors silence;
+    Hdf5Handle file = create_memory_file(path.string());
+    if (!file.valid()) throw IoError(ctx.file + ": cannot create the HDF5 file in memory");
     write_contents(ctx, file.get(), mesh);
-    if (!file.close()) ctx.fail("cannot finish writing " + tmp.string() + " (disk full?)");
-    fs::rename(tmp, path, ec);
-    if (ec) ctx.fail("cannot rename " + tmp.string() + " to " + path.string() + ": " + ec.message());
-  } catch (...) {
-    fs::remove(tmp, ec);
-    throw;
+    image = file_image(file.get());
+    if (image.empty() || !file.close()) throw IoError(ctx.file + ": cannot assemble the HDF5 file in memory");
   }
+  replace_file(path, {image}, true);
 }
+
+namespace {
+
+/// The whole read in this process (read_mesh_h5 runs it in a child first).
+Mesh read_in_process(const Ctx& ctx) {
+  const SilenceHdf5Errors silence;
+  if (!is_hdf5_file(ctx.file)) ctx.fail("cannot read: not an HDF5 file");
+  const Hdf5Handle file(H5Fopen(ctx.file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (!file.valid()) ctx.fail("cannot open as HDF5 (corrupt or locked by another process?)");
+  return read_contents(ctx, file.get());
+}
+
+}  // namespace
 
 Mesh read_mesh_h5(const std::filesystem::path& path) {
   const Ctx ctx{path.string()};
@@ -755,12 +768,9 @@ Mesh read_mesh_h5(const std::filesystem::path& path) {
   const fs::file_status status = fs::status(path, ec);
   if (!fs::exists(status)) ctx.fail("cannot read: file not found");
   if (!fs::is_regular_file(status)) ctx.fail("cannot read: not a regular file");
-
-  const SilenceHdf5Errors silence;
-  if (!is_hdf5_file(ctx.file)) ctx.fail("cannot read: not an HDF5 file");
-  const Hdf5Handle file(H5Fopen(ctx.file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
-  if (!file.valid()) ctx.fail("cannot open as HDF5 (corrupt or locked by another process?)");
-  return read_contents(ctx, file.get());
+  // libhdf5 1.10 crashes or hangs on some corrupted object headers (common/guarded_read.hpp).
+  guarded_read(path, "HDF5", [&] { (void)read_in_process(ctx); });
+  return read_in_process(ctx);
 }
 
 }  // namespace adamss::preprocess

@@ -19,6 +19,7 @@
 #include <vtkXMLUnstructuredGridWriter.h>
 
 #include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <string>
 #include <system_error>
@@ -63,6 +64,9 @@ std::string describe_vtk_error(unsigned long code) {
     case vtkErrorCode::OutOfDiskSpaceError:
       return "out of disk space";
     default:
+      // Below vtkErrorCode::FirstVTKErrorCode the code is the errno of the failed system call
+      // (28: "No space left on device").
+      if (code > 0 && code < vtkErrorCode::FirstVTKErrorCode) return std::strerror(static_cast<int>(code));
       return "VTK error code " + std::to_string(code);
   }
 }
@@ -203,15 +207,16 @@ void write_grid(const std::filesystem::path& path, vtkUnstructuredGrid* grid) {
   const unsigned long code = writer->GetErrorCode();
   if (ok != 1 || code != vtkErrorCode::NoError) {
     fs::remove(tmp, ec);
+    // The writer's own message, else the code; an I/O error (exit 4), not bad input.
     std::string why = catcher->message;
-    if (why.empty()) why = describe_vtk_error(code);
-    fail(file, "cannot write .vtu: " + why);
+    if (why.empty() || (code > 0 && code < vtkErrorCode::FirstVTKErrorCode)) why = describe_vtk_error(code);
+    throw IoError(file + ": cannot write .vtu: " + why);
   }
   fs::rename(tmp, path, ec);
   if (ec) {
     std::error_code ignored;
     fs::remove(tmp, ignored);
-    fail(file, "cannot rename " + tmp.string() + " to " + file + ": " + ec.message());
+    throw IoError(file + ": cannot rename " + tmp.string() + " to " + file + ": " + ec.message());
   }
 }
 

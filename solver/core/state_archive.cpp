@@ -7,6 +7,8 @@
 
 #include "common/durable.hpp"
 #include "common/error.hpp"
+#include "common/guarded_read.hpp"
+#include "preprocess/mesh/hdf5_handle.hpp"
 
 namespace adamss::solver {
 
@@ -134,9 +136,11 @@ class QuietHdf5 {
 
 void StateArchive::write_hdf5(const fs::path& file, const std::map<std::string, double>& root_attributes) const {
   const QuietHdf5 quiet;  // a failure is one IoError line, not HDF5's diagnostic stack on stderr
-  const fs::path tmp = file.string() + ".tmp";
-  const hid_t f = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  if (f < 0) throw IoError("cannot create " + tmp.string());
+  // Built in memory (preprocess/mesh/hdf5_handle.hpp: libhdf5 never touches the disk), then
+  // written with every error checked, fsync'ed and renamed into place (replace_file).
+  preprocess::Hdf5Handle memory_file = preprocess::create_memory_file(file.string());
+  const hid_t f = memory_file.get();
+  if (f < 0) throw IoError("cannot create the HDF5 file " + file.string() + " in memory");
   const hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
   H5Pset_create_intermediate_group(lcpl, 1);
   bool ok = true;
@@ -171,24 +175,10 @@ void StateArchive::write_hdf5(const fs::path& file, const std::map<std::string, 
     H5Sclose(space);
   }
   H5Pclose(lcpl);
-  ok = H5Fclose(f) >= 0 && ok;
-  std::error_code ec;
-  if (!ok) {
-    fs::remove(tmp, ec);  // the last good checkpoint stays as it was
-    throw IoError("error while writing " + tmp.string() + " (disk full?)");
-  }
-  try {
-    sync_file(tmp);  // the data on disk before the name points at them (common/durable.hpp)
-  } catch (const IoError&) {
-    fs::remove(tmp, ec);
-    throw;
-  }
-  fs::rename(tmp, file, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw IoError("cannot rename " + tmp.string() + " to " + file.string() + ": " + ec.message());
-  }
-  sync_directory(file.parent_path());
+  const std::string image = ok ? preprocess::file_image(f) : std::string();
+  ok = memory_file.close() && ok;
+  if (!ok || image.empty()) throw IoError("cannot assemble the HDF5 file " + file.string() + " in memory");
+  replace_file(file, {image}, true);  // the last good checkpoint stays as it was on failure
 }
 
 namespace {
@@ -237,6 +227,12 @@ herr_t visit_link(hid_t group, const char* name, const H5L_info_t* /*info*/, voi
 
 StateArchive StateArchive::read_hdf5(const fs::path& file) {
   if (!fs::exists(file)) throw InputError("checkpoint " + file.string() + " does not exist");
+  // libhdf5 1.10 crashes or hangs on some corrupted object headers (common/guarded_read.hpp).
+  guarded_read(file, "HDF5", [&] { (void)read_hdf5_in_process(file); });
+  return read_hdf5_in_process(file);
+}
+
+StateArchive StateArchive::read_hdf5_in_process(const fs::path& file) {
   H5E_auto2_t old_func = nullptr;
   void* old_data = nullptr;
   H5Eget_auto2(H5E_DEFAULT, &old_func, &old_data);

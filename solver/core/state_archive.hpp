@@ -66,6 +66,9 @@ class StateArchive {
   };
 
  private:
+  /// read_hdf5 without the child process (read_hdf5 runs this in a child first).
+  [[nodiscard]] static StateArchive read_hdf5_in_process(const std::filesystem::path& file);
+
   struct Storage {
     std::map<std::string, Entry> entries;
     std::string source = "checkpoint";

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <system_error>
 
+#include "common/durable.hpp"
 #include "common/error.hpp"
 #include "preprocess/mesh/element_faces.hpp"
 #include "solver/geometry/element_rules.hpp"
@@ -134,25 +135,6 @@ void write_vtu(const fs::path& path, const preprocess::Mesh& mesh, const Eigen::
   head << "      </CellData>\n    </Piece>\n  </UnstructuredGrid>\n  <AppendedData encoding=\"raw\">\n   _";
 
   replace_file(path, {head.str(), data, "\n  </AppendedData>\n</VTKFile>\n"});
-}
-
-void replace_file(const fs::path& path, std::initializer_list<std::string_view> parts) {
-  const fs::path tmp = path.string() + ".tmp";
-  std::error_code ec;
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    for (const std::string_view part : parts) out.write(part.data(), static_cast<std::streamsize>(part.size()));
-    out.close();  // the last buffered bytes reach the file system here: a full disk shows now
-    if (!out) {
-      fs::remove(tmp, ec);
-      throw IoError("cannot write " + tmp.string() + " (disk full, read-only or missing folder?)");
-    }
-  }
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw IoError("cannot rename " + tmp.string() + " to " + path.string() + ": " + ec.message());
-  }
 }
 
 ResultsWriter::ResultsWriter(fs::path out_dir, const Model& model, const StateArchive* resume)

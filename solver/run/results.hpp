@@ -121,10 +121,6 @@ class ResultsWriter {
 /// Fibre stretch |F f0| per element, F at the element centre from its shape functions.
 [[nodiscard]] Eigen::VectorXd fibre_stretch(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x);
 
-/// Writes `parts` one after the other to `path`.tmp, checks the stream after closing it and renames
-/// it over `path`; IoError naming the file (the .tmp removed) if any of it fails.
-void replace_file(const std::filesystem::path& path, std::initializer_list<std::string_view> parts);
-
 /// Writes a VTK XML unstructured grid with the given point and cell arrays (binary appended,
 /// via a temporary file renamed over `path`). Vectors are 3 x n, scalars n.
 void write_vtu(const std::filesystem::path& path, const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x,

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "common/memory.hpp"
 #include "solver/core/stop_flag.hpp"
 #include "solver/run/checkpoint.hpp"
 #include "solver/run/loop_state.hpp"
@@ -61,7 +62,7 @@ class RunLoop {
   const bool tty_;              ///< progress line on a terminal
   Clock::time_point last_progress_;
   RunLoopState loop_;
-  RunOutcome out_;      ///< status, reason and bad element; the counters are loop_'s until finish
+  RunOutcome out_;      ///< status, reason, bad element, memory; the counters are loop_'s until finish
   State spare_;         ///< the instability check copies s here; swapped with loop_.good when it passes
   Eigen::Matrix3Xd f_;  ///< forces for the frames
   GlobalsRow row_;
@@ -90,6 +91,7 @@ RunOutcome RunLoop::run(State& s, const StateArchive* resume) {
     wall0_ -= std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(loop_.wall_seconds));
   }
   last_progress_ = Clock::now();
+  out_.resident_mb.start = resident_mb();
   for (;;) {
     if (stop_before_step(s)) break;
     if (!step(s)) break;
@@ -218,6 +220,7 @@ bool RunLoop::record(const State& s) {
     stop("completed", "kinetic_energy");
     return true;
   }
+  if (out_.resident_mb.quarter < 0.0 && s.t >= 0.25 * set_.t_end) out_.resident_mb.quarter = resident_mb();
   if (tty_due) show_progress(s, ke);
   return false;
 }
@@ -248,8 +251,9 @@ void RunLoop::show_progress(const State& s, double ke) {
   last_progress_ = Clock::now();
   const double frac = s.t / set_.t_end;
   const double w = wall();
-  std::fprintf(stderr, "\r  t = %.6g s (%5.1f %%)  step %zu  dt %.3g s  KE %.3g J  wall %.1f s  eta %.0f s   ", s.t,
-               100.0 * frac, loop_.steps, loop_.last_report.dt, ke, w, frac > 0 ? w * (1 - frac) / frac : 0.0);
+  std::fprintf(
+      stderr, "\r  t = %.6g s (%5.1f %%)  step %zu  dt %.3g s  KE %.3g J  wall %.1f s  eta %.0f s  rss %.0f MB   ", s.t,
+      100.0 * frac, loop_.steps, loop_.last_report.dt, ke, w, frac > 0 ? w * (1 - frac) / frac : 0.0, resident_mb());
   std::fflush(stderr);
 }
 
@@ -291,6 +295,8 @@ RunOutcome RunLoop::finish(State& s) {
     writer_.write_frame(s, f_);
   }
   RunOutcome out = out_;
+  out.resident_mb.final = resident_mb();
+  out.resident_mb.peak = peak_resident_mb();
   out.steps = loop_.steps;
   out.force_evaluations = loop_.force_evaluations;
   out.rejected_steps = loop_.rejected_steps;

@@ -74,6 +74,15 @@ struct RunOutcome {
   double dt_min_used = 0.0, dt_max_used = 0.0;
   std::optional<std::size_t> bad_element;  ///< element that inverted/flattened
   State final_state;                       ///< the last good state
+  /// Resident memory of the process, MB (common/memory.hpp; -1 = not sampled): when the loop
+  /// starts (after set-up or resume), at the first step reaching t_end / 4, at the end, and the
+  /// peak. In a steady run `final` stays at `quarter`: the soak test checks it over 50 beats.
+  struct Memory {
+    double start = -1.0;
+    double quarter = -1.0;
+    double final = -1.0;
+    double peak = -1.0;
+  } resident_mb;
 };
 
 /// Runs the loop from state s (s is advanced in place). Output goes to `writer`. With `resume`

@@ -101,3 +101,79 @@ TEST(Cli, PhantomScarBecomesACellField) {
   EXPECT_EQ(jm["cell_fields"]["scar"]["min"].get<double>(), 0.0) << jm["cell_fields"].dump();
   EXPECT_EQ(jm["cell_fields"]["scar"]["max"].get<double>(), 1.0) << jm["cell_fields"].dump();
 }
+
+namespace {
+/// Overwrites `bytes.size()` bytes of `file` at `offset` (a NIfTI-1 header field of a .nii).
+void patch(const std::filesystem::path& file, std::streamoff offset, const std::string& bytes) {
+  std::fstream io(file, std::ios::in | std::ios::out | std::ios::binary);
+  io.seekp(offset);
+  io.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+std::string float_bytes(float v) {
+  std::string b(sizeof v, '\0');
+  std::memcpy(b.data(), &v, sizeof v);
+  return b;
+}
+}  // namespace
+
+// `mesh` says what `info` says about the header: a unit left unset (xyzt_units = 0, mm assumed)
+// is a warning on stderr; labels scaled by scl_slope/scl_inter (NIfTI-1 offsets 112, 116) are
+// refused unless --allow-scaled-labels, and then applied with a warning. The LV phantom has
+// labels 0 (background), 1 (wall), 2 (cavity); with scl_inter = 1 they become 1, 2, 3, so
+// `--solid 1` meshes the background: one hexahedron per background voxel.
+TEST(Cli, MeshReportsHeaderWarningsAndRefusesScaledLabels) {
+  const auto dir = scratch_dir("mesh_header");
+  const std::filesystem::path img = dir / "lv.nii";
+  ASSERT_EQ(run_adamss("phantom lv --voxel-size 2.5mm -o " + img.string()).exit_code, 0);
+  auto r = run_adamss("info " + img.string() + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::int64_t background = json::parse(r.output)["labels"]["0"].get<std::int64_t>();
+  ASSERT_GT(background, 0);
+
+  patch(img, 123, std::string(1, '\0'));  // xyzt_units: no unit
+  r = run_adamss("mesh " + img.string() + " --topology hex -o " + (dir / "a.h5").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("adamss mesh: warning: '" + img.string() + "': spatial unit not set"), std::string::npos)
+      << r.output;
+
+  patch(img, 112, float_bytes(1.0F) + float_bytes(1.0F));  // scl_slope = 1, scl_inter = 1
+  r = run_adamss("mesh " + img.string() + " --topology hex -o " + (dir / "b.h5").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("0 would become 1"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--allow-scaled-labels"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "b.h5"));
+
+  r = run_adamss("mesh " + img.string() + " --topology hex --allow-scaled-labels -o " + (dir / "c.h5").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("adamss mesh: warning: '" + img.string() +
+                          "': values scaled by scl_slope = 1 and "
+                          "scl_inter = 1"),
+            std::string::npos)
+      << r.output;
+  r = run_adamss("info " + (dir / "c.h5").string() + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(json::parse(r.output)["elements"].get<std::int64_t>(), background);
+}
+
+// The libhdf5 1.10.8 crashes of fuzz/known-libhdf5/ (common/guarded_read.hpp): `info` on them and
+// `run` of a scene whose mesh is one of them end with a one-line error and status 2, not a crash.
+TEST(Cli, CorruptedHdf5FilesThatCrashTheLibraryAreOneLineErrors) {
+  const auto dir = scratch_dir("hdf5_crashes");
+  const std::filesystem::path known = std::filesystem::path(ADAMSS_SOURCE_DIR) / "fuzz/known-libhdf5";
+  for (const char* name : {"h5aiterate-attr-table-segv.h5", "h5d-contig-read-memcpy-segv.h5"}) {
+    const std::string file = (known / name).string();
+    auto r = run_adamss("info " + file);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_EQ(r.output, "adamss: error: '" + file +
+                            "': the HDF5 library crashed (SIGSEGV) reading it, in a child process that reads every "
+                            "file first: the file is corrupted\n");
+    const std::filesystem::path scene = adamss::test::write_scene(dir, "name: x\nmesh: {file: " + file +
+                                                                           "}\nmaterials: []\n"
+                                                                           "integrator: {type: static, dt: 1 ms}\n"
+                                                                           "run: {t_end: 1 ms}\n");
+    r = run_adamss("run " + scene.string() + " -o " + (dir / "out").string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("HDF5 library crashed"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("Segmentation"), std::string::npos) << r.output;
+  }
+}

@@ -162,6 +162,35 @@ TEST(RunOutputs, AFailedCheckpointIsAnIoErrorOfOneLine) {
   EXPECT_EQ(read_summary(out)["status"], "failed");
 }
 
+// `adamss mesh` onto a full disk (a 16 kB tmpfs: mesh.h5 does not fit; 64 kB: mesh.h5 fits, the
+// .vtu does not): exit 4 with one line naming the file and the system's reason, no .tmp left, no
+// HDF5 diagnostics, and no crash at exit (libhdf5 crashed closing a file it could not flush).
+TEST(RunOutputs, MeshOntoAFullDiskIsAnIoError) {
+  const fs::path dir = scratch_dir("mesh_disk_full");
+  const fs::path img = dir / "lv.nii.gz";
+  ASSERT_EQ(run_adamss("phantom lv --voxel-size 2.5mm -o " + img.string()).exit_code, 0);
+  const fs::path mnt = dir / "small";
+  fs::create_directories(mnt);
+  for (const auto& [size, failing] : {std::pair<std::string, std::string>{"16k", "lv.h5.tmp"}, {"64k", "lv.vtu"}}) {
+    if (geteuid() != 0 || mount("tmpfs", mnt.c_str(), "tmpfs", 0, ("size=" + size).c_str()) != 0)
+      GTEST_SKIP() << "cannot mount a tmpfs here";
+    const auto r = run_adamss("mesh " + img.string() + " -o " + (mnt / "lv.h5").string());
+    EXPECT_EQ(r.exit_code, 4) << size << ": " << r.output;
+    const std::string line = "adamss: I/O error: ";
+    const auto at = r.output.find(line);
+    ASSERT_NE(at, std::string::npos) << r.output;
+    const std::string error = r.output.substr(at);
+    EXPECT_NE(error.find((mnt / failing).string()), std::string::npos) << error;
+    EXPECT_NE(error.find("No space left on device"), std::string::npos) << error;
+    EXPECT_EQ(line_count(error), 1u) << error;
+    EXPECT_EQ(r.output.find("HDF5"), std::string::npos) << r.output;
+    for (const auto& e : fs::directory_iterator(mnt)) EXPECT_NE(e.path().extension(), ".tmp") << e.path();
+    EXPECT_EQ(fs::exists(mnt / "lv.h5"), size == "64k");
+    EXPECT_FALSE(fs::exists(mnt / "lv.vtu"));
+    umount(mnt.c_str());
+  }
+}
+
 // Disk full (a small tmpfs; skipped where mounting is not allowed): exit 4 with a one-line I/O
 // error, never "completed", and no .tmp file left behind.
 TEST(RunOutputs, DiskFullIsAnIoError) {

@@ -571,3 +571,29 @@ TEST(MeshIoHostile, DatasetClaimingMoreThanTheFileHoldsIsAnInputError) {
     EXPECT_NE(msg.find("more than a file of"), std::string::npos) << msg;
   }
 }
+
+// The libhdf5 1.10.8 crashes and hang found by fuzz_mesh_h5 (fuzz/README.md): read_mesh_h5 reads
+// in a child process first (common/guarded_read.hpp), so each is an InputError of one line.
+TEST(MeshIoHostile, LibraryCrashesAndHangsAreInputErrors) {
+  const std::filesystem::path fuzz = std::filesystem::path(ADAMSS_SOURCE_DIR) / "fuzz";
+  for (const char* name :
+       {"known-libhdf5/h5aiterate-attr-table-segv.h5", "known-libhdf5/h5d-contig-read-memcpy-segv.h5"}) {
+    try {
+      (void)adamss::preprocess::read_mesh_h5(fuzz / name);
+      FAIL() << name << ": the corrupted file was accepted";
+    } catch (const adamss::InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find((fuzz / name).string()), std::string::npos) << msg;
+      EXPECT_NE(msg.find("HDF5 library crashed (SIG"), std::string::npos) << msg;
+      EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    }
+  }
+  setenv("ADAMSS_HDF5_GUARD_SECONDS", "1", 1);
+  try {
+    (void)adamss::preprocess::read_mesh_h5(fuzz / "known/hdf5-vlen-global-heap-hang.h5");
+    ADD_FAILURE() << "the hanging file was accepted";
+  } catch (const adamss::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("did not finish in 1 s"), std::string::npos) << e.what();
+  }
+  unsetenv("ADAMSS_HDF5_GUARD_SECONDS");
+}

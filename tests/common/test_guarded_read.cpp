@@ -1,0 +1,94 @@
+// Reads tried in a child process first (common/guarded_read.hpp): a crash or a hang in the child
+// is an InputError naming the file, the child's InputError comes back with its message, and
+// anything else leaves the real read to the caller.
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <new>
+#include <string>
+
+#include "common/error.hpp"
+#include "common/guarded_read.hpp"
+
+namespace fs = std::filesystem;
+using adamss::guarded_read;
+using adamss::InputError;
+
+namespace {
+
+/// The InputError message of guarded_read(file, "HDF5", read); "" if it returned normally.
+template <typename F>
+std::string guard_error(const fs::path& file, F read) {
+  try {
+    guarded_read(file, "HDF5", read);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+/// Sets an environment variable for one test.
+struct ScopedEnv {
+  std::string name;
+  ScopedEnv(const char* n, const char* value) : name(n) { setenv(n, value, 1); }
+  ~ScopedEnv() { unsetenv(name.c_str()); }
+  ScopedEnv(const ScopedEnv&) = delete;
+  ScopedEnv& operator=(const ScopedEnv&) = delete;
+};
+
+}  // namespace
+
+TEST(GuardedRead, ACrashInTheChildIsAnInputErrorNamingTheFileAndTheSignal) {
+  const std::string e = guard_error("some/mesh.h5", [] { std::raise(SIGSEGV); });
+  EXPECT_NE(e.find("'some/mesh.h5'"), std::string::npos) << e;
+  EXPECT_NE(e.find("HDF5 library crashed (SIGSEGV)"), std::string::npos) << e;
+  EXPECT_NE(e.find("corrupted"), std::string::npos) << e;
+  const std::string b = guard_error("x.h5", [] { std::raise(SIGBUS); });
+  EXPECT_NE(b.find("(SIGBUS)"), std::string::npos) << b;
+}
+
+TEST(GuardedRead, AHangIsKilledAfterTheLimit) {
+  const ScopedEnv limit("ADAMSS_HDF5_GUARD_SECONDS", "0.3");
+  EXPECT_DOUBLE_EQ(adamss::guard_seconds("any.h5"), 0.3);
+  const std::string e = guard_error("loop.h5", [] {
+    for (;;) {
+    }
+  });
+  EXPECT_NE(e.find("'loop.h5': reading it did not finish in 0.3 s"), std::string::npos) << e;
+  EXPECT_NE(e.find("ADAMSS_HDF5_GUARD_SECONDS"), std::string::npos) << e;
+}
+
+TEST(GuardedRead, TheChildsInputErrorComesBackWithItsMessage) {
+  const std::string e = guard_error("m.h5", [] { throw InputError("m.h5: /nodes has 2 columns, expected 3"); });
+  EXPECT_EQ(e, "m.h5: /nodes has 2 columns, expected 3");
+}
+
+// A clean read, another exception (the real read throws it again), or no guard at all: the call
+// returns and the caller reads. With ADAMSS_HDF5_GUARD=0 the read is not even run in a child.
+TEST(GuardedRead, OtherwiseTheCallerDoesTheRealRead) {
+  EXPECT_EQ(guard_error("ok.h5", [] {}), "");
+  EXPECT_EQ(guard_error("big.h5", [] { throw std::bad_alloc(); }), "");
+  const fs::path marker = fs::temp_directory_path() / "adamss-test-guard-marker";
+  fs::remove(marker);
+  {
+    const ScopedEnv off("ADAMSS_HDF5_GUARD", "0");
+    EXPECT_EQ(guard_error("off.h5", [&] { std::ofstream(marker) << "ran"; }), "");
+    EXPECT_FALSE(fs::exists(marker));
+  }
+  EXPECT_EQ(guard_error("on.h5", [&] { std::ofstream(marker) << "ran"; }), "");
+  EXPECT_TRUE(fs::exists(marker));  // the child ran it
+  fs::remove(marker);
+}
+
+// Without the variable: 60 s plus 1 s per 10 MB of the file; a bad value is ignored.
+TEST(GuardedRead, TheDefaultLimitGrowsWithTheFile) {
+  const fs::path f = fs::temp_directory_path() / "adamss-test-guard-size.bin";
+  { std::ofstream(f) << std::string(2'000'000, 'x'); }
+  EXPECT_DOUBLE_EQ(adamss::guard_seconds(f), 60.2);
+  const ScopedEnv bad("ADAMSS_HDF5_GUARD_SECONDS", "-1");
+  EXPECT_DOUBLE_EQ(adamss::guard_seconds(f), 60.2);
+  fs::remove(f);
+}
