@@ -71,23 +71,17 @@ sanitize: deps
 	@cmake --build build-asan -j $(JOBS)
 	@cd build-asan && ASAN_OPTIONS=detect_leaks=0 ctest -L unit --output-on-failure -j $(JOBS)
 
-# CI's second step (.ci/run, after make test): unit tests under AddressSanitizer +
-# UndefinedBehaviorSanitizer in build-asan/, building only the given test executables and the
-# libraries they need. The default, test_common and test_materials, builds from scratch in ~3 min
-# on 2 busy cores and runs in a second, with leak detection on. Adding test_solver needs the
-# sanitized CGAL mesher, preprocess and solver (over 35 min at -j1 on this machine: fuzz/README.md)
-# and SANITIZE_CI_ASAN=detect_leaks=0 (make sanitize turns leaks off for MPI/PETSc):
-#   make sanitize-ci SANITIZE_CI_TESTS="test_common test_materials test_solver" SANITIZE_CI_ASAN=detect_leaks=0
-SANITIZE_CI_TESTS ?= test_common test_materials
-SANITIZE_CI_ASAN ?= detect_leaks=1
+# CI's second step (.ci/run, after make test): every test executable under AddressSanitizer +
+# UndefinedBehaviorSanitizer (gcc -O1 -g1, build-asan/; the CGAL mesher's one file is built without
+# instrumentation: preprocess/CMakeLists.txt), two at a time, with leak detection on
+#. tests/app runs the sanitized adamss
+# executable. The fuzz drivers' quick runs stay in make test. Times: fuzz/README.md.
+SANITIZE_CI_TESTS ?= test_solver test_app test_preprocess test_verify test_materials test_common
 sanitize-ci: deps
 	@cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DADAMSS_SANITIZE=ON > build-asan.configure.log 2>&1 \
 	  || (cat build-asan.configure.log; exit 1)
 	@cmake --build build-asan -j $(JOBS) --target $(SANITIZE_CI_TESTS)
-	@set -e; for t in $(SANITIZE_CI_TESTS); do \
-	  echo "== $$t (ASan + UBSan)"; \
-	  (cd build-asan/tests && ASAN_OPTIONS=$(SANITIZE_CI_ASAN) UBSAN_OPTIONS=print_stacktrace=1 ./$$t --gtest_brief=1); \
-	  done
+	@SANITIZE_JOBS=$(JOBS) scripts/sanitize-tests build-asan $(SANITIZE_CI_TESTS)
 
 # clang-tidy-14 with the committed .clang-tidy over the library (scripts/lint; any warning fails;
 # no build needed, only compile_commands.json). LINT_ARGS="--changed origin/main": only the changes.

@@ -3,6 +3,10 @@
 #include <cstdlib>
 #include <mutex>
 
+#if defined(__SANITIZE_ADDRESS__)
+#include <sanitizer/lsan_interface.h>
+#endif
+
 #include "common/error.hpp"
 
 namespace adamss::solver {
@@ -41,7 +45,15 @@ void ensure_petsc(const std::string& options) {
   PetscInitialized(&running);
   if (!running) {
     prepare_singleton_mpi();
+#if defined(__SANITIZE_ADDRESS__)
+    // Open MPI and hwloc keep what MPI_Init allocates until the process ends (9.6 kB in 28 blocks
+    // with no free); LeakSanitizer ignores blocks allocated while it is disabled, so only these.
+    __lsan_disable();
+#endif
     const PetscErrorCode ierr = PetscInitializeNoArguments();
+#if defined(__SANITIZE_ADDRESS__)
+    __lsan_enable();
+#endif
     if (ierr != 0)
       throw NumericalError("PETSc failed to initialise (error " + std::to_string(static_cast<int>(ierr)) + ")");
     PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
