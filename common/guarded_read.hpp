@@ -26,6 +26,10 @@ namespace adamss {
 ///    read would give);
 ///  - when the child died from a signal ("the HDF5 library crashed (SIGSEGV) reading it: the file
 ///    is corrupted"), or ran over guard_seconds(file) (then it is killed).
+/// In an AddressSanitizer build, a report in the child whose first frames lie in the library
+/// ("lib" + `what` in lower case: libhdf5) is an InputError as well ("made an invalid memory
+/// access reading it"): libhdf5 1.10 over-reads heap buffers on some corrupted headers, which
+/// goes unnoticed without ASan.
 /// Another exception in the child (e.g. std::bad_alloc), or another exit code (a sanitizer's
 /// report on our own code: the child resets SIGSEGV, SIGBUS, SIGFPE, SIGILL and SIGABRT to their
 /// defaults, so only such a report exits without a signal), returns normally: the real read
