@@ -11,17 +11,9 @@ set(MAX_GROWTH_MB 2)
 set(MAX_SPREAD 0.01)
 set(MAX_LAST_CHANGE 0.005)
 
-file(REMOVE_RECURSE ${OUT})
-execute_process(COMMAND ${ADAMSS} run ${SCENE} -o ${OUT} --cache ${CACHE} -q RESULT_VARIABLE rc)
-if(NOT rc EQUAL 0)
-  message(FATAL_ERROR "adamss run ${SCENE} exited with ${rc}")
-endif()
-file(READ ${OUT}/summary.json s)
-string(JSON status GET "${s}" status)
-if(NOT status STREQUAL "completed")
-  string(JSON reason GET "${s}" reason)
-  message(FATAL_ERROR "soak: status ${status} (${reason})")
-endif()
+# The run and its "completed" check are tests/run_case.cmake's (it leaves the summary in `summary`).
+include(${CMAKE_CURRENT_LIST_DIR}/../../tests/run_case.cmake)
+set(s "${summary}")
 
 set(failures "")
 # awk_true(out "expression"): out = 1 when the awk expression holds.

@@ -114,28 +114,8 @@ Eigen::Matrix3Xd StateArchive::matrix(const std::string& key, Eigen::Index cols)
   return m;
 }
 
-namespace {
-
-/// Turns HDF5's automatic error printing off for its lifetime (and restores the previous handler).
-class QuietHdf5 {
- public:
-  QuietHdf5() {
-    H5Eget_auto2(H5E_DEFAULT, &func_, &data_);
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  }
-  ~QuietHdf5() { H5Eset_auto2(H5E_DEFAULT, func_, data_); }
-  QuietHdf5(const QuietHdf5&) = delete;
-  QuietHdf5& operator=(const QuietHdf5&) = delete;
-
- private:
-  H5E_auto2_t func_ = nullptr;
-  void* data_ = nullptr;
-};
-
-}  // namespace
-
 void StateArchive::write_hdf5(const fs::path& file, const std::map<std::string, double>& root_attributes) const {
-  const QuietHdf5 quiet;  // a failure is one IoError line, not HDF5's diagnostic stack on stderr
+  const preprocess::SilenceHdf5Errors quiet;  // a failure is one IoError line, not HDF5's diagnostic stack on stderr
   // Built in memory (preprocess/mesh/hdf5_handle.hpp: libhdf5 never touches the disk), then
   // written with every error checked, fsync'ed and renamed into place (replace_file).
   preprocess::Hdf5Handle memory_file = preprocess::create_memory_file(file.string());
