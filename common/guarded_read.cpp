@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -12,6 +13,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
+#include <new>
 #include <string>
 
 #include "common/error.hpp"
@@ -35,6 +38,35 @@ constexpr int kChildOk = 0;
 constexpr int kChildInputError = 3;
 constexpr int kChildOtherError = 4;
 constexpr int kChildLibraryReport = 5;
+constexpr int kChildOutOfMemory = 6;
+
+/// The process's virtual address space now, bytes (VmSize of /proc/self/status); 0 if unknown.
+unsigned long long address_space_bytes() {
+  std::ifstream status("/proc/self/status");
+  std::string key;
+  while (status >> key) {
+    if (key == "VmSize:") {
+      unsigned long long kb = 0;
+      status >> kb;
+      return kb * 1024ULL;
+    }
+    status.ignore(1 << 16, '\n');
+  }
+  return 0;
+}
+
+/// In the child: no new mapping beyond `limit` bytes of address space (RLIMIT_AS). malloc then
+/// returns NULL and operator new throws std::bad_alloc instead of the child growing to what a
+/// corrupted header claims. Never raises an existing, lower limit (a fuzzer's -rss_limit_mb).
+void cap_address_space(unsigned long long limit) {
+  if (limit == 0) return;
+  rlimit current{};
+  if (::getrlimit(RLIMIT_AS, &current) != 0) return;
+  if (current.rlim_cur != RLIM_INFINITY && current.rlim_cur <= limit) return;
+  rlimit capped = current;
+  capped.rlim_cur = static_cast<rlim_t>(limit);
+  ::setrlimit(RLIMIT_AS, &capped);
+}
 
 #if defined(ADAMSS_GUARD_ASAN)
 /// The library's shared-object name ("libhdf5") for the report callback below.
@@ -56,7 +88,8 @@ void on_asan_report(const char* report) {
 #endif
 
 /// Child side: run `read`, report an InputError's message through `fd`, never return.
-[[noreturn]] void run_child(int fd, const std::string& what, const std::function<void()>& read) {
+[[noreturn]] void run_child(int fd, const std::string& what, unsigned long long address_limit,
+                            const std::function<void()>& read) {
 #if defined(ADAMSS_GUARD_ASAN)
   std::string lib = "lib";
   for (const char c : what) lib += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -75,6 +108,7 @@ void on_asan_report(const char* report) {
     ::dup2(null, STDERR_FILENO);
     ::close(null);
   }
+  cap_address_space(address_limit);
   int code = kChildOk;
   try {
     read();
@@ -87,6 +121,8 @@ void on_asan_report(const char* report) {
       done += static_cast<std::size_t>(n);
     }
     code = kChildInputError;
+  } catch (const std::bad_alloc&) {
+    code = kChildOutOfMemory;
   } catch (...) {
     code = kChildOtherError;
   }
@@ -131,6 +167,17 @@ bool collect(pid_t pid, int fd, double seconds, std::string& message, int& statu
 
 }  // namespace
 
+double guard_megabytes(const std::filesystem::path& file) {
+  if (const char* env = std::getenv("ADAMSS_HDF5_GUARD_MB")) {
+    char* end = nullptr;
+    const double v = std::strtod(env, &end);
+    if (end != env && v > 0.0) return v;
+  }
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(file, ec);
+  return 2048.0 + (ec ? 0.0 : 64.0 * static_cast<double>(size) / 1048576.0);
+}
+
 double guard_seconds(const std::filesystem::path& file) {
   if (const char* env = std::getenv("ADAMSS_HDF5_GUARD_SECONDS")) {
     char* end = nullptr;
@@ -144,6 +191,10 @@ double guard_seconds(const std::filesystem::path& file) {
 
 void guarded_read(const std::filesystem::path& file, const std::string& what, const std::function<void()>& read) {
   if (const char* env = std::getenv("ADAMSS_HDF5_GUARD"); env != nullptr && std::string(env) == "0") return;
+  const double megabytes = guard_megabytes(file);
+  const unsigned long long here = address_space_bytes();
+  const unsigned long long address_limit =
+      here == 0 ? 0 : here + static_cast<unsigned long long>(megabytes * 1048576.0);
   int fds[2];
   if (::pipe(fds) != 0) return;
   const pid_t pid = ::fork();
@@ -154,7 +205,7 @@ void guarded_read(const std::filesystem::path& file, const std::string& what, co
   }
   if (pid == 0) {
     ::close(fds[0]);
-    run_child(fds[1], what, read);
+    run_child(fds[1], what, address_limit, read);
   }
   ::close(fds[1]);
   std::string message;
@@ -180,6 +231,14 @@ void guarded_read(const std::filesystem::path& file, const std::string& what, co
   if (WIFEXITED(status) && WEXITSTATUS(status) == kChildLibraryReport) {
     throw InputError(name + ": the " + what + " library made an invalid memory access reading it (AddressSanitizer " +
                      "report in a child process that reads every file first): the file is corrupted");
+  }
+  if (WIFEXITED(status) && WEXITSTATUS(status) == kChildOutOfMemory) {
+    char limit[32];
+    std::snprintf(limit, sizeof limit, "%.0f", megabytes);
+    throw InputError(name + ": reading it needed more than " + limit +
+                     " MB of memory in a child process that reads every file first (the " + what +
+                     " library allocates what a corrupted header claims; ADAMSS_HDF5_GUARD_MB sets the limit): " +
+                     "the file is corrupted, or too large for the limit");
   }
   // Exit 0, kChildOtherError or another code (a sanitizer's report on our own code in the child):
   // the caller's real read succeeds or reproduces the failure in this process.

@@ -19,18 +19,28 @@ namespace adamss {
 /// (> 0), else 60 s plus 1 s per 10 MB of `file`.
 [[nodiscard]] double guard_seconds(const std::filesystem::path& file);
 
+/// Memory a guarded read may add to the process, MB (2^20 bytes): ADAMSS_HDF5_GUARD_MB if set
+/// (> 0), else 2048 MB plus 64 MB per MB of `file` (a mesh file holds its arrays at most
+/// deflate-compressed; 64x leaves room for the reader's own copies). The child's address space is
+/// capped at the parent's size plus this (RLIMIT_AS): libhdf5 1.10 mallocs sizes read from
+/// corrupted headers (4 GB for a 50 kB file, fuzz/known-libhdf5/hdf5-4gb-allocation.h5); capped,
+/// the allocation fails in the child and the file is never read in the process.
+[[nodiscard]] double guard_megabytes(const std::filesystem::path& file);
+
 /// Runs `read` in a forked child process (fork, then `read`, then _exit). Returns normally when
 /// the child finished `read` without a crash or an exception; the caller then does the real read.
 /// InputError naming `file`:
 ///  - with the child's message when `read` threw an InputError there (the same error the real
 ///    read would give);
 ///  - when the child died from a signal ("the HDF5 library crashed (SIGSEGV) reading it: the file
-///    is corrupted"), or ran over guard_seconds(file) (then it is killed).
+///    is corrupted"), or ran over guard_seconds(file) (then it is killed);
+///  - when `read` threw std::bad_alloc in the child, whose address space is capped at
+///    guard_megabytes(file) beyond the parent's ("needed more than N MB").
 /// In an AddressSanitizer build, a report in the child whose first frames lie in the library
 /// ("lib" + `what` in lower case: libhdf5) is an InputError as well ("made an invalid memory
 /// access reading it"): libhdf5 1.10 over-reads heap buffers on some corrupted headers, which
 /// goes unnoticed without ASan.
-/// Another exception in the child (e.g. std::bad_alloc), or another exit code (a sanitizer's
+/// Another exception in the child, or another exit code (a sanitizer's
 /// report on our own code: the child resets SIGSEGV, SIGBUS, SIGFPE, SIGILL and SIGABRT to their
 /// defaults, so only such a report exits without a signal), returns normally: the real read
 /// throws or reports it again in this process. `what` names the library in the messages ("HDF5"). With

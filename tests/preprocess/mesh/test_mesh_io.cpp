@@ -1,6 +1,7 @@
 // mesh.h5 round trips, .vtu output read back through VTK, and the reader's error messages.
 #include <gtest/gtest.h>
 #include <hdf5.h>
+#include <sys/resource.h>
 #include <unistd.h>
 #include <vtkCellData.h>
 #include <vtkCellType.h>
@@ -22,6 +23,7 @@
 #include <vector>
 
 #include "common/error.hpp"
+#include "common/memory.hpp"
 #include "preprocess/mesh/mesh.hpp"
 #include "preprocess/mesh/mesh_io.hpp"
 
@@ -596,4 +598,29 @@ TEST(MeshIoHostile, LibraryCrashesAndHangsAreInputErrors) {
     EXPECT_NE(std::string(e.what()).find("did not finish in 1 s"), std::string::npos) << e.what();
   }
   unsetenv("ADAMSS_HDF5_GUARD_SECONDS");
+}
+
+// libhdf5 1.10.8 mallocs 4 194 304 016 bytes for this 50 kB file (a size read from a corrupted
+// header; found by libFuzzer after ~590 s). The guard's child is capped at its parent's address
+// space plus guard_megabytes (2 GB here): the allocation fails there, the read ends in an
+// InputError, and the file is never read in this process. Unguarded the read also failed, but
+// only after taking 4.1 GB resident, twice. (Under AddressSanitizer the failed allocation is a
+// sanitizer report in the child from inside libhdf5: an InputError as well.)
+TEST(MeshIoHostile, AFileMakingTheLibraryAllocateGigabytesFailsInTheCappedChild) {
+  const std::filesystem::path file =
+      std::filesystem::path(ADAMSS_SOURCE_DIR) / "fuzz/known-libhdf5/hdf5-4gb-allocation.h5";
+  ASSERT_TRUE(std::filesystem::exists(file));
+  const double before = adamss::peak_resident_mb();
+  try {
+    (void)adamss::preprocess::read_mesh_h5(file);
+    FAIL() << "the corrupted file was accepted";
+  } catch (const adamss::InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("hdf5-4gb-allocation.h5"), std::string::npos) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  }
+  EXPECT_LT(adamss::peak_resident_mb(), before + 500.0);  // never read in this process
+  rusage children{};
+  ASSERT_EQ(getrusage(RUSAGE_CHILDREN, &children), 0);
+  EXPECT_LT(static_cast<double>(children.ru_maxrss) / 1024.0, before + 2048.0 + 100.0);  // kB → MB
 }
