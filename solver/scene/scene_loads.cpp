@@ -71,11 +71,13 @@ CirculationSettings circulation_settings(SceneNode& c) {
   cs.period = c.positive("period", Dimension::Time, 0.0, true);
   if (auto w = c.optional_map("windkessel")) {
     WindkesselParameters& wk = cs.windkessel;
-    // SI numbers: Pa s/m^3 for Z_c and R_p, m^3/Pa for C (no unit strings for these).
+    // Plain numbers are SI (Pa s/m^3 for Z_c and R_p, m^3/Pa for C); clinical units are
+    // accepted as written in the literature: "0.05 mmHg s/ml", "1.5 ml/mmHg".
     wk.characteristic_impedance =
-        w->quantity("characteristic_impedance", Dimension::Dimensionless, wk.characteristic_impedance);
-    wk.peripheral_resistance = w->quantity("peripheral_resistance", Dimension::Dimensionless, wk.peripheral_resistance);
-    wk.compliance = w->quantity("compliance", Dimension::Dimensionless, wk.compliance);
+        w->quantity("characteristic_impedance", Dimension::FlowResistance, wk.characteristic_impedance);
+    wk.peripheral_resistance =
+        w->quantity("peripheral_resistance", Dimension::FlowResistance, wk.peripheral_resistance);
+    wk.compliance = w->quantity("compliance", Dimension::Compliance, wk.compliance);
     wk.venous_pressure = w->quantity("venous_pressure", Dimension::Pressure, wk.venous_pressure);
     wk.initial_pressure = w->quantity("initial_pressure", Dimension::Pressure, wk.initial_pressure);
     const std::string wpath = w->path();

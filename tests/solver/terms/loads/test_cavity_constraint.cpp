@@ -8,9 +8,9 @@
 #include <string>
 
 #include "common/error.hpp"
+#include "solver/scene/scene.hpp"
 #include "solver/terms/loads/cavity_constraint.hpp"
 #include "solver/time/implicit.hpp"
-#include "solver/scene/scene.hpp"
 
 using namespace adamss;
 
@@ -136,6 +136,32 @@ TEST(CavityConstraint, CirculationKeysAreCheckedByName) {
   expect_error("4e9", "3.75e-10", ", resistance: 1", "resistance");
   EXPECT_THROW(isovolumic_scene("volume_ratio: 1", "volume_ratio: 1, circulation: {atrial_pressure: 1 kPa}"),
                InputError);
+}
+
+// Windkessel parameters in the units of the clinical literature (issue 21): "0.05 mmHg s/ml" is
+// 0.05 x 133.322387415 Pa / 1e-6 m^3 s, "1.5 ml/mmHg" is 1.5e-6 m^3 / 133.322387415 Pa; a unit of
+// the wrong dimension is refused naming the key and what the unit was.
+TEST(CavityConstraint, WindkesselParametersTakeClinicalUnits) {
+  auto sc = isovolumic_scene("volume_ratio: 1",
+                             "circulation: {atrial_pressure: 1 kPa, contraction_onset: 0, windkessel: "
+                             "{characteristic_impedance: 0.05 mmHg s/ml, peripheral_resistance: 1 mmHg*s/mL, "
+                             "compliance: 1.5 ml/mmHg, initial_pressure: 80 mmHg}}");
+  const auto constraints = solver::cavity_constraints(sc.model.terms);
+  ASSERT_EQ(constraints.size(), 1u);
+  const auto& wk = constraints[0]->circulation()->windkessel().parameters();
+  EXPECT_NEAR(wk.characteristic_impedance, 6.66611937075e6, 1e-3);
+  EXPECT_NEAR(wk.peripheral_resistance, 1.33322387415e8, 1e-2);
+  EXPECT_NEAR(wk.compliance, 1.5e-6 / 133.322387415, 1e-22);
+  EXPECT_NEAR(wk.initial_pressure, 80 * 133.322387415, 1e-9);
+  try {
+    (void)isovolumic_scene(
+        "volume_ratio: 1",
+        "circulation: {atrial_pressure: 1 kPa, contraction_onset: 0, windkessel: {compliance: 1.5 mmHg/ml}}");
+    FAIL() << "an elastance was accepted as a compliance";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("windkessel.compliance: unit 'mmHg/ml' is an elastance"), std::string::npos) << msg;
+  }
 }
 
 TEST(CavityConstraint, WindkesselEjectionIsCoupledImplicitly) {
