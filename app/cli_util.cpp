@@ -1,6 +1,7 @@
 #include <unistd.h>
 
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <system_error>
@@ -17,6 +18,18 @@ double parse_angle_deg_default(const std::string& text, const std::string& what)
     return common::parse_quantity(text + " deg", common::Dimension::Angle, what);
   }
   return common::parse_quantity(text, common::Dimension::Angle, what);
+}
+
+double parse_length(const std::string& text, const std::string& what) {
+  const double value = common::parse_quantity(text, common::Dimension::Length, what);
+  const std::size_t end = text.find_last_not_of(" \t");
+  const bool bare =
+      end != std::string::npos && (std::isdigit(static_cast<unsigned char>(text[end])) || text[end] == '.');
+  if (bare && std::abs(value) >= kLargestBareLength) {
+    throw InputError(what + ": '" + text + "' has no unit and would be " + text + " m; give the unit ('" + text +
+                     " mm'), or metres below 0.05 as a plain number");
+  }
+  return value;
 }
 
 void require_parent_dir(const std::string& path, const std::string& what) {

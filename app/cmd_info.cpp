@@ -29,13 +29,8 @@ json bbox_json(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
   return json{{"min", {lo[0], lo[1], lo[2]}}, {"max", {hi[0], hi[1], hi[2]}}};
 }
 
-json image_info(const std::string& path) {
-  using namespace preprocess;
-  const auto t0 = Clock::now();
-  NiftiNotes notes;
-  const LabelImage img = read_label_image(path, &notes, LabelScaling::kApply);
-  const double secs = std::chrono::duration<double>(Clock::now() - t0).count();
-  const Grid& g = img.grid;
+/// What every image kind shares: dims, spacing, affine, header notes, world bounding box.
+json grid_json(const std::string& path, const preprocess::Grid& g, const preprocess::NiftiNotes& notes) {
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = Eigen::Vector3d::Constant(-1e300);
   for (int c = 0; c < 8; ++c) {
     const Eigen::Vector3d corner((c & 1) ? static_cast<double>(g.dims[0]) - 0.5 : -0.5,
@@ -45,14 +40,11 @@ json image_info(const std::string& path) {
     lo = lo.cwiseMin(w);
     hi = hi.cwiseMax(w);
   }
-  json labels = json::object();
-  for (const auto& [label, count] : img.histogram()) labels[std::to_string(label)] = count;
   json affine = json::array();
   for (int r = 0; r < 4; ++r)
     affine.push_back({g.index_to_world(r, 0), g.index_to_world(r, 1), g.index_to_world(r, 2), g.index_to_world(r, 3)});
   const Eigen::Vector3d sp = g.spacing();
-  return json{{"kind", "image"},
-              {"path", path},
+  return json{{"path", path},
               {"dims", {g.dims[0], g.dims[1], g.dims[2]}},
               {"spacing_m", {sp[0], sp[1], sp[2]}},
               {"voxel_volume_m3", g.voxel_volume()},
@@ -62,9 +54,93 @@ json image_info(const std::string& path) {
               {"datatype", notes.datatype},
               {"nifti_version", notes.nifti_version},
               {"bounding_box_m", bbox_json(lo, hi)},
-              {"labels", labels},
-              {"warnings", notes.warnings},
-              {"read_seconds", secs}};
+              {"warnings", notes.warnings}};
+}
+
+/// A fibre/sheet field: how many voxels hold a vector, unit length or not, NaN.
+json vector_json(const preprocess::VectorImage& img) {
+  std::int64_t zero = 0, nan = 0, unit = 0, set = 0;
+  double lo = 0.0, hi = 0.0;
+  for (Eigen::Index v = 0; v < img.vectors.cols(); ++v) {
+    const Eigen::Vector3d x = img.vectors.col(v).cast<double>();
+    if (!x.allFinite()) {
+      ++nan;
+      continue;
+    }
+    const double n = x.norm();
+    if (n == 0.0) {
+      ++zero;
+      continue;
+    }
+    lo = set == 0 ? n : std::min(lo, n);
+    hi = set == 0 ? n : std::max(hi, n);
+    ++set;
+    if (std::abs(n - 1.0) <= 1e-3) ++unit;
+  }
+  return json{{"voxels_with_vector", set},
+              {"unit_length_voxels", unit},
+              {"zero_voxels", zero},
+              {"nan_voxels", nan},
+              {"min_norm", lo},
+              {"max_norm", hi}};
+}
+
+/// A scalar field (scar, fibrosis, probability): range and NaN count.
+json scalar_json(const preprocess::ScalarImage& img) {
+  std::int64_t nan = 0, nonzero = 0, finite = 0;
+  double lo = 0.0, hi = 0.0;
+  for (const double v : img.values) {
+    if (std::isnan(v)) {
+      ++nan;
+      continue;
+    }
+    lo = finite == 0 ? v : std::min(lo, v);
+    hi = finite == 0 ? v : std::max(hi, v);
+    ++finite;
+    if (v != 0.0) ++nonzero;
+  }
+  return json{{"min", lo}, {"max", hi}, {"nonzero_voxels", nonzero}, {"nan_voxels", nan}};
+}
+
+/// A label image, else a vector image (fibres: dims (nx, ny, nz, 1, 3)), else a scalar image
+/// (non-integral values); the label reader's error when none of the three reads it.
+json image_info(const std::string& path) {
+  using namespace preprocess;
+  const auto t0 = Clock::now();
+  NiftiNotes notes;
+  const auto seconds = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+  try {
+    const LabelImage img = read_label_image(path, &notes, LabelScaling::kApply);
+    json j = grid_json(path, img.grid, notes);
+    json labels = json::object();
+    for (const auto& [label, count] : img.histogram()) labels[std::to_string(label)] = count;
+    j["kind"] = "image";
+    j["labels"] = labels;
+    j["read_seconds"] = seconds();
+    return j;
+  } catch (const InputError& as_labels) {
+    try {
+      notes = NiftiNotes{};
+      const VectorImage img = read_vector_image(path, &notes);
+      json j = grid_json(path, img.grid, notes);
+      j["kind"] = "vector_image";
+      j["vectors"] = vector_json(img);
+      j["read_seconds"] = seconds();
+      return j;
+    } catch (const InputError&) {
+    }
+    try {
+      notes = NiftiNotes{};
+      const ScalarImage img = read_scalar_image(path, &notes);
+      json j = grid_json(path, img.grid, notes);
+      j["kind"] = "scalar_image";
+      j["values"] = scalar_json(img);
+      j["read_seconds"] = seconds();
+      return j;
+    } catch (const InputError&) {
+    }
+    throw;
+  }
 }
 
 json mesh_info(const std::string& path) {
@@ -169,6 +245,26 @@ void print_human(const json& j) {
     for (const auto& [label, count] : j["labels"].items()) {
       std::cout << "  label " << label << ": " << count << " voxels, "
                 << count.get<double>() * j["voxel_volume_m3"].get<double>() * 1e9 << " mm^3\n";
+    }
+    for (const auto& w : j["warnings"]) std::cout << "  warning: " << w.get<std::string>() << "\n";
+  } else if (j["kind"] == "vector_image" || j["kind"] == "scalar_image") {
+    const auto& d = j["dims"];
+    const auto& s = j["spacing_m"];
+    const bool vec = j["kind"] == "vector_image";
+    std::cout << (vec ? "vector image " : "scalar image ") << j["path"].get<std::string>() << " (NIfTI-"
+              << j["nifti_version"].get<int>() << ", " << j["datatype"].get<std::string>() << ")\n"
+              << "  dims " << d[0] << " x " << d[1] << " x " << d[2] << ", spacing " << s[0].get<double>() * 1e3
+              << " x " << s[1].get<double>() * 1e3 << " x " << s[2].get<double>() * 1e3 << " mm ("
+              << j["units"].get<std::string>() << ", affine from " << j["affine_source"].get<std::string>() << ")\n";
+    if (vec) {
+      const auto& v = j["vectors"];
+      std::cout << "  " << v["voxels_with_vector"] << " voxels with a vector (" << v["unit_length_voxels"]
+                << " of unit length, norms " << v["min_norm"].get<double>() << " to " << v["max_norm"].get<double>()
+                << "), " << v["zero_voxels"] << " zero, " << v["nan_voxels"] << " NaN\n";
+    } else {
+      const auto& v = j["values"];
+      std::cout << "  values " << v["min"].get<double>() << " to " << v["max"].get<double>() << ", "
+                << v["nonzero_voxels"] << " voxels nonzero, " << v["nan_voxels"] << " NaN\n";
     }
     for (const auto& w : j["warnings"]) std::cout << "  warning: " << w.get<std::string>() << "\n";
   } else {

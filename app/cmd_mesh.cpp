@@ -107,7 +107,7 @@ preprocess::CgalMeshOptions cgal_options(const MeshArgs& a) {
   o.solid_labels.assign(a.solid.begin(), a.solid.end());
   auto length = [](const std::string& text, const char* what) -> std::optional<double> {
     if (text.empty()) return std::nullopt;
-    return common::parse_quantity(text, common::Dimension::Length, what);
+    return parse_length(text, what);
   };
   if (!a.cgal_facet_angle.empty()) {
     o.facet_angle_deg = parse_angle_deg_default(a.cgal_facet_angle, "--cgal-facet-angle") * 180.0 / std::numbers::pi;

@@ -1,4 +1,5 @@
 // adamss phantom KIND -o image.nii.gz: synthetic labelled images.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <iostream>
@@ -75,7 +76,7 @@ void run_phantom(const PhantomArgs& a) {
   using namespace preprocess;
   const auto t0 = std::chrono::steady_clock::now();
   PhantomOptions opt;
-  opt.voxel_size_m = common::parse_quantity(a.voxel_size, common::Dimension::Length, "--voxel-size");
+  opt.voxel_size_m = parse_length(a.voxel_size, "--voxel-size");
   if (!(opt.voxel_size_m > 0.0)) throw InputError("--voxel-size: must be positive, got '" + a.voxel_size + "'");
   opt.helix_endo_rad = parse_angle_deg_default(a.helix_endo, "--helix-endo");
   opt.helix_epi_rad = parse_angle_deg_default(a.helix_epi, "--helix-epi");
@@ -107,6 +108,12 @@ void run_phantom(const PhantomArgs& a) {
       {}, {{"-o", a.output}, {"--fiber-out", a.fiber_out}, {"--sheet-out", a.sheet_out}, {"--scar-out", a.scar_out}});
 
   const Phantom ph = make_phantom(a.kind, opt);
+  const auto histogram = ph.image.histogram();
+  if (std::none_of(histogram.begin(), histogram.end(), [](const auto& lc) { return lc.first != 0 && lc.second > 0; })) {
+    throw InputError("--voxel-size: at '" + a.voxel_size + "' the " + a.kind +
+                     " phantom has no voxel inside the heart (every voxel is background): use a voxel size "
+                     "well below the heart's (the phantoms are meant for 0.5-5 mm)");
+  }
   write_label_image(a.output, ph.image);
   if (!a.fiber_out.empty()) write_vector_image(a.fiber_out, *ph.fiber);
   if (!a.sheet_out.empty()) write_vector_image(a.sheet_out, *ph.sheet);

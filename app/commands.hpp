@@ -18,6 +18,14 @@ void add_verify_command(CLI::App& app);
 /// Parses an angle; a plain number means degrees ("60", "-60deg", "1.0 rad"). Result in radians.
 double parse_angle_deg_default(const std::string& text, const std::string& what);
 
+/// A bare number at or above this (m) is not taken as metres on the command line: 5 cm is larger
+/// than any voxel or element size of a heart, so "--voxel-size 0.5" means a forgotten "mm".
+inline constexpr double kLargestBareLength = 0.05;
+
+/// Parses a length given on the command line: a number with a unit ("0.5 mm", "1cm"), or a plain
+/// number of metres below kLargestBareLength ("0.0005"). InputError naming `what` otherwise.
+double parse_length(const std::string& text, const std::string& what);
+
 /// Throws InputError if the directory that should hold `path` does not exist.
 void require_parent_dir(const std::string& path, const std::string& what);
 

@@ -1,9 +1,73 @@
 // adamss: anisotropic mass-spring cardiac mechanics. Thin CLI over the libraries.
 #include <CLI/CLI.hpp>
 #include <iostream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "app/commands.hpp"
 #include "common/error.hpp"
+#include "common/suggest.hpp"
+
+namespace {
+
+std::vector<std::string> subcommand_names(const CLI::App& app) {
+  std::vector<std::string> names;
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+    names.push_back(sub->get_name());
+  return names;
+}
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+/// "--name" and "-n" of every option of `app` (the subcommand the user chose).
+std::vector<std::string> option_names(const CLI::App& app) {
+  std::vector<std::string> names;
+  for (const CLI::Option* opt : app.get_options()) {
+    for (const auto& l : opt->get_lnames()) names.push_back("--" + l);
+    for (const auto& s : opt->get_snames()) names.push_back("-" + s);
+  }
+  return names;
+}
+
+/// One line for a command-line mistake CLI11 found, with a "did you mean" where a name was
+/// mistyped: an unknown option (CLI11: "The following arguments were not expected: ...") or a
+/// value outside a fixed set ("kind: lvv not in {lv,biv,beam,slab}").
+std::string describe_parse_error(const CLI::ParseError& e, const CLI::App& sub) {
+  std::string msg = e.what();
+  if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr) {
+    const auto colon = msg.find(": ");
+    std::istringstream extras(colon == std::string::npos ? std::string() : msg.substr(colon + 2));
+    std::string word, options, others, hint;
+    while (extras >> word) {
+      if (word.size() > 1 && word[0] == '-') {
+        options += (options.empty() ? "'" : ", '") + word + "'";
+        if (hint.empty()) hint = adamss::did_you_mean(word, option_names(sub));
+      } else {
+        others += (others.empty() ? "'" : ", '") + word + "'";
+      }
+    }
+    if (!options.empty()) return "unknown option " + options + hint;
+    if (!others.empty()) return "unexpected argument " + others;
+  }
+  static const std::regex kNotIn(R"(^(.*): (.*) not in \{(.*)\}$)");
+  std::smatch m;
+  if (std::regex_match(msg, m, kNotIn)) {
+    std::vector<std::string> choices;
+    std::istringstream list(m[3].str());
+    for (std::string c; std::getline(list, c, ',');) choices.push_back(c);
+    return m[1].str() + ": '" + m[2].str() + "' is not one of " + joined(choices) +
+           adamss::did_you_mean(m[2].str(), choices);
+  }
+  return msg;
+}
+
+}  // namespace
 
 // NOLINTNEXTLINE(bugprone-exception-escape): outside the try only building the option tables throws (a bug: abort)
 int main(int argc, char** argv) {
@@ -19,10 +83,29 @@ int main(int argc, char** argv) {
   adamss::app::add_run_command(app);
   adamss::app::add_fit_command(app);
   adamss::app::add_verify_command(app);
+  const std::vector<std::string> commands = subcommand_names(app);
+  if (argc < 2) {
+    std::cerr << "adamss: error: no command given (commands: " << joined(commands) << "; adamss --help)\n";
+    return 2;
+  }
+  if (const std::string first = argv[1]; first.empty() || first[0] != '-') {
+    if (std::find(commands.begin(), commands.end(), first) == commands.end()) {
+      std::cerr << "adamss: error: unknown command '" << first << "'" << adamss::did_you_mean(first, commands)
+                << " (commands: " << joined(commands) << ")\n";
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
+  } catch (const CLI::RuntimeError& e) {
+    return e.get_exit_code();  // a command's own status (run_scene's), its message already printed
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    const std::vector<CLI::App*> chosen = app.get_subcommands();
+    const CLI::App& sub = chosen.empty() ? app : *chosen.back();
+    const std::string who = chosen.empty() ? "adamss" : "adamss " + sub.get_name();
+    std::cerr << who << ": error: " << describe_parse_error(e, sub) << " (" << who << " --help lists the options)\n";
+    return 2;
   } catch (const adamss::InputError& e) {
     std::cerr << "adamss: error: " << e.what() << "\n";
     return 2;

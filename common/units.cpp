@@ -7,8 +7,10 @@
 #include <numbers>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "common/error.hpp"
+#include "common/suggest.hpp"
 
 namespace adamss::common {
 namespace {
@@ -199,7 +201,11 @@ std::pair<double, Dims> parse_unit(std::string_view unit, const std::string& whe
       if (u.symbol == symbol) def = &u;
     }
     if (def == nullptr) {
-      throw InputError(where + ": unknown unit '" + std::string(symbol) + "' in '" + std::string(whole) + "'");
+      std::vector<std::string> symbols;
+      symbols.reserve(kUnits.size());
+      for (const UnitDef& u : kUnits) symbols.emplace_back(u.symbol);
+      throw InputError(where + ": unknown unit '" + std::string(symbol) + "' in '" + std::string(whole) + "'" +
+                       did_you_mean(symbol, symbols));
     }
     if (divide) power = -power;
     factor *= std::pow(def->factor, power);

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "common/suggest.hpp"
 
 namespace adamss::solver {
 
@@ -143,7 +144,7 @@ std::string SceneNode::choice(const std::string& key, const std::vector<std::str
     if (c == v) return v;
   std::string list;
   for (const auto& c : choices) list += (list.empty() ? "" : ", ") + c;
-  throw InputError(at(key) + ": '" + v + "' is not one of: " + list);
+  throw InputError(at(key) + ": '" + v + "' is not one of: " + list + did_you_mean(v, choices));
 }
 
 bool SceneNode::flag(const std::string& key, bool fallback) {
@@ -346,7 +347,9 @@ void SceneNode::finish() const {
     if (!known_.count(k)) unknown.insert(k);
   }
   if (!unknown.empty()) {
-    throw InputError(at(*unknown.begin()) + ": unknown key" +
+    const std::string& key = *unknown.begin();
+    const std::vector<std::string> known(known_.begin(), known_.end());
+    throw InputError(at(key) + ": unknown key" + did_you_mean(key, known) +
                      (known_.empty() ? std::string() : " (this entry understands: " + join(known_) + ")"));
   }
 }

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "common/error.hpp"
+#include "common/suggest.hpp"
 #include "materials/factory.hpp"
 #include "materials/uncoupled.hpp"
 #include "preprocess/fibres/fibre_field.hpp"
@@ -348,7 +349,8 @@ void build_material_term(const std::string& type, SceneNode& node, MaterialConte
   if (it == builders().end()) {
     std::string list;
     for (const auto& n : material_term_types()) list += (list.empty() ? "" : ", ") + n;
-    throw InputError(node.path() + ": unknown force term '" + type + "' (known: " + list + ")");
+    throw InputError(node.path() + ": unknown force term '" + type + "'" + did_you_mean(type, material_term_types()) +
+                     " (known: " + list + ")");
   }
   try {
     it->second(node, ctx);

@@ -4,9 +4,11 @@
 
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.hpp"
+#include "preprocess/image/nifti_io.hpp"
 
 using adamss::test::run_adamss;
 using adamss::test::scratch_dir;
@@ -176,4 +178,106 @@ TEST(Cli, CorruptedHdf5FilesThatCrashTheLibraryAreOneLineErrors) {
     EXPECT_NE(r.output.find("HDF5 library crashed"), std::string::npos) << r.output;
     EXPECT_EQ(r.output.find("Segmentation"), std::string::npos) << r.output;
   }
+}
+
+// Mistyped commands, options and choices: one line, status 2, and the name that was meant.
+TEST(Cli, MistypedNamesGetADidYouMean) {
+  const auto dir = scratch_dir("did_you_mean");
+  const std::string img = (dir / "x.nii").string();
+  auto r = run_adamss("rnu scene.yaml");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(r.output,
+            "adamss: error: unknown command 'rnu'; did you mean 'run'? (commands: phantom, mesh, info, run, fit, "
+            "verify)\n");
+  r = run_adamss("simulate scene.yaml");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(r.output.find("did you mean"), std::string::npos) << r.output;
+  r = run_adamss("");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("no command given"), std::string::npos) << r.output;
+  r = run_adamss("phantom lv -o " + img + " --fibre-out " + (dir / "f.nii").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("adamss phantom: error: unknown option '--fibre-out'; did you mean '--fiber-out'?"),
+            std::string::npos)
+      << r.output;
+  r = run_adamss("phantom lvv -o " + img);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("'lvv' is not one of lv, biv, beam, slab; did you mean 'lv'?"), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(std::filesystem::exists(img));
+  r = run_adamss("mesh");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("adamss mesh: error:"), std::string::npos) << r.output;
+  r = run_adamss("--version");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
+// A length without a unit on the command line: "--voxel-size 0.5" would be 0.5 m, a 6-voxel image
+// with no heart in it (it used to be written with status 0). Plain metres below 5 cm are fine, and
+// a voxel size that leaves the phantom without a heart voxel is an error even with a unit.
+TEST(Cli, LengthsWithoutUnitsAndEmptyPhantomsAreRefused) {
+  const auto dir = scratch_dir("bare_lengths");
+  const std::string img = (dir / "x.nii").string();
+  auto r = run_adamss("phantom lv --voxel-size 0.5 -o " + img);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--voxel-size: '0.5' has no unit and would be 0.5 m; give the unit ('0.5 mm')"),
+            std::string::npos)
+      << r.output;
+  r = run_adamss("phantom lv --voxel-size 500mm -o " + img);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("no voxel inside the heart"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(img));
+  r = run_adamss("phantom lv --voxel-size 0.004 -o " + img);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("voxels of 4 mm"), std::string::npos) << r.output;
+  r = run_adamss("mesh " + img + " --solid 1 --topology cgal --cgal-cell-size 2 -o " + (dir / "m.h5").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--cgal-cell-size: '2' has no unit"), std::string::npos) << r.output;
+}
+
+// info reads what phantom writes: the fibre field (a vector image) and the scar (a 0/1 float
+// image, read as labels); every wall voxel (label 1) holds a unit fibre vector, the rest none.
+TEST(Cli, InfoReadsVectorAndScalarImages) {
+  const auto dir = scratch_dir("info_images");
+  const std::string img = (dir / "lv.nii.gz").string(), f = (dir / "f.nii.gz").string();
+  const std::string scar = (dir / "scar.nii.gz").string(), half = (dir / "half.nii.gz").string();
+  auto r = run_adamss("phantom lv --voxel-size 2mm -o " + img + " --fiber-out " + f + " --scar-out " + scar);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_adamss("info " + img + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const json ji = json::parse(r.output);
+  const std::int64_t wall = ji["labels"]["1"].get<std::int64_t>();
+  std::int64_t all = 0;
+  for (const auto& [label, n] : ji["labels"].items()) all += n.get<std::int64_t>();
+  r = run_adamss("info " + f + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const json jf = json::parse(r.output);
+  EXPECT_EQ(jf["kind"], "vector_image");
+  EXPECT_EQ(jf["dims"], ji["dims"]);
+  EXPECT_EQ(jf["vectors"]["voxels_with_vector"].get<std::int64_t>(), wall);
+  EXPECT_EQ(jf["vectors"]["unit_length_voxels"].get<std::int64_t>(), wall);
+  EXPECT_EQ(jf["vectors"]["zero_voxels"].get<std::int64_t>(), all - wall);
+  EXPECT_EQ(jf["vectors"]["nan_voxels"].get<std::int64_t>(), 0);
+  EXPECT_NEAR(jf["vectors"]["max_norm"].get<double>(), 1.0, 1e-6);
+  r = run_adamss("info " + f);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("vector image"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(std::to_string(wall) + " voxels with a vector"), std::string::npos) << r.output;
+
+  // The scar halved (0 / 0.5): not labels any more, a scalar image.
+  r = run_adamss("info " + scar + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::int64_t scarred = json::parse(r.output)["labels"]["1"].get<std::int64_t>();
+  adamss::preprocess::ScalarImage s = adamss::preprocess::read_scalar_image(scar);
+  for (double& v : s.values) v *= 0.5;
+  s.values[0] = std::numeric_limits<double>::quiet_NaN();
+  adamss::preprocess::write_scalar_image(half, s);
+  r = run_adamss("info " + half + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const json js = json::parse(r.output);
+  EXPECT_EQ(js["kind"], "scalar_image");
+  EXPECT_DOUBLE_EQ(js["values"]["max"].get<double>(), 0.5);
+  EXPECT_DOUBLE_EQ(js["values"]["min"].get<double>(), 0.0);
+  EXPECT_EQ(js["values"]["nonzero_voxels"].get<std::int64_t>(), scarred);
+  EXPECT_EQ(js["values"]["nan_voxels"].get<std::int64_t>(), 1);
 }

@@ -69,6 +69,27 @@ TEST(Scene, UnknownKeysAreNamedWithTheirPath) {
       std::string::npos);
 }
 
+// A mistyped key, force term, choice or unit names what was meant (issue 21); a key far from every
+// known one gets no guess.
+TEST(Scene, MistypedNamesGetADidYouMean) {
+  const auto error = [](const std::string& from, const std::string& to) {
+    return test::scene_error(replaced(kBase, from, to));
+  };
+  EXPECT_NE(
+      error("run: {t_end: 1 ms}", "run: {t_end: 1 ms, tend: 2}").find("run.tend: unknown key; did you mean 't_end'?"),
+      std::string::npos);
+  EXPECT_NE(error("run: {t_end: 1 ms}", "run: {t_end: 1 ms, colour: 2}").find("run.colour: unknown key (this entry"),
+            std::string::npos);
+  EXPECT_NE(error("- virtual_hexahedron:", "- virtual_hexahedra:")
+                .find("unknown force term 'virtual_hexahedra'; did you mean 'virtual_hexahedron'?"),
+            std::string::npos);
+  EXPECT_NE(error("type: symplectic_euler", "type: symplectic_eulr").find("did you mean 'symplectic_euler'?"),
+            std::string::npos);
+  EXPECT_NE(error("density: 1000 kg/m^3", "density: 1000 kg/M^3")
+                .find("unknown unit 'M' in '1000 kg/M^3'; did you mean 'm'?"),
+            std::string::npos);
+}
+
 TEST(Scene, MissingRequiredKeysAndWrongTypes) {
   EXPECT_NE(test::scene_error(replaced(kBase, "run: {t_end: 1 ms}", "run: {}")).find("run.t_end: missing required key"),
             std::string::npos);
