@@ -9,11 +9,13 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
+#include <string>
 #include <vector>
 
 #include "app/commands.hpp"
 #include "common/durable.hpp"
 #include "common/error.hpp"
+#include "common/units.hpp"
 #include "solver/run/checkpoint.hpp"
 #include "solver/run/output_lock.hpp"
 #include "solver/run/results.hpp"
@@ -36,6 +38,8 @@ struct RunArgs {
   bool check_only = false;
   bool quiet = false;
   bool resume_modified = false;
+  std::string progress_interval;  ///< --progress-interval (a time; empty: the default, 10 s)
+  double t_load = 0.0;            ///< seconds the scene took to load (for the model summary)
 };
 
 nlohmann::json vec(const Eigen::Vector3d& v) {
@@ -162,19 +166,40 @@ void record_io_failure(const fs::path& dir, const solver::LoadedScene& sc, const
   }
 }
 
-/// The model summary `adamss run` prints before it runs (and `--check` prints alone).
-void print_model(const solver::LoadedScene& sc, double t_load) {
+/// The model summary `adamss run` prints before it runs (and `--check` prints alone), a line each.
+std::vector<std::string> model_lines(const solver::LoadedScene& sc, double t_load) {
   const solver::Model& m = sc.model;
-  std::cout << "scene " << sc.name << ": " << m.node_count() << " particles, " << m.mesh->element_count() << " "
-            << preprocess::element_type_name(m.mesh->type) << " elements, mass " << m.mass.sum() << " kg (mesh "
-            << sc.mesh_source << ", loaded in " << std::setprecision(3) << t_load << " s)\n";
-  for (const auto& t : sc.term_summary) std::cout << "  term " << t << "\n";
-  std::cout << "  boundary: " << m.constraints.fixed_dof_count() << " fixed and "
-            << m.constraints.controlled_dof_count() << " controlled coordinates\n"
-            << "  " << sc.run.integrator << ", dt " << sc.run.dt << " s, t_end " << sc.run.t_end << " s";
-  if (sc.critical_dt > 0) std::cout << ", critical step estimate " << sc.critical_dt << " s";
-  std::cout << "\n";
+  std::vector<std::string> lines;
+  std::ostringstream o;
+  o << "scene " << sc.name << ": " << m.node_count() << " particles, " << m.mesh->element_count() << " "
+    << preprocess::element_type_name(m.mesh->type) << " elements, mass " << m.mass.sum() << " kg (mesh "
+    << sc.mesh_source << ", loaded in " << std::setprecision(3) << t_load << " s)";
+  lines.push_back(o.str());
+  for (const auto& t : sc.term_summary) lines.push_back("  term " + t);
+  o.str("");
+  o << "  boundary: " << m.constraints.fixed_dof_count() << " fixed and " << m.constraints.controlled_dof_count()
+    << " controlled coordinates";
+  lines.push_back(o.str());
+  o.str("");
+  o << "  " << sc.run.integrator << ", dt " << sc.run.dt << " s, t_end " << sc.run.t_end << " s";
+  if (sc.critical_dt > 0) o << ", critical step estimate " << sc.critical_dt << " s";
+  lines.push_back(o.str());
+  return lines;
+}
+
+void print_model(const solver::LoadedScene& sc, double t_load) {
+  for (const std::string& l : model_lines(sc, t_load)) std::cout << l << "\n";
   for (const auto& w : sc.warnings) std::cerr << "adamss: warning: " << w << "\n";
+}
+
+/// What run.log starts with: the command, the model summary and the scene's warnings.
+void log_header(solver::RunLog& log, const solver::LoadedScene& sc, const RunArgs& a, const fs::path& output) {
+  std::string cmd = "adamss run " + a.scene + " -o " + output.string();
+  if (!a.resume.empty()) cmd += " --resume " + a.resume + (a.resume_modified ? " --resume-modified" : "");
+  if (!a.petsc.empty()) cmd += " --petsc '" + a.petsc + "'";
+  log.line(cmd);
+  for (const std::string& l : model_lines(sc, a.t_load)) log.line(l);
+  for (const auto& w : sc.warnings) log.line("warning: " + w);
 }
 
 /// The results folder: -o, else (with --resume) the checkpoint's folder.
@@ -209,16 +234,23 @@ solver::RunOutcome run_into(solver::LoadedScene& sc, const RunArgs& a, const fs:
   const solver::State initial = s;
   sc.run.progress = !a.quiet;
   sc.run.stop_after_steps = a.stop_after_steps;
+  if (!a.progress_interval.empty()) {
+    sc.run.progress_interval =
+        common::parse_quantity(a.progress_interval, common::Dimension::Time, "--progress-interval");
+    if (!(sc.run.progress_interval >= 0.0)) throw InputError("--progress-interval: must be >= 0");
+  }
+  log_header(writer.log(), sc, a, output);
+  for (const std::string& c : changes) writer.log().line("warning: --resume-modified: " + c);
   try {
     solver::RunOutcome out = solver::run_simulation(sc.model, s, sc.run, writer, checkpoint ? &*checkpoint : nullptr);
     nlohmann::json j = summary_json(sc, out, solver::summarize_run(sc.model, out, initial, writer));
     if (!changes.empty()) j["resume_modified"] = changes;
     write_json(writer.dir() / "summary.json", j);
-    if (!a.quiet) {
-      std::cout << out.status << " (" << out.reason << "): " << out.steps << " steps to t = " << out.t << " s in "
-                << out.wall_seconds << " s wall, " << writer.frame_count() << " frames; results in " << output.string()
-                << "\n";
-    }
+    std::ostringstream done;
+    done << out.status << " (" << out.reason << "): " << out.steps << " steps to t = " << out.t << " s in "
+         << out.wall_seconds << " s wall, " << writer.frame_count() << " frames; results in " << output.string();
+    writer.log().line(done.str());
+    if (!a.quiet) std::cout << done.str() << "\n";
     return out;
   } catch (const IoError& e) {
     if (writer.started()) record_io_failure(writer.dir(), sc, e.what());
@@ -239,13 +271,14 @@ std::uint64_t mesh_file_hash(const solver::LoadedScene& sc, const RunArgs& a) {
   return solver::content_hash(mesh);
 }
 
-int run_scene(const RunArgs& a) {
+int run_scene(RunArgs a) {
   solver::SceneOptions so;
   so.cache_dir = a.cache;
   const auto t0 = std::chrono::steady_clock::now();
   solver::LoadedScene sc = solver::load_scene(a.scene, so);
   const double t_load = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!a.quiet || a.check_only) print_model(sc, t_load);
+  a.t_load = t_load;
   if (!a.petsc.empty()) sc.run.implicit.petsc_options += " " + a.petsc;
   if (a.check_only) return 0;
   if (a.resume_modified && a.resume.empty()) throw InputError("--resume-modified: only with --resume FILE");
@@ -289,7 +322,10 @@ void add_run_command(CLI::App& app) {
                   "Stop as on SIGINT (checkpoint, status interrupted) once this many steps are done (tests)")
       ->group("");
   sub->add_flag("--check", args->check_only, "Validate the scene and print the model summary, do not run");
-  sub->add_flag("-q,--quiet", args->quiet, "No progress line and no summary on stdout");
+  sub->add_flag("-q,--quiet", args->quiet, "No progress line and no summary on stdout (run.log is still written)");
+  sub->add_option("--progress-interval", args->progress_interval,
+                  "Wall time between progress lines when stderr is not a terminal (batch logs) and between the "
+                  "progress lines of OUT/run.log, e.g. 30s; 0: every step (default 10 s)");
   sub->callback([args]() {
     const int rc = run_scene(*args);
     if (rc != 0) throw CLI::RuntimeError(rc);

@@ -33,7 +33,7 @@ echo "== 2/6 mesh: tet6m, phantom fibres, closed LV cavity (label 2) with its li
 echo "== 3/6 simulation, healthy: two beats (filling, IVC, Windkessel ejection, IVR, refilling), see lv_beat.yaml"
 cp "$here/lv_beat.yaml" "$out/lv_beat.yaml"
 t_sim=$SECONDS
-OMP_NUM_THREADS=${OMP_NUM_THREADS:-1} "$adamss" run "$out/lv_beat.yaml" -o "$out/sim" -q
+OMP_NUM_THREADS=${OMP_NUM_THREADS:-1} "$adamss" run "$out/lv_beat.yaml" -o "$out/sim" --progress-interval 5s
 t_sim=$((SECONDS - t_sim))
 cp "$out/sim/summary.json" "$out/summary.json"
 
@@ -42,7 +42,7 @@ t_scar=0
 if [[ "$scar" == 1 ]]; then
   cp "$here/lv_beat_scar.yaml" "$out/lv_beat_scar.yaml"
   t_scar=$SECONDS
-  OMP_NUM_THREADS=${OMP_NUM_THREADS:-1} "$adamss" run "$out/lv_beat_scar.yaml" -o "$out/scar" -q
+  OMP_NUM_THREADS=${OMP_NUM_THREADS:-1} "$adamss" run "$out/lv_beat_scar.yaml" -o "$out/scar" --progress-interval 5s
   t_scar=$((SECONDS - t_scar))
 else
   echo "skipped (HEART_SCAR=0)"

@@ -37,6 +37,8 @@ class VolumeMonitor {
   [[nodiscard]] virtual std::string name() const = 0;
   [[nodiscard]] virtual double volume(const Eigen::Matrix3Xd& x) const = 0;  ///< m^3
   [[nodiscard]] virtual double pressure(double t) const = 0;                 ///< Pa (0 if none applied)
+  /// The cardiac phase of a cavity with a circulation ("filling", "ejection", ...); "" otherwise.
+  [[nodiscard]] virtual std::string phase() const { return {}; }
   /// Beat metrics known to the cavity (a circulation's valve-event values, SI, summary.json
   /// keys); empty by default, when summary.json falls back to the volume extrema.
   [[nodiscard]] virtual std::vector<std::pair<std::string, double>> metrics() const { return {}; }

@@ -138,7 +138,7 @@ void write_vtu(const fs::path& path, const preprocess::Mesh& mesh, const Eigen::
 }
 
 ResultsWriter::ResultsWriter(fs::path out_dir, const Model& model, const StateArchive* resume)
-    : dir_(std::move(out_dir)), model_(model), resuming_(resume != nullptr) {
+    : dir_(std::move(out_dir)), model_(model), resuming_(resume != nullptr), log_(dir_ / "run.log") {
   element_volume0_ = element_volumes(*model.mesh, model.x_ref);
   for (const double v : element_volume0_) volume0_ += v;
   if (resume != nullptr) resume_from(*resume);
@@ -150,10 +150,12 @@ void ResultsWriter::open() {
   if (resuming_) {
     started_ = true;
     continue_series();
+    log_.open(true);
     return;
   }
   archive_previous();
   started_ = true;
+  log_.open(false);
   std::error_code ec;
   fs::create_directories(dir_ / "frames", ec);
   if (ec) throw IoError("cannot create the output folder " + (dir_ / "frames").string() + ": " + ec.message());
@@ -165,7 +167,8 @@ void ResultsWriter::open() {
 }
 
 void ResultsWriter::archive_previous() {
-  static const char* const kRunFiles[] = {"summary.json", "globals.csv", "series.pvd", "frames", "checkpoint.h5"};
+  static const char* const kRunFiles[] = {"summary.json", "globals.csv",   "series.pvd",
+                                          "frames",       "checkpoint.h5", "run.log"};
   std::vector<std::string> present;
   for (const char* name : kRunFiles) {
     std::error_code ec;

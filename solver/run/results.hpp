@@ -10,6 +10,7 @@
 //                         relative volume change, barycentre, per cavity volume and pressure,
 //                         force evaluations, rejected steps, ABM3 error, wall time
 //   summary.json          status and the final numbers (see docs/file-formats.md)
+//   run.log               the command, model, progress lines and outcome (run_log.hpp)
 //   checkpoint.h5         written every output.checkpoint_interval, on SIGINT/SIGTERM and on
 //                         failures: /x, /v (n x 3), attributes t and step, and (for a resumable
 //                         checkpoint) the run loop's, integrator's, terms' and this writer's
@@ -31,6 +32,7 @@
 
 #include "solver/core/model.hpp"
 #include "solver/core/state_archive.hpp"
+#include "solver/run/run_log.hpp"
 #include "solver/time/integrator.hpp"
 
 namespace adamss::solver {
@@ -88,6 +90,8 @@ class ResultsWriter {
   [[nodiscard]] double max_volume_change() const { return max_volume_change_; }
 
   [[nodiscard]] const std::filesystem::path& dir() const { return dir_; }
+  /// run.log of the folder (kept in memory until open(), appended on a resume).
+  [[nodiscard]] RunLog& log() { return log_; }
   [[nodiscard]] std::size_t frame_count() const { return frames_.size(); }
 
  private:
@@ -111,6 +115,7 @@ class ResultsWriter {
   bool logged_ = false;
   std::size_t rows_ = 0;  ///< data rows in globals.csv
   std::vector<double> element_volume0_;
+  RunLog log_;
 };
 
 /// Per-element J = V/V0 at positions x (exact element volumes).

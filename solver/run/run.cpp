@@ -14,6 +14,7 @@
 #include "solver/core/stop_flag.hpp"
 #include "solver/run/checkpoint.hpp"
 #include "solver/run/loop_state.hpp"
+#include "solver/run/progress.hpp"
 #include "solver/run/stability_check.hpp"
 #include "solver/run/stop_signals.hpp"
 
@@ -41,7 +42,8 @@ class RunLoop {
   [[nodiscard]] bool record(const State& s);
   void write_globals_row(const State& s, double ke);
   void write_frame(const State& s);
-  void show_progress(const State& s, double ke);
+  void show_progress(const State& s, double ke, bool on_terminal, bool in_log);
+  [[nodiscard]] ProgressSnapshot snapshot(const State& s, double ke);
   void stop(const std::string& status, const std::string& reason);
   void fail(State& s, const std::string& status, const std::string& why);
   void checkpoint(const State& s);
@@ -60,7 +62,10 @@ class RunLoop {
   const bool clips_last_step_;  ///< the last step is shortened to land on t_end
   const double t_eps_;          ///< times within this of a due time count as reaching it
   const bool tty_;              ///< progress line on a terminal
+  const bool batch_;            ///< progress lines in a batch log (stderr not a terminal)
+  const bool dynamic_;          ///< the kinetic energy means something (not the static integrator)
   Clock::time_point last_progress_;
+  Clock::time_point last_logged_progress_;
   RunLoopState loop_;
   RunOutcome out_;      ///< status, reason, bad element, memory; the counters are loop_'s until finish
   State spare_;         ///< the instability check copies s here; swapped with loop_.good when it passes
@@ -77,7 +82,9 @@ RunLoop::RunLoop(Model& model, const RunSettings& settings, ResultsWriter& write
       check_(model, settings.flat_fraction),
       clips_last_step_(integrator_info(settings.integrator).clips_last_step),
       t_eps_(1e-12 * settings.t_end),
-      tty_(settings.progress && isatty(fileno(stderr)) != 0) {}
+      tty_(settings.progress && isatty(fileno(stderr)) != 0),
+      batch_(settings.progress && !tty_),
+      dynamic_(integrator_info(settings.integrator).type != IntegratorType::Static) {}
 
 RunOutcome RunLoop::run(State& s, const StateArchive* resume) {
   loop_.dt = set_.dt;
@@ -90,8 +97,9 @@ RunOutcome RunLoop::run(State& s, const StateArchive* resume) {
     loop_ = restore_checkpoint(parts(), *resume, s);
     wall0_ -= std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(loop_.wall_seconds));
   }
-  last_progress_ = Clock::now();
+  last_progress_ = last_logged_progress_ = Clock::now();
   out_.resident_mb.start = resident_mb();
+  writer_.log().line((resume == nullptr ? "start: " : "resumed: ") + progress_text(snapshot(s, 0.0)));
   for (;;) {
     if (stop_before_step(s)) break;
     if (!step(s)) break;
@@ -208,8 +216,13 @@ bool RunLoop::check(State& s) {
 bool RunLoop::record(const State& s) {
   // The kinetic energy (a pass over all nodes) only when something reads it.
   const bool globals_due = s.t >= loop_.next_globals_t - t_eps_;
-  const bool tty_due = tty_ && std::chrono::duration<double>(Clock::now() - last_progress_).count() > 0.5;
-  const double ke = (globals_due || tty_due || set_.ke_threshold >= 0.0) ? kinetic_energy(model_.mass, s.v) : 0.0;
+  const auto now = Clock::now();
+  const double since_shown = std::chrono::duration<double>(now - last_progress_).count();
+  const bool tty_due = tty_ && since_shown > 0.5;
+  const bool batch_due = batch_ && since_shown >= set_.progress_interval;
+  const bool log_due = std::chrono::duration<double>(now - last_logged_progress_).count() >= set_.progress_interval;
+  const bool progress_due = tty_due || batch_due || log_due;
+  const double ke = (globals_due || progress_due || set_.ke_threshold >= 0.0) ? kinetic_energy(model_.mass, s.v) : 0.0;
   if (globals_due) write_globals_row(s, ke);
   if (s.t >= loop_.next_frame_t - t_eps_) write_frame(s);
   if (set_.ke_threshold >= 0.0 && ke >= set_.ke_threshold) loop_.ke_exceeded = true;
@@ -221,7 +234,7 @@ bool RunLoop::record(const State& s) {
     return true;
   }
   if (out_.resident_mb.quarter < 0.0 && s.t >= 0.25 * set_.t_end) out_.resident_mb.quarter = resident_mb();
-  if (tty_due) show_progress(s, ke);
+  if (progress_due) show_progress(s, ke, tty_due || batch_due, log_due);
   return false;
 }
 
@@ -247,14 +260,34 @@ void RunLoop::write_frame(const State& s) {
   }
 }
 
-void RunLoop::show_progress(const State& s, double ke) {
-  last_progress_ = Clock::now();
-  const double frac = s.t / set_.t_end;
-  const double w = wall();
-  std::fprintf(
-      stderr, "\r  t = %.6g s (%5.1f %%)  step %zu  dt %.3g s  KE %.3g J  wall %.1f s  eta %.0f s  rss %.0f MB   ", s.t,
-      100.0 * frac, loop_.steps, loop_.last_report.dt, ke, w, frac > 0 ? w * (1 - frac) / frac : 0.0, resident_mb());
-  std::fflush(stderr);
+ProgressSnapshot RunLoop::snapshot(const State& s, double ke) {
+  ProgressSnapshot p;
+  p.t = s.t;
+  p.t_end = set_.t_end;
+  p.steps = loop_.steps;
+  p.dt = loop_.steps > 0 ? loop_.last_report.dt : loop_.dt;
+  if (dynamic_) p.kinetic_energy = ke;
+  p.newton_iterations = loop_.last_report.newton_iterations;
+  p.linear_iterations = loop_.last_report.linear_iterations;
+  for (const auto& c : model_.cavities) p.cavities.push_back({c->name(), c->phase(), c->pressure(s.t), c->volume(s.x)});
+  p.wall_seconds = wall();
+  p.resident_mb = resident_mb();
+  return p;
+}
+
+/// The progress line (progress.hpp): redrawn in place on a terminal, a whole line in a batch log,
+/// and a line of run.log.
+void RunLoop::show_progress(const State& s, double ke, bool on_terminal, bool in_log) {
+  const std::string line = progress_text(snapshot(s, ke));
+  if (on_terminal) {
+    last_progress_ = Clock::now();
+    std::fprintf(stderr, tty_ ? "\r  %s   " : "  %s\n", line.c_str());
+    std::fflush(stderr);
+  }
+  if (in_log) {
+    last_logged_progress_ = Clock::now();
+    writer_.log().line(line);
+  }
 }
 
 void RunLoop::stop(const std::string& status, const std::string& reason) {
@@ -294,6 +327,7 @@ RunOutcome RunLoop::finish(State& s) {
     sys_.forces(s.x, s.v, s.t, f_);
     writer_.write_frame(s, f_);
   }
+  writer_.log().line("end: " + progress_text(snapshot(s, kinetic_energy(model_.mass, s.v))));
   RunOutcome out = out_;
   out.resident_mb.final = resident_mb();
   out.resident_mb.peak = peak_resident_mb();

@@ -42,15 +42,18 @@ struct RunSettings {
   double dt = 0.0;     ///< s (> 0); the initial step for abm3
   std::string integrator = "symplectic_euler";
   Abm3Settings abm3;
-  ImplicitSettings implicit;         ///< backward_euler, backward_euler_newton, static
-  double ke_threshold = -1.0;        ///< J; < 0 disables the kinetic-energy stop
-  double ke_after = 0.0;             ///< s; the kinetic-energy stop is armed from this time on
-  std::size_t max_steps = 0;         ///< 0: no limit
-  std::size_t check_every = 1;       ///< steps between instability checks
-  double flat_fraction = 1e-3;       ///< element is flat when its volume check <= this * reference
-  double export_interval = 0.0;      ///< s between frames; 0: first and last only
-  double globals_interval = 0.0;     ///< s between globals rows; 0: every step
-  bool progress = false;             ///< live progress line on stderr
+  ImplicitSettings implicit;      ///< backward_euler, backward_euler_newton, static
+  double ke_threshold = -1.0;     ///< J; < 0 disables the kinetic-energy stop
+  double ke_after = 0.0;          ///< s; the kinetic-energy stop is armed from this time on
+  std::size_t max_steps = 0;      ///< 0: no limit
+  std::size_t check_every = 1;    ///< steps between instability checks
+  double flat_fraction = 1e-3;    ///< element is flat when its volume check <= this * reference
+  double export_interval = 0.0;   ///< s between frames; 0: first and last only
+  double globals_interval = 0.0;  ///< s between globals rows; 0: every step
+  bool progress = false;          ///< live progress line on stderr
+  /// Wall seconds between progress lines when stderr is not a terminal (a batch log), and between
+  /// the progress lines of run.log (solver/run/progress.hpp); 0: every step.
+  double progress_interval = 10.0;
   double checkpoint_interval = 0.0;  ///< s of simulated time between checkpoints; 0: only on signals/failures
   std::size_t stop_after_steps = 0;  ///< > 0: stop as on SIGINT once this many steps are done (tests)
   /// What the run was made from, stored in every resumable checkpoint so that a resume can refuse

@@ -34,6 +34,9 @@ class ConstraintMonitor final : public VolumeMonitor {
   [[nodiscard]] std::string name() const override { return term_->name().substr(std::string("cavity_volume:").size()); }
   [[nodiscard]] double volume(const Eigen::Matrix3Xd& x) const override { return term_->volume(x); }
   [[nodiscard]] double pressure(double t) const override { return term_->pressure(t); }
+  [[nodiscard]] std::string phase() const override {
+    return term_->circulation() != nullptr ? phase_name(term_->circulation()->phase()) : std::string();
+  }
   [[nodiscard]] std::vector<std::pair<std::string, double>> metrics() const override {
     return term_->circulation() != nullptr ? term_->circulation()->metrics()
                                            : std::vector<std::pair<std::string, double>>{};
