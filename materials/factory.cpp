@@ -5,6 +5,7 @@
 #include "common/error.hpp"
 #include "materials/elastic_constants.hpp"
 #include "materials/guccione.hpp"
+#include "materials/holzapfel_ogden.hpp"
 #include "materials/hunter.hpp"
 #include "materials/neo_hookean.hpp"
 #include "materials/params.hpp"
@@ -42,6 +43,23 @@ std::unique_ptr<Law> guccione_from(ParamReader& r, const GuccioneParams& default
   return std::make_unique<LawOf<Guccione>>(Guccione(p));
 }
 
+/// The eight Holzapfel-Ogden parameters (a.. in Pa); each falls back to `defaults` when
+/// `required` is false.
+std::unique_ptr<Law> holzapfel_ogden_from(ParamReader& r, const HolzapfelOgdenParams& defaults, bool required) {
+  auto get = [&](const char* key, double fallback) { return required ? r.required(key) : r.optional(key, fallback); };
+  HolzapfelOgdenParams p;
+  p.a = get("a", defaults.a);
+  p.b = get("b", defaults.b);
+  p.a_f = get("a_f", defaults.a_f);
+  p.b_f = get("b_f", defaults.b_f);
+  p.a_s = get("a_s", defaults.a_s);
+  p.b_s = get("b_s", defaults.b_s);
+  p.a_fs = get("a_fs", defaults.a_fs);
+  p.b_fs = get("b_fs", defaults.b_fs);
+  r.finish();
+  return std::make_unique<LawOf<HolzapfelOgden>>(HolzapfelOgden(p));
+}
+
 template <typename P>
 std::unique_ptr<Law> volumetric_from(ParamReader& r) {
   P penalty;
@@ -61,13 +79,15 @@ struct Entry {
   Builder build;
 };
 
-const std::array<Entry, 12> kLaws{{
+const std::array<Entry, 14> kLaws{{
     {"hunter", [](ParamReader& r) { return hunter_from(r, HunterParams{}, true); }},
     {"hunter_canine", [](ParamReader& r) { return hunter_from(r, hunter_canine(), false); }},
     {"guccione", [](ParamReader& r) { return guccione_from(r, GuccioneParams{}, true); }},
     {"guccione_land_problem1", [](ParamReader& r) { return guccione_from(r, guccione_land_problem1(), false); }},
     {"guccione_land_problem2", [](ParamReader& r) { return guccione_from(r, guccione_land_problem2(), false); }},
     {"guccione_land_problem3", [](ParamReader& r) { return guccione_from(r, guccione_land_problem3(), false); }},
+    {"holzapfel_ogden", [](ParamReader& r) { return holzapfel_ogden_from(r, HolzapfelOgdenParams{}, true); }},
+    {"holzapfel_ogden_2009", [](ParamReader& r) { return holzapfel_ogden_from(r, holzapfel_ogden_2009(), false); }},
     {"svk", [](ParamReader& r) { return svk_named(r, "svk"); }},
     {"st_venant_kirchhoff", [](ParamReader& r) { return svk_named(r, "svk"); }},
     {"linear_elastic", [](ParamReader& r) { return svk_named(r, "linear_elastic"); }},

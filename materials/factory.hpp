@@ -12,6 +12,8 @@
 //   hunter_canine              all of the above optional; defaults = seed 000 Table 2.1
 //   guccione                   C [Pa], b_f, b_t, b_fs
 //   guccione_land_problem1/2/3 the same names, optional; defaults = Land et al. 2015 sets
+//   holzapfel_ogden            a, a_f, a_s, a_fs [Pa], b, b_f, b_s, b_fs (all >= 0)
+//   holzapfel_ogden_2009       the same names, optional; defaults = Holzapfel & Ogden 2009 fit
 //   svk, st_venant_kirchhoff   {E [Pa], nu} or {lambda, mu [Pa]}
 //   linear_elastic             the same (an alias of svk)
 //   neo_hookean                {E, nu} or {lambda, mu}

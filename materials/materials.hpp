@@ -4,6 +4,7 @@
 #include "materials/elastic_constants.hpp"
 #include "materials/factory.hpp"
 #include "materials/guccione.hpp"
+#include "materials/holzapfel_ogden.hpp"
 #include "materials/hunter.hpp"
 #include "materials/kinematics.hpp"
 #include "materials/law.hpp"

@@ -5,6 +5,7 @@
 
 #include "law_checks.hpp"
 #include "materials/guccione.hpp"
+#include "materials/holzapfel_ogden.hpp"
 #include "materials/hunter.hpp"
 #include "materials/neo_hookean.hpp"
 #include "materials/svk.hpp"
@@ -83,6 +84,43 @@ TEST(Derivatives, HunterLowPoleFraction) {
   HunterParams p = hunter_canine();
   p.pole_fraction = 0.5;
   check_law(HunterPoleZero(p), general_strains(), 1.0);
+}
+
+/// Holzapfel-Ogden strains: random (moderate and large), plus fibre and sheet each in tension
+/// (the I4 term on) and in compression (off), with shear, and a large incompressible fibre
+/// stretch. No strain has E_11 or E_22 exactly 0: there the tangent jumps (the tension switch,
+/// holzapfel_ogden.hpp) and the harness's central difference of S straddles the jump.
+std::vector<Eigen::Matrix3d> holzapfel_ogden_strains() {
+  std::vector<Eigen::Matrix3d> strains = random_strains(42, 6, 0.25);
+  for (const Eigen::Matrix3d& E : random_strains(7, 4, 0.4)) strains.push_back(E);
+  for (double sf : {1.0, -1.0}) {
+    for (double ss : {1.0, -1.0}) {
+      Eigen::Matrix3d E;
+      E << sf * 0.12, 0.09, -0.05,  //
+          0.09, ss * 0.1, 0.04,     //
+          -0.05, 0.04, -0.03;
+      strains.push_back(E);
+    }
+  }
+  const double l = 1.35;  // E_11 = 0.41: b_f (I4f - 1)^2 = 11.4
+  strains.push_back(
+      green_strain(Eigen::Matrix3d(Eigen::Vector3d(l, 1.0 / std::sqrt(l), 1.0 / std::sqrt(l)).asDiagonal())));
+  // (fs) shear, I4f = 1.36, I8 = 0.6, with the sheet shortened so that E_22 != 0 (a bare simple
+  // shear has a zero diagonal entry, the switch)
+  strains.push_back(
+      green_strain(Eigen::Matrix3d(simple_shear(1, 0, 0.6) * Eigen::Vector3d(1.0, 0.95, 1.0 / 0.95).asDiagonal())));
+  return strains;
+}
+
+TEST(Derivatives, HolzapfelOgden2009) {
+  check_law(HolzapfelOgden(holzapfel_ogden_2009()), holzapfel_ogden_strains(), 1.0);
+}
+
+/// Every exponent zero: the b -> 0 branches (a/2 x) of the energy, and e^0 = 1 in S and the tangent.
+TEST(Derivatives, HolzapfelOgdenZeroExponents) {
+  HolzapfelOgdenParams p = holzapfel_ogden_2009();
+  p.b = p.b_f = p.b_s = p.b_fs = 0.0;
+  check_law(HolzapfelOgden(p), holzapfel_ogden_strains(), 1.0);
 }
 
 }  // namespace

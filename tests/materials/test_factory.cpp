@@ -8,6 +8,7 @@
 #include "law_checks.hpp"
 #include "materials/factory.hpp"
 #include "materials/guccione.hpp"
+#include "materials/holzapfel_ogden.hpp"
 #include "materials/hunter.hpp"
 
 namespace adamss::materials {
@@ -39,6 +40,12 @@ Params hunter_full() {
   return out;
 }
 
+Params holzapfel_ogden_full() {
+  const HolzapfelOgdenParams p = holzapfel_ogden_2009();
+  return {{"a", p.a},     {"b", p.b},     {"a_f", p.a_f},   {"b_f", p.b_f},
+          {"a_s", p.a_s}, {"b_s", p.b_s}, {"a_fs", p.a_fs}, {"b_fs", p.b_fs}};
+}
+
 TEST(Factory, BuildsEveryKnownLaw) {
   const std::map<std::string, Params> params{
       {"hunter", hunter_full()},
@@ -47,6 +54,8 @@ TEST(Factory, BuildsEveryKnownLaw) {
       {"guccione_land_problem1", {}},
       {"guccione_land_problem2", {}},
       {"guccione_land_problem3", {{"C", 1000}}},
+      {"holzapfel_ogden", holzapfel_ogden_full()},
+      {"holzapfel_ogden_2009", {{"a_fs", 100.0}}},
       {"svk", {{"E", 1e4}, {"nu", 0.3}}},
       {"st_venant_kirchhoff", {{"lambda", 1e4}, {"mu", 2e3}}},
       {"linear_elastic", {{"E", 1e4}, {"nu", 0.3}}},
@@ -82,6 +91,35 @@ TEST(Factory, AgreesWithTheConcreteLaw) {
   GuccioneParams p = guccione_land_problem3();
   p.C = 1000.0;
   EXPECT_EQ(g->stress(E), Guccione(p).stress(E));
+}
+
+TEST(Factory, HolzapfelOgdenNamesAndDefaults) {
+  const Eigen::Matrix3d E = testing::random_strains(13, 1, 0.2)[0];
+  const HolzapfelOgden direct(holzapfel_ogden_2009());
+  for (const auto& [name, params] :
+       std::map<std::string, Params>{{"holzapfel_ogden", holzapfel_ogden_full()}, {"holzapfel_ogden_2009", {}}}) {
+    const std::unique_ptr<Law> law = make_law(name, params);
+    EXPECT_EQ(law->name(), "holzapfel_ogden");
+    EXPECT_EQ(law->energy(E), direct.energy(E)) << name;
+    EXPECT_EQ(law->stress(E), direct.stress(E)) << name;
+    EXPECT_EQ(law->tangent(E), direct.tangent(E)) << name;
+  }
+  HolzapfelOgdenParams p = holzapfel_ogden_2009();
+  p.b_f = 10.0;
+  EXPECT_EQ(make_law("holzapfel_ogden_2009", {{"b_f", 10.0}})->stress(E), HolzapfelOgden(p).stress(E));
+}
+
+TEST(Factory, HolzapfelOgdenBadParameters) {
+  for (const auto& [key, value] : holzapfel_ogden_full()) {
+    Params p = holzapfel_ogden_full();
+    p[key] = -value;
+    expect_error("holzapfel_ogden", p, {"holzapfel_ogden", "'" + key + "'", ">= 0"});
+    expect_error("holzapfel_ogden_2009", {{key, -1.0}}, {"holzapfel_ogden", "'" + key + "'", ">= 0"});
+    p.erase(key);
+    expect_error("holzapfel_ogden", p, {"holzapfel_ogden", "missing", "'" + key + "'"});
+  }
+  expect_error("holzapfel_ogden_2009", {{"a_sf", 216.0}}, {"unknown parameter", "a_sf", "a_fs"});
+  expect_error("holzapfel_ogden_2009", {{"C", 1.0}}, {"unknown parameter", "'C'"});
 }
 
 TEST(Factory, UnknownLaw) {

@@ -2,7 +2,7 @@
 //  * Derivatives: the law_checks harness (S and tangent vs nested autodiff of the isochoric
 //    energy, apply_tangent vs finite differences of S, major symmetry, dW = S : dE, frame
 //    indifference) for uncoupled Guccione, Hunter, neo-Hookean and SVK, at random finite strains
-//    and at strains with J = 0.9 and 1.15.
+//    and at strains with J = 0.9 and 1.15; uncoupled Holzapfel-Ogden likewise.
 //  * Dilatation: W(E(lambda F)) = W(E(F)), S(lambda F) = S(F) / lambda^2, S : C = 0.
 //  * Isochoric F: the energy is the base law's; the stress is the base stress minus a term
 //    along C^-1 (the Cauchy stresses differ by a pressure only).
@@ -14,6 +14,7 @@
 #include "law_checks.hpp"
 #include "materials/factory.hpp"
 #include "materials/guccione.hpp"
+#include "materials/holzapfel_ogden.hpp"
 #include "materials/hunter.hpp"
 #include "materials/neo_hookean.hpp"
 #include "materials/svk.hpp"
@@ -97,13 +98,27 @@ TEST(Uncoupled, DerivativesStVenantKirchhoff) {
   check_uncoupled(StVenantKirchhoff::from_young_poisson(10e3, 0.3));
 }
 
-/// Uncoupled forms of the four base laws, through the factory.
+/// Holzapfel-Ogden on the isochoric invariants: the random strains and J = 0.9, 1.15, plus Ebar_11
+/// and Ebar_22 each in tension and compression at J = 0.85 and 1.2. Not the pure dilatation, whose
+/// Ebar is zero up to rounding: the tension switch's tangent jump sits there (as for Hunter).
+TEST(Uncoupled, DerivativesHolzapfelOgden) {
+  std::vector<Eigen::Matrix3d> strains = uncoupled_strains(false);
+  for (double J : {0.85, 1.2}) {
+    for (const Eigen::Vector3d& stretch : {Eigen::Vector3d(1.15, 0.9, 1.0), Eigen::Vector3d(0.9, 1.1, 1.0)}) {
+      Eigen::Matrix3d F = stretch.asDiagonal() * simple_shear(0, 1, 0.2);
+      F = std::cbrt(J / F.determinant()) * F;
+      strains.push_back(green_strain(F));
+    }
+  }
+  check_law(UncoupledOf<HolzapfelOgden>(HolzapfelOgden(holzapfel_ogden_2009())), strains, 1.0);
+}
+
+/// Uncoupled forms of the base laws, through the factory.
 std::vector<std::shared_ptr<const Law>> uncoupled_laws() {
   std::vector<std::shared_ptr<const Law>> out;
   const std::vector<std::pair<std::string, std::map<std::string, double>>> bases{
-      {"guccione_land_problem1", {}},
-      {"hunter_canine", {}},
-      {"neo_hookean", {{"E", 10e3}, {"nu", 0.45}}},
+      {"guccione_land_problem1", {}},      {"hunter_canine", {}},
+      {"holzapfel_ogden_2009", {}},        {"neo_hookean", {{"E", 10e3}, {"nu", 0.45}}},
       {"svk", {{"E", 10e3}, {"nu", 0.3}}},
   };
   for (const auto& [name, params] : bases) out.push_back(std::make_shared<UncoupledLaw>(make_law(name, params)));
