@@ -79,6 +79,11 @@ TEST(HolzapfelOgden, DefaultsAreThe2009Fit) {
   EXPECT_EQ(p.b_fs, 11.436);
 }
 
+TEST(HolzapfelOgden, NamesOfBothForms) {
+  EXPECT_EQ(both_forms()[0]->name(), "holzapfel_ogden");
+  EXPECT_EQ(both_forms()[1]->name(), "holzapfel_ogden_uncoupled");
+}
+
 TEST(HolzapfelOgden, UniaxialFibreStretch) {
   const Psi h;
   for (const auto& law : both_forms()) {
