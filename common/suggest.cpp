@@ -25,13 +25,15 @@ std::size_t edit_distance(std::string_view a, std::string_view b) {
 std::optional<std::string> closest_name(std::string_view word, const std::vector<std::string>& candidates) {
   const std::size_t limit = std::max<std::size_t>(1, word.size() / 3);
   std::optional<std::string> best;
-  std::size_t best_distance = limit + 1;
+  std::size_t best_distance = limit + 1, best_length_gap = 0;
   for (const std::string& c : candidates) {
     if (c == word) continue;
     std::size_t d = edit_distance(word, c);
     if (word.size() >= 3 && c.size() > word.size() && c.compare(0, word.size(), word) == 0) d = std::min(d, limit);
-    if (d < best_distance) {
+    const std::size_t gap = c.size() > word.size() ? c.size() - word.size() : word.size() - c.size();
+    if (d < best_distance || (d == best_distance && gap < best_length_gap)) {
       best_distance = d;
+      best_length_gap = gap;
       best = c;
     }
   }

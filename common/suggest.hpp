@@ -15,7 +15,8 @@ namespace adamss {
 [[nodiscard]] std::size_t edit_distance(std::string_view a, std::string_view b);
 
 /// The candidate closest to `word`, if its distance is at most max(1, |word| / 3) (a typo, not
-/// another word) and it is not `word` itself; the first such candidate on ties. A candidate that
+/// another word) and it is not `word` itself; on equal distance the one closest in length (a
+/// swap "a_sf" -> "a_fs" before a deletion "a_f"), then the first. A candidate that
 /// starts with `word` (|word| >= 3) counts as at the limit: "--fiber" suggests "--fiber-out".
 [[nodiscard]] std::optional<std::string> closest_name(std::string_view word,
                                                       const std::vector<std::string>& candidates);

@@ -1,8 +1,11 @@
 #include "materials/factory.hpp"
 
 #include <array>
+#include <string>
+#include <vector>
 
 #include "common/error.hpp"
+#include "common/suggest.hpp"
 #include "materials/elastic_constants.hpp"
 #include "materials/guccione.hpp"
 #include "materials/holzapfel_ogden.hpp"
@@ -110,8 +113,12 @@ std::unique_ptr<Law> make_law(const std::string& name, const std::map<std::strin
     return entry.build(reader);
   }
   std::string known;
-  for (const Entry& entry : kLaws) known.append(known.empty() ? "" : ", ").append(entry.name);
-  throw InputError("unknown material law '" + name + "' (known: " + known + ")");
+  std::vector<std::string> names;
+  for (const Entry& entry : kLaws) {
+    known.append(known.empty() ? "" : ", ").append(entry.name);
+    names.emplace_back(entry.name);
+  }
+  throw InputError("unknown material law '" + name + "'" + did_you_mean(name, names) + " (known: " + known + ")");
 }
 
 std::vector<std::string_view> known_laws() {

@@ -2,8 +2,11 @@
 
 #include <cmath>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "common/error.hpp"
+#include "common/suggest.hpp"
 
 namespace adamss::materials {
 
@@ -58,7 +61,9 @@ void ParamReader::finish() const {
     if (read_.count(key) != 0) continue;
     std::string known;
     for (const auto& k : read_) known += (known.empty() ? "" : ", ") + k;
-    throw InputError("material law '" + law_ + "': unknown parameter '" + key + "' (accepted: " + known + ")");
+    const std::vector<std::string> accepted(read_.begin(), read_.end());
+    throw InputError("material law '" + law_ + "': unknown parameter '" + key + "'" + did_you_mean(key, accepted) +
+                     " (accepted: " + known + ")");
   }
 }
 

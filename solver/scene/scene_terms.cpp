@@ -41,8 +41,8 @@ const AxisFrames& MaterialContext::frames() {
 
 namespace {
 
-/// Law parameters: stiffness-like names (k.., C, E, lambda, mu, kappa) are pressures, the rest
-/// dimensionless. The law factory checks names and ranges.
+/// Law parameters: stiffness-like names (k.., C, E, lambda, mu, kappa, Holzapfel-Ogden's a, a_f,
+/// a_s, a_fs) are pressures, the rest dimensionless. The law factory checks names and ranges.
 std::map<std::string, double> law_parameters(SceneNode& node, const std::string& key) {
   std::map<std::string, double> params;
   auto m = node.optional_map(key);
@@ -50,6 +50,7 @@ std::map<std::string, double> law_parameters(SceneNode& node, const std::string&
   for (const auto& kv : m->yaml()) {
     const std::string name = kv.first.as<std::string>();
     const bool pressure = name == "C" || name == "E" || name == "lambda" || name == "mu" || name == "kappa" ||
+                          name == "a" || name == "a_f" || name == "a_s" || name == "a_fs" ||
                           (name.size() == 3 && name[0] == 'k' && std::isdigit(static_cast<unsigned char>(name[1])));
     params[name] =
         SceneNode::to_quantity(kv.second, pressure ? Dimension::Pressure : Dimension::Dimensionless, m->at(name));

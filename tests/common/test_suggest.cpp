@@ -35,5 +35,6 @@ TEST(Suggest, OnlyCloseNamesAreSuggested) {
   EXPECT_EQ(closest_name("--fiber", options), "--fiber-out");  // a prefix
   EXPECT_EQ(closest_name("--voxelsize", options), "--voxel-size");
   EXPECT_EQ(did_you_mean("tend", {"t_end", "frame_interval"}), "; did you mean 't_end'?");
+  EXPECT_EQ(closest_name("a_sf", {"a", "a_f", "a_fs", "a_s"}), "a_fs");  // equal distance: the same length wins
   EXPECT_EQ(did_you_mean("flux", {"t_end", "frame_interval"}), "");
 }

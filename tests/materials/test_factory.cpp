@@ -118,12 +118,14 @@ TEST(Factory, HolzapfelOgdenBadParameters) {
     p.erase(key);
     expect_error("holzapfel_ogden", p, {"holzapfel_ogden", "missing", "'" + key + "'"});
   }
-  expect_error("holzapfel_ogden_2009", {{"a_sf", 216.0}}, {"unknown parameter", "a_sf", "a_fs"});
+  expect_error("holzapfel_ogden_2009", {{"a_sf", 216.0}},
+               {"unknown parameter 'a_sf'; did you mean 'a_fs'?"});  // a swap, before the deletion to a_f
   expect_error("holzapfel_ogden_2009", {{"C", 1.0}}, {"unknown parameter", "'C'"});
 }
 
 TEST(Factory, UnknownLaw) {
-  expect_error("hunterr", {}, {"hunterr", "hunter_canine"});
+  expect_error("hunterr", {}, {"hunterr", "hunter_canine", "; did you mean 'hunter'?"});
+  expect_error("holzapfel_ogdn", {}, {"; did you mean 'holzapfel_ogden'?"});
 }
 
 TEST(Factory, UnknownParameter) {

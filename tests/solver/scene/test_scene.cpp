@@ -69,6 +69,26 @@ TEST(Scene, UnknownKeysAreNamedWithTheirPath) {
       std::string::npos);
 }
 
+// Holzapfel-Ogden in a scene: its stress parameters take pressure units, in the virtual hexahedron
+// and in the FEM element, coupled or uncoupled; a length is refused naming the key.
+TEST(Scene, HolzapfelOgdenParametersTakePressureUnits) {
+  const std::string vhex = "- virtual_hexahedron: {law: svk, parameters: {E: 10 kPa, nu: 0.3}}";
+  for (const char* term :
+       {"- virtual_hexahedron: {law: holzapfel_ogden_2009, parameters: {a: 0.059 kPa, a_f: 18.472 kPa, b_f: 16.026}}",
+        "- fem_element: {law: holzapfel_ogden, parameters: {a: 59, b: 8.023, a_f: 18.472 kPa, b_f: 16.026, a_s: 2.481 "
+        "kPa, b_s: 11.12, a_fs: 216 Pa, b_fs: 11.436}, uncoupled: true}\n      - volume: {distribution: nodal, "
+        "p: 500 kPa}"}) {
+    SCOPED_TRACE(term);
+    const std::string text = replaced(kBase, vhex, term);
+    EXPECT_EQ(test::scene_error(text), "");
+  }
+  const std::string bad =
+      replaced(kBase, vhex, "- virtual_hexahedron: {law: holzapfel_ogden_2009, parameters: {a_f: 18 mm}}");
+  EXPECT_NE(test::scene_error(bad).find("parameters.a_f: unit 'mm' is a length (m), expected a pressure"),
+            std::string::npos)
+      << test::scene_error(bad);
+}
+
 // A mistyped key, force term, choice or unit names what was meant (issue 21); a key far from every
 // known one gets no guess.
 TEST(Scene, MistypedNamesGetADidYouMean) {
