@@ -52,8 +52,8 @@ def main(path):
     worst_f = worst_h = 0.0
     for e in range(ne):
         nodes = conn[8 * e:8 * e + 8]
-        x = [[pts[3 * n + c] for c in range(3)] for n in nodes]
-        X = [[pts[3 * n + c] - disp[3 * n + c] for c in range(3)] for n in nodes]
+        X = [[pts[3 * n + c] for c in range(3)] for n in nodes]  # frames hold the reference points
+        x = [[pts[3 * n + c] + disp[3 * n + c] for c in range(3)] for n in nodes]
         dn = [[XI[k][d] / 8.0 for d in range(3)] for k in range(8)]
         jac = [[sum(X[k][i] * dn[k][j] for k in range(8)) for j in range(3)] for i in range(3)]
         det, ji = inv3(jac)

@@ -64,6 +64,48 @@ std::string xml_escape(const std::string& s) {
 
 }  // namespace
 
+void add_strain_fields(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x, VtuArrays& a) {
+  const auto ne = static_cast<Eigen::Index>(mesh.element_count());
+  const std::vector<Eigen::Matrix3d> F = element_deformation_gradients(mesh, x);
+  Eigen::Matrix<double, 9, Eigen::Dynamic> strain(9, ne);
+  for (Eigen::Index e = 0; e < ne; ++e) {
+    const Eigen::Matrix3d E = 0.5 * (F[static_cast<std::size_t>(e)].transpose() * F[static_cast<std::size_t>(e)] -
+                                     Eigen::Matrix3d::Identity());
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) strain(3 * r + c, e) = E(r, c);
+  }
+  a.cell_tensors["green_lagrange"] = strain;
+  if (!mesh.has_fibres()) return;
+  Eigen::Matrix<double, 9, Eigen::Dynamic> local(9, ne);
+  Eigen::Matrix3Xd f(3, ne), sh(3, ne), n(3, ne);
+  Eigen::VectorXd stretch(ne);
+  for (Eigen::Index e = 0; e < ne; ++e) {
+    const Eigen::Matrix3d& Fe = F[static_cast<std::size_t>(e)];
+    Eigen::Matrix3d Q;
+    Q << mesh.fiber.col(e), mesh.sheet.col(e), mesh.normal.col(e);
+    Eigen::Matrix3d E;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) E(r, c) = strain(3 * r + c, e);
+    const Eigen::Matrix3d El = Q.transpose() * E * Q;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) local(3 * r + c, e) = El(r, c);
+    f.col(e) = Fe * mesh.fiber.col(e);
+    stretch[e] = f.col(e).norm();
+    f.col(e) /= stretch[e];
+    sh.col(e) = (Fe * mesh.sheet.col(e)).normalized();
+    n.col(e) = Fe.inverse().transpose() * mesh.normal.col(e);
+    n.col(e).normalize();
+  }
+  a.cell_tensors["green_lagrange_fibre_frame"] = local;
+  a.cell_scalars["fibre_stretch"] = stretch;
+  a.cell_vectors["fibre"] = mesh.fiber;
+  a.cell_vectors["sheet"] = mesh.sheet;
+  a.cell_vectors["normal"] = mesh.normal;
+  a.cell_vectors["fibre_current"] = f;
+  a.cell_vectors["sheet_current"] = sh;
+  a.cell_vectors["normal_current"] = n;
+}
+
 std::vector<double> element_volumes(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x) {
   std::vector<double> v(mesh.element_count());
   for (std::size_t e = 0; e < v.size(); ++e) v[e] = element_volume_at(mesh, x, e);
@@ -78,20 +120,39 @@ Eigen::VectorXd element_volume_ratio(const preprocess::Mesh& mesh, const Eigen::
   return j;
 }
 
-Eigen::VectorXd fibre_stretch(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x) {
-  const std::size_t ne = mesh.element_count();
-  Eigen::VectorXd out = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(ne));
-  if (!mesh.has_fibres()) return out;
-  for (std::size_t e = 0; e < ne; ++e) {
-    const Eigen::Matrix3d F = element_map(mesh, x, e) * element_map(mesh, mesh.nodes, e).inverse();
-    out[static_cast<Eigen::Index>(e)] = (F * mesh.fiber.col(static_cast<Eigen::Index>(e))).norm();
+std::vector<Eigen::Matrix3d> element_deformation_gradients(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x) {
+  std::vector<Eigen::Matrix3d> out(mesh.element_count());
+  for (std::size_t e = 0; e < out.size(); ++e) {
+    out[e] = element_map(mesh, x, e) * element_map(mesh, mesh.nodes, e).inverse();
   }
   return out;
 }
 
-void write_vtu(const fs::path& path, const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x,
-               const std::map<std::string, Eigen::Matrix3Xd>& point_vectors,
-               const std::map<std::string, Eigen::VectorXd>& cell_scalars) {
+Eigen::VectorXd fibre_stretch(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x) {
+  const std::size_t ne = mesh.element_count();
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(ne));
+  if (!mesh.has_fibres()) return out;
+  const std::vector<Eigen::Matrix3d> F = element_deformation_gradients(mesh, x);
+  for (std::size_t e = 0; e < ne; ++e) {
+    out[static_cast<Eigen::Index>(e)] = (F[e] * mesh.fiber.col(static_cast<Eigen::Index>(e))).norm();
+  }
+  return out;
+}
+
+namespace {
+
+/// A field-data string as VTK's XML reader expects an ascii vtkStringArray: the byte values,
+/// space separated, and a 0 ending the string.
+std::string vtk_ascii_string(const std::string& s) {
+  std::string out;
+  for (const char c : s) out += std::to_string(static_cast<unsigned char>(c)) + " ";
+  return out + "0";
+}
+
+}  // namespace
+
+void write_vtu(const fs::path& path, const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& points,
+               const VtuArrays& arrays) {
   const std::size_t nn = mesh.node_count(), ne = mesh.element_count();
   const int k = preprocess::nodes_per_element(mesh.type);
   std::ostringstream head;
@@ -103,10 +164,22 @@ void write_vtu(const fs::path& path, const preprocess::Mesh& mesh, const Eigen::
     offset += 8 + bytes;
   };
   head << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
-          "header_type=\"UInt64\">\n  <UnstructuredGrid>\n    <Piece NumberOfPoints=\""
-       << nn << "\" NumberOfCells=\"" << ne << "\">\n      <Points>\n";
+          "header_type=\"UInt64\">\n  <UnstructuredGrid>\n";
+  if (!arrays.field_scalars.empty() || !arrays.field_strings.empty()) {
+    head << "    <FieldData>\n" << std::setprecision(17);
+    for (const auto& [name, v] : arrays.field_scalars) {
+      head << "      <DataArray type=\"Float64\" Name=\"" << xml_escape(name)
+           << "\" NumberOfTuples=\"1\" format=\"ascii\">" << v << "</DataArray>\n";
+    }
+    for (const auto& [name, v] : arrays.field_strings) {
+      head << "      <DataArray type=\"String\" Name=\"" << xml_escape(name)
+           << "\" NumberOfTuples=\"1\" format=\"ascii\">" << vtk_ascii_string(v) << "</DataArray>\n";
+    }
+    head << "    </FieldData>\n";
+  }
+  head << "    <Piece NumberOfPoints=\"" << nn << "\" NumberOfCells=\"" << ne << "\">\n      <Points>\n";
   declare("Float64", "Points", 3, 3 * nn * 8);
-  put_block(data, x.data(), 3 * nn);
+  put_block(data, points.data(), 3 * nn);
   head << "      </Points>\n      <Cells>\n";
   {
     std::vector<std::int64_t> conn(mesh.connectivity.begin(), mesh.connectivity.end());
@@ -120,17 +193,27 @@ void write_vtu(const fs::path& path, const preprocess::Mesh& mesh, const Eigen::
     declare("UInt8", "types", 1, ne);
     put_block(data, types.data(), ne);
   }
-  head << "      </Cells>\n      <PointData>\n";
-  for (const auto& [name, m] : point_vectors) {
+  // The displacement is the active vector (ParaView's Warp By Vector picks it).
+  head << "      </Cells>\n      <PointData"
+       << (arrays.point_vectors.count("displacement") ? " Vectors=\"displacement\"" : "") << ">\n";
+  for (const auto& [name, m] : arrays.point_vectors) {
     declare("Float64", name, 3, 3 * nn * 8);
     put_block(data, m.data(), 3 * nn);
   }
   head << "      </PointData>\n      <CellData>\n";
   declare("Int32", "label", 1, ne * 4);
   put_block(data, mesh.labels.data(), ne);
-  for (const auto& [name, v] : cell_scalars) {
+  for (const auto& [name, v] : arrays.cell_scalars) {
     declare("Float64", name, 1, ne * 8);
     put_block(data, v.data(), ne);
+  }
+  for (const auto& [name, m] : arrays.cell_vectors) {
+    declare("Float64", name, 3, 3 * ne * 8);
+    put_block(data, m.data(), 3 * ne);
+  }
+  for (const auto& [name, m] : arrays.cell_tensors) {
+    declare("Float64", name, 9, 9 * ne * 8);
+    put_block(data, m.data(), 9 * ne);
   }
   head << "      </CellData>\n    </Piece>\n  </UnstructuredGrid>\n  <AppendedData encoding=\"raw\">\n   _";
 
@@ -287,18 +370,26 @@ void ResultsWriter::continue_series() {
 
 void ResultsWriter::write_frame(const State& s, const Eigen::Matrix3Xd& f) {
   const preprocess::Mesh& mesh = *model_.mesh;
-  std::map<std::string, Eigen::Matrix3Xd> pv;
-  pv["displacement"] = s.x - model_.x_ref;
-  pv["velocity"] = s.v;
-  pv["force"] = f;
-  std::map<std::string, Eigen::VectorXd> cv;
-  cv["J"] = element_volume_ratio(mesh, s.x, element_volume0_);
-  if (mesh.has_fibres()) cv["fibre_stretch"] = fibre_stretch(mesh, s.x);
+  VtuArrays a;
+  a.point_vectors["displacement"] = s.x - model_.x_ref;
+  a.point_vectors["velocity"] = s.v;
+  a.point_vectors["force"] = f;
+  a.cell_scalars["J"] = element_volume_ratio(mesh, s.x, element_volume0_);
+  add_strain_fields(mesh, s.x, a);
   const StateView view{s.x, s.v, s.t};
-  for (const auto& term : model_.terms) term->add_cell_fields(view, mesh.element_count(), cv);
+  for (const auto& term : model_.terms) term->add_cell_fields(view, mesh.element_count(), a.cell_scalars);
+  a.field_scalars["TimeValue"] = s.t;
+  for (const auto& c : model_.cavities) {
+    const double p = c->pressure(s.t), v = c->volume(s.x);
+    a.field_scalars[c->name() + "_pressure_Pa"] = p;
+    a.field_scalars[c->name() + "_pressure_mmHg"] = p / 133.322387415;
+    a.field_scalars[c->name() + "_volume_ml"] = v * 1e6;
+    if (const std::string phase = c->phase(); !phase.empty()) a.field_strings[c->name() + "_phase"] = phase;
+  }
   char name[64];
   std::snprintf(name, sizeof name, "frame_%05zu.vtu", frames_.size());
-  write_vtu(dir_ / "frames" / name, mesh, s.x, pv, cv);
+  // Reference points + displacement: Warp By Vector (scale 1) gives the deformed mesh once.
+  write_vtu(dir_ / "frames" / name, mesh, model_.x_ref, a);
   frames_.emplace_back(s.t, std::string("frames/") + name);
   write_pvd();
 }

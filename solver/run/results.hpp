@@ -2,10 +2,14 @@
 // What a run writes (seed 000 sec. 2.7), all in one output folder:
 //   series.pvd            ParaView collection of the frames (rewritten after every frame, so a
 //                         run that dies still leaves a readable series)
-//   frames/frame_NNNNN.vtu  VTK XML unstructured grid, binary appended: the current positions,
-//                         point data displacement (m), velocity (m/s), force (N, the total of
-//                         all terms), cell data label, J (V/V0), fibre_stretch |F f0| (when the
-//                         mesh has fibres) and the terms' own cell fields (active_tension, Pa)
+//   frames/frame_NNNNN.vtu  VTK XML unstructured grid, binary appended: the reference positions,
+//                         point data displacement (m; Warp By Vector gives the deformed mesh
+//                         once), velocity (m/s), force (N, the total of all terms), cell data
+//                         label, J (V/V0), the strain fields of add_strain_fields (Green-Lagrange
+//                         strain, in the fibre frame too, fibre/sheet/normal reference and
+//                         current, fibre stretch) and the terms' own cell fields (active_tension,
+//                         Pa); field data TimeValue (s) and per cavity pressure (Pa, mmHg),
+//                         volume (ml) and phase
 //   globals.csv           one row per logged step: step, t, dt, kinetic energy, total volume,
 //                         relative volume change, barycentre, per cavity volume and pressure,
 //                         force evaluations, rejected steps, ABM3 error, wall time
@@ -126,10 +130,36 @@ class ResultsWriter {
 /// Fibre stretch |F f0| per element, F at the element centre from its shape functions.
 [[nodiscard]] Eigen::VectorXd fibre_stretch(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x);
 
-/// Writes a VTK XML unstructured grid with the given point and cell arrays (binary appended,
-/// via a temporary file renamed over `path`). Vectors are 3 x n, scalars n.
-void write_vtu(const std::filesystem::path& path, const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x,
-               const std::map<std::string, Eigen::Matrix3Xd>& point_vectors,
-               const std::map<std::string, Eigen::VectorXd>& cell_scalars);
+/// The deformation gradient F = dx/dX of each element at its centre (tet: exact; hex: at the
+/// centre, from the trilinear shape functions).
+[[nodiscard]] std::vector<Eigen::Matrix3d> element_deformation_gradients(const preprocess::Mesh& mesh,
+                                                                         const Eigen::Matrix3Xd& x);
+
+/// The arrays of one frame: point vectors (3 x nodes), cell scalars (elements), cell vectors
+/// (3 x elements), cell tensors (9 x elements, a 3 x 3 tensor row by row, as ParaView reads a
+/// 9-component array) and field data (one value per frame: numbers and strings).
+struct VtuArrays {
+  std::map<std::string, Eigen::Matrix3Xd> point_vectors;
+  std::map<std::string, Eigen::VectorXd> cell_scalars;
+  std::map<std::string, Eigen::Matrix3Xd> cell_vectors;
+  std::map<std::string, Eigen::Matrix<double, 9, Eigen::Dynamic>> cell_tensors;
+  std::map<std::string, double> field_scalars;
+  std::map<std::string, std::string> field_strings;
+};
+
+/// The strain fields of a frame at positions x, per element from F at its centre:
+///   green_lagrange               E = (F^T F - I) / 2, global x, y, z components (9 x elements)
+///   green_lagrange_fibre_frame   Q^T E Q with Q = [f0 s0 n0]: E_ff, E_fs, ... (with fibres)
+///   fibre_stretch                |F f0| (with fibres)
+///   fibre, sheet, normal         f0, s0, n0 of the mesh (with fibres)
+///   fibre_current, sheet_current F f0 / |F f0|, F s0 / |F s0|
+///   normal_current               F^-T n0 / |F^-T n0| (the normal of the deformed fibre-sheet plane)
+void add_strain_fields(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x, VtuArrays& arrays);
+
+/// Writes a VTK XML unstructured grid (binary appended, via a temporary file renamed over `path`)
+/// with `points` as its points, the cell label and the given arrays; "displacement", if given, is
+/// the active point vector.
+void write_vtu(const std::filesystem::path& path, const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& points,
+               const VtuArrays& arrays);
 
 }  // namespace adamss::solver
