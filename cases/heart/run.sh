@@ -60,7 +60,11 @@ if [[ "$scar" == 1 ]]; then
 else
   gnuplot -e "data='$out/pv.dat'; outdir='$out'; period=800" "$here/plots.gp"
 fi
-python3 - "$out" "$voxel" "$t_sim" "$scar" > "$out/report.md" <<'PY'
+# PV loops in mmHg and the Wiggers diagram (matplotlib, Debian's interpreter: scripts/install-deps).
+py=/usr/bin/python3
+[[ -x $py ]] || py=python3
+"$py" "$here/plot_heart.py" "$out"
+"$py" - "$out" "$voxel" "$t_sim" "$scar" > "$out/report.md" <<'PY'
 import json, sys
 out, voxel, t_sim, scar = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4] == "1"
 s = json.load(open(out + "/summary.json"))
@@ -88,7 +92,10 @@ if beats:
     for i, b in enumerate(beats):
         print(f"| {i + 1} | {1e6 * b['edv_m3']:.3f} | {1e6 * b['esv_m3']:.3f} | {100 * b['ejection_fraction']:.1f} % | "
               f"{1e-3 * b['edp_Pa']:.2f} | {1e-3 * b['esp_Pa']:.2f} | {1e-3 * b['peak_pressure_Pa']:.2f} |")
-print("\n![PV loop](pv_loop.png)\n\n![pressure and volume](pressure_volume_time.png)\n")
+print("\n![PV loops in mmHg, with the passive inflation (EDPVR)](pv_loop_mmhg.png)\n\n"
+      "![Wiggers diagram: LV, aortic and atrial pressure, LV volume, phases and valve events](wiggers.png)\n\n"
+      "Also: [PV loop in kPa](pv_loop.png), [pressure and volume against time](pressure_volume_time.png); "
+      "SVG versions beside the PNGs.\n")
 if scar:
     z = json.load(open(out + "/scar/summary.json"))
     d = z["cavities"]["lv"]
@@ -106,7 +113,7 @@ if scar:
     print(f"| ejection fraction | {100 * ef_h:.1f} % | {100 * ef_s:.1f} % |")
     print(f"\nChange in ejection fraction: {100 * (ef_s - ef_h):+.1f} percentage points "
           f"({100 * (ef_s / ef_h - 1):+.1f} % relative).\n")
-    print("![PV loops, healthy and scar](pv_loop_scar.png)\n")
+    print("![PV loops, healthy and scar (mmHg)](pv_loop_scar_mmhg.png)\n")
 print("Fields over time (displacement, fibre_stretch, active_tension, J): open [sim/series.pvd](sim/series.pvd) "
       "in ParaView. Every step: [sim/globals.csv](sim/globals.csv); everything: [summary.json](summary.json).")
 PY

@@ -39,6 +39,10 @@ class VolumeMonitor {
   [[nodiscard]] virtual double pressure(double t) const = 0;                 ///< Pa (0 if none applied)
   /// The cardiac phase of a cavity with a circulation ("filling", "ejection", ...); "" otherwise.
   [[nodiscard]] virtual std::string phase() const { return {}; }
+  /// Extra globals.csv columns of the cavity (written as NAME_column after its volume and
+  /// pressure): names fixed for the run, values of the last accepted step.
+  [[nodiscard]] virtual std::vector<std::string> column_names() const { return {}; }
+  [[nodiscard]] virtual std::vector<double> column_values() const { return {}; }
   /// Beat metrics known to the cavity (a circulation's valve-event values, SI, summary.json
   /// keys); empty by default, when summary.json falls back to the volume extrema.
   [[nodiscard]] virtual std::vector<std::pair<std::string, double>> metrics() const { return {}; }

@@ -276,7 +276,10 @@ std::string ResultsWriter::globals_header() const {
   std::ostringstream h;
   h << "step,t,dt,kinetic_energy,total_volume,volume_change,element_volume_change_max,barycentre_x,barycentre_y,"
        "barycentre_z";
-  for (const auto& c : model_.cavities) h << ',' << c->name() << "_volume," << c->name() << "_pressure";
+  for (const auto& c : model_.cavities) {
+    h << ',' << c->name() << "_volume," << c->name() << "_pressure";
+    for (const std::string& col : c->column_names()) h << ',' << c->name() << '_' << col;
+  }
   h << ",force_evaluations,rejected_steps,abm3_error,newton_iterations,linear_iterations,wall_time\n";
   return h.str();
 }
@@ -446,6 +449,7 @@ void ResultsWriter::write_globals(const State& s, const GlobalsRow& row) {
     }
     e.p_max = first ? cp : std::max(e.p_max, cp);
     globals_ << ',' << cv << ',' << cp;
+    for (const double v : c->column_values()) globals_ << ',' << v;
   }
   globals_ << ',' << row.report.evaluations << ',' << row.report.rejected << ',' << row.report.error << ','
            << row.report.newton_iterations << ',' << row.report.linear_iterations << ',' << row.wall_seconds << '\n';

@@ -37,6 +37,19 @@ class ConstraintMonitor final : public VolumeMonitor {
   [[nodiscard]] std::string phase() const override {
     return term_->circulation() != nullptr ? phase_name(term_->circulation()->phase()) : std::string();
   }
+  /// With a circulation: aortic_pressure (Pa), atrial_pressure (Pa), outflow (m^3/s, > 0 into
+  /// the aorta, < 0 filling) of the last step, and phase (0 filling, 1 isovolumic contraction,
+  /// 2 ejection, 3 isovolumic relaxation; the phase after the step).
+  [[nodiscard]] std::vector<std::string> column_names() const override {
+    if (term_->circulation() == nullptr) return {};
+    return {"aortic_pressure", "atrial_pressure", "outflow", "phase"};
+  }
+  [[nodiscard]] std::vector<double> column_values() const override {
+    const Circulation* c = term_->circulation();
+    if (c == nullptr) return {};
+    const Circulation::Haemodynamics& h = c->last_step();
+    return {h.aortic_pressure, h.atrial_pressure, h.outflow, static_cast<double>(static_cast<int>(c->phase()))};
+  }
   [[nodiscard]] std::vector<std::pair<std::string, double>> metrics() const override {
     return term_->circulation() != nullptr ? term_->circulation()->metrics()
                                            : std::vector<std::pair<std::string, double>>{};

@@ -41,6 +41,8 @@ Circulation::Circulation(CirculationSettings settings, double v_initial, const s
     : set_(std::move(settings)), wk_(set_.windkessel, what + ".windkessel"), v_prev_(v_initial) {
   if (!(set_.contraction_onset >= 0.0)) throw InputError(what + ".contraction_onset must be >= 0 s");
   if (!(set_.period >= 0.0)) throw InputError(what + ".period must be >= 0 s (0: one beat)");
+  last_.aortic_pressure = wk_.compliance_pressure();
+  last_.atrial_pressure = set_.atrial_pressure(0.0);
 }
 
 CavityCondition Circulation::condition(double t1, double h) const {
@@ -69,7 +71,11 @@ void Circulation::end_step(double t, double h, double v, double p) {
   const double dv = v - v_prev_;
   const double q = h > 0.0 ? -dv / h : 0.0;
   // The Windkessel sees the outflow only while the aortic valve is open.
-  wk_.advance(h, phase_ == CardiacPhase::Ejection ? q : 0.0);
+  const bool ejecting = phase_ == CardiacPhase::Ejection;
+  wk_.advance(h, ejecting ? q : 0.0);
+  last_.outflow = q;
+  last_.atrial_pressure = set_.atrial_pressure(t);
+  last_.aortic_pressure = wk_.compliance_pressure() + (ejecting ? wk_.parameters().characteristic_impedance * q : 0.0);
   peak_ = std::max(peak_, p);
   beat_peak_ = std::max(beat_peak_, p);
   if (phase_ == CardiacPhase::IsovolumicContraction || phase_ == CardiacPhase::IsovolumicRelaxation)

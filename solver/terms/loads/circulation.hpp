@@ -87,6 +87,18 @@ class Circulation {
   /// the Windkessel and switches the phase.
   void end_step(double t, double h, double v, double p);
 
+  /// The haemodynamics of the last accepted step (globals.csv columns; SI): the outflow
+  /// Q = -(V - V_prev)/h (> 0 ejecting, < 0 filling), the aortic pressure P_ao = P_c + Z_c Q
+  /// while the aortic valve is open and P_c while it is closed, the atrial pressure P_at(t).
+  /// Before the first step: no flow, P_c(0) and P_at(0). Derived from the step, so not part of
+  /// the checkpoint (every globals row but the first is written after a step).
+  struct Haemodynamics {
+    double outflow = 0.0;          ///< m^3/s
+    double aortic_pressure = 0.0;  ///< Pa
+    double atrial_pressure = 0.0;  ///< Pa
+  };
+  [[nodiscard]] const Haemodynamics& last_step() const { return last_; }
+
   /// Valve events so far: (t in s, "mitral_closes" | "aortic_opens" | "aortic_closes" | "mitral_opens").
   [[nodiscard]] const std::vector<std::pair<double, std::string>>& events() const { return events_; }
   /// Beat metrics (SI, keys as in summary.json): edv_m3, edp_Pa, esv_m3, esp_Pa, stroke_volume_m3,
@@ -123,6 +135,7 @@ class Circulation {
   double beat_peak_ = 0;  ///< peak pressure since the last mitral closure
   int completed_ = 0;
   std::vector<BeatRecord> beats_;
+  Haemodynamics last_;
 };
 
 }  // namespace adamss::solver

@@ -194,6 +194,17 @@ TEST(CavityConstraint, WindkesselEjectionIsCoupledImplicitly) {
       EXPECT_NEAR(p, rel.a + rel.b * q, 1e-4 * std::max(1.0, p)) << "step " << i;
     }
     for (auto& t : sc.model.terms) t->end_step({s.x, s.v, s.t}, h);
+    // The globals columns of the step (Circulation::last_step): the outflow is -dV/h, and with
+    // the aortic valve open the aortic pressure P_c + Z_c Q equals the cavity pressure.
+    const auto& hd = term->circulation()->last_step();
+    EXPECT_NEAR(hd.outflow, -(v - v_prev) / h, 1e-12 * std::abs(v_prev) / h) << "step " << i;
+    if (ejecting) EXPECT_NEAR(hd.aortic_pressure, p, 1e-4 * std::max(1.0, p)) << "step " << i;
+    const std::vector<double> cols = cav.column_values();
+    ASSERT_EQ(cols.size(), 4u);
+    EXPECT_EQ(cols[0], hd.aortic_pressure);
+    EXPECT_EQ(cols[2], hd.outflow);
+    EXPECT_EQ(cols[3], static_cast<double>(static_cast<int>(term->circulation()->phase())));
   }
   EXPECT_GE(ejection_steps, 3);
+  EXPECT_EQ(cav.column_names(), (std::vector<std::string>{"aortic_pressure", "atrial_pressure", "outflow", "phase"}));
 }
