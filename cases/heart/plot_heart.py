@@ -9,13 +9,22 @@ OUT/scar/globals.csv when the scarred run exists), in the units cardiologists re
                          (ml) against time, the four phases shaded, valve events marked
                          (MC mitral closes, AO aortic opens, AC aortic closes, MO mitral opens)
   pv_loop_scar_mmhg.png/.svg  healthy and scarred loops (when OUT/scar exists)
+  bullseye.png/.svg      AHA 17-segment bull's-eye of the fibre strain from end diastole to end
+                         systole of the last beat (frames nearest the mitral and aortic closures),
+                         with the mean over the scar segment and over the remote wall when the mesh
+                         has a `scar` cell field; bullseye_scar for the scarred run;
+                         regional_strain.json holds the numbers
 
     /usr/bin/python3 cases/heart/plot_heart.py OUT [SIM]
 SIM: the healthy run's folder (default OUT/sim). Needs numpy and matplotlib (Debian
 python3-numpy, python3-matplotlib). Exits non-zero when a column is missing or a plot was not
 written (ctest case.heart.plots runs it on case.heart.quick's results)."""
+import json
 import os
+import re
+import struct
 import sys
+import xml.etree.ElementTree as ET
 
 import matplotlib
 
@@ -122,18 +131,144 @@ def scar_loops(g, s, out):
     save(fig, out, "pv_loop_scar_mmhg")
 
 
+def read_vtu(path):
+    """The appended arrays of an adamss frame: {name: array of shape (n, components)}."""
+    raw = open(path, "rb").read()
+    start = raw.index(b'<AppendedData encoding="raw">')
+    base = raw.index(b"_", start) + 1
+    arrays = {}
+    for m in re.finditer(r'<DataArray type="(\w+)" Name="([^"]+)" NumberOfComponents="(\d+)" format="appended" '
+                         r'offset="(\d+)"/>', raw[:start].decode()):
+        typ, name, comps, off = m.group(1), m.group(2), int(m.group(3)), int(m.group(4))
+        nbytes = struct.unpack_from("<Q", raw, base + off)[0]
+        dtype = {"Float64": "<f8", "Int64": "<i8", "Int32": "<i4", "UInt8": "u1"}[typ]
+        a = np.frombuffer(raw, dtype=dtype, count=nbytes // np.dtype(dtype).itemsize, offset=base + off + 8)
+        arrays[name] = a.reshape(-1, comps)
+    return arrays
+
+
+def frame_at(sim, t):
+    """The frame of sim/series.pvd nearest to time t: (its time, its arrays)."""
+    series = ET.parse(os.path.join(sim, "series.pvd")).getroot().iter("DataSet")
+    best = min(((float(d.get("timestep")), d.get("file")) for d in series), key=lambda tf: abs(tf[0] - t))
+    return best[0], read_vtu(os.path.join(sim, best[1]))
+
+
+def aha_segments(points, conn):
+    """AHA 17-segment index (1..17) of each element from its reference centroid. The long axis is
+    z (base plane at the largest z, apex at the smallest): basal, mid, apical thirds down to 90 %
+    of the length, apex cap (17) below. Around the axis, anterior = +y and septal = -x (an LV-only
+    model has no septum: the convention fixes where it would be): basal and mid rings of six 60 deg
+    segments starting with anterior (1 / 7) counter-clockwise seen from the apex, apical ring of
+    four 90 deg segments (13 anterior, 14 septal, 15 inferior, 16 lateral)."""
+    c = points[conn].mean(axis=1)
+    z0, z1 = points[:, 2].max(), points[:, 2].min()
+    depth = (z0 - c[:, 2]) / (z0 - z1)
+    theta = np.degrees(np.arctan2(c[:, 1] - points[:, 1].mean(), c[:, 0] - points[:, 0].mean()))
+    seg = np.full(len(c), 17)
+    six = (np.floor(np.mod(theta - 60.0, 360.0) / 60.0)).astype(int)
+    four = (np.floor(np.mod(theta - 45.0, 360.0) / 90.0)).astype(int)
+    seg[depth < 0.9] = 13 + four[depth < 0.9]
+    seg[depth < 0.65] = 7 + six[depth < 0.65]
+    seg[depth < 0.35] = 1 + six[depth < 0.35]
+    return seg
+
+
+def last_beat_times(g):
+    """End diastole (the last mitral closure) and end systole (the aortic closure after it), s."""
+    phase, t = g["lv_phase"].astype(int), g["t"]
+    mc = [t[i] for i in range(1, len(t)) if phase[i - 1] == 0 and phase[i] == 1]
+    ac = [t[i] for i in range(1, len(t)) if phase[i - 1] == 2 and phase[i] == 3]
+    if not mc or not ac or ac[-1] < mc[-1]:
+        return None
+    return mc[-1], ac[-1]
+
+
+def regional_strain(sim, g):
+    """Fibre strain from end diastole to end systole per element (lambda_ES / lambda_ED - 1, the
+    frames' fibre_stretch nearest to the valve events), its AHA segments, and the scar field of
+    the frames when the mesh has one."""
+    times = last_beat_times(g)
+    if times is None:
+        return None
+    (t_ed, ed), (t_es, es) = frame_at(sim, times[0]), frame_at(sim, times[1])
+    strain = es["fibre_stretch"][:, 0] / ed["fibre_stretch"][:, 0] - 1.0
+    conn = ed["connectivity"][:, 0].reshape(len(strain), -1)
+    seg = aha_segments(ed["Points"], conn)
+    scar = ed["scar"][:, 0] > 0.5 if "scar" in ed else None
+    return {"t_ed": t_ed, "t_es": t_es, "strain": strain, "segment": seg, "scar": scar}
+
+
+def bullseye(r, out, name, title):
+    """AHA bull's-eye of the mean fibre strain per segment (%), anterior at the top, septal left."""
+    from matplotlib.patches import Wedge
+    means = {k: 100.0 * r["strain"][r["segment"] == k].mean() for k in range(1, 18) if (r["segment"] == k).any()}
+    lim = max(5.0, max(abs(v) for v in means.values()))
+    cmap, norm = plt.get_cmap("RdBu_r"), matplotlib.colors.Normalize(-lim, lim)
+    fig, ax = plt.subplots(figsize=(5.2, 4.6))
+    rings = {1: (3.0, 4.0, 6, 60.0), 7: (2.0, 3.0, 6, 60.0), 13: (1.0, 2.0, 4, 45.0)}
+    for first, (r0, r1, n, start) in rings.items():
+        width = 360.0 / n
+        for k in range(n):
+            segment, a0 = first + k, start + k * width
+            value = means.get(segment)
+            ax.add_patch(Wedge((0, 0), r1, a0, a0 + width, width=r1 - r0, ec="k", lw=0.8,
+                               fc="0.85" if value is None else cmap(norm(value))))
+            mid = np.radians(a0 + width / 2)
+            label = "%d\n%s" % (segment, "-" if value is None else "%.1f" % value)
+            ax.text(0.5 * (r0 + r1) * np.cos(mid), 0.5 * (r0 + r1) * np.sin(mid), label, ha="center", va="center",
+                    fontsize=7)
+    v17 = means.get(17)
+    ax.add_patch(matplotlib.patches.Circle((0, 0), 1.0, ec="k", lw=0.8, fc="0.85" if v17 is None else cmap(norm(v17))))
+    ax.text(0, 0, "17\n%s" % ("-" if v17 is None else "%.1f" % v17), ha="center", va="center", fontsize=7)
+    ax.set_xlim(-4.3, 4.3)
+    ax.set_ylim(-4.3, 4.3)
+    ax.set_aspect("equal")
+    ax.axis("off")
+    ax.text(0, 4.15, "anterior", ha="center", fontsize=8)
+    ax.text(-4.25, 0, "septal", ha="center", va="center", rotation=90, fontsize=8)
+    fig.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap), ax=ax, shrink=0.8,
+                 label="fibre strain ED to ES (%)")
+    text = title + "\nED t = %.0f ms, ES t = %.0f ms" % (1e3 * r["t_ed"], 1e3 * r["t_es"])
+    if r["scar"] is not None and r["scar"].any():
+        text += "\nscar %.1f %%, remote %.1f %%" % (100 * r["strain"][r["scar"]].mean(),
+                                                  100 * r["strain"][~r["scar"]].mean())
+    ax.set_title(text, fontsize=9)
+    save(fig, out, name)
+    return means
+
+
 def main(out, sim=None):
     g = read_globals(os.path.join(sim or os.path.join(out, "sim"), "globals.csv"))
     for col in ("lv_volume", "lv_pressure", "lv_aortic_pressure", "lv_atrial_pressure", "lv_phase"):
         if col not in g:
             sys.exit("plot_heart.py: %s/sim/globals.csv has no column %s" % (out, col))
+    sim = sim or os.path.join(out, "sim")
     pv_loop(g, out)
     wiggers(g, out)
     written = ["pv_loop_mmhg", "wiggers"]
+    regional = {}
+    r = regional_strain(sim, g)
+    if r is not None:
+        regional["healthy"] = {"segments_percent": bullseye(r, out, "bullseye", "healthy")}
+        if r["scar"] is not None and r["scar"].any():
+            regional["healthy"]["scar_region_percent"] = 100 * r["strain"][r["scar"]].mean()
+            regional["healthy"]["remote_percent"] = 100 * r["strain"][~r["scar"]].mean()
+        written.append("bullseye")
     scar = os.path.join(out, "scar", "globals.csv")
     if os.path.exists(scar):
-        scar_loops(g, read_globals(scar), out)
+        gs = read_globals(scar)
+        scar_loops(g, gs, out)
         written.append("pv_loop_scar_mmhg")
+        rs = regional_strain(os.path.join(out, "scar"), gs)
+        if rs is not None:
+            regional["scar"] = {"segments_percent": bullseye(rs, out, "bullseye_scar", "apical-anterior scar")}
+            if rs["scar"] is not None and rs["scar"].any():
+                regional["scar"]["scar_region_percent"] = 100 * rs["strain"][rs["scar"]].mean()
+                regional["scar"]["remote_percent"] = 100 * rs["strain"][~rs["scar"]].mean()
+            written.append("bullseye_scar")
+    with open(os.path.join(out, "regional_strain.json"), "w") as f:
+        json.dump(regional, f, indent=2)
     for n in written:
         for ext in ("png", "svg"):
             if os.path.getsize(os.path.join(out, n + "." + ext)) == 0:

@@ -96,6 +96,12 @@ print("\n![PV loops in mmHg, with the passive inflation (EDPVR)](pv_loop_mmhg.pn
       "![Wiggers diagram: LV, aortic and atrial pressure, LV volume, phases and valve events](wiggers.png)\n\n"
       "Also: [PV loop in kPa](pv_loop.png), [pressure and volume against time](pressure_volume_time.png); "
       "SVG versions beside the PNGs.\n")
+import os
+rs = json.load(open(out + "/regional_strain.json")) if os.path.exists(out + "/regional_strain.json") else {}
+if "healthy" in rs:
+    print("Regional fibre strain from end diastole to end systole of the last beat, AHA 17 segments "
+          "(anterior = +y, septal = -x of the phantom; [regional_strain.json](regional_strain.json)):\n")
+    print("![bull's-eye, healthy](bullseye.png)\n")
 if scar:
     z = json.load(open(out + "/scar/summary.json"))
     d = z["cavities"]["lv"]
@@ -114,6 +120,12 @@ if scar:
     print(f"\nChange in ejection fraction: {100 * (ef_s - ef_h):+.1f} percentage points "
           f"({100 * (ef_s / ef_h - 1):+.1f} % relative).\n")
     print("![PV loops, healthy and scar (mmHg)](pv_loop_scar_mmhg.png)\n")
+    if "scar" in rs and "scar_region_percent" in rs["scar"]:
+        h, sc = rs["healthy"], rs["scar"]
+        print("| fibre strain ED to ES | healthy | scar |\n|---|---|---|")
+        print(f"| scar segment | {h.get('scar_region_percent', float('nan')):.1f} % | {sc['scar_region_percent']:.1f} % |")
+        print(f"| remote wall | {h.get('remote_percent', float('nan')):.1f} % | {sc['remote_percent']:.1f} % |\n")
+        print("![bull's-eye, scar](bullseye_scar.png)\n")
 print("Fields over time (displacement, fibre_stretch, active_tension, J): open [sim/series.pvd](sim/series.pvd) "
       "in ParaView. Every step: [sim/globals.csv](sim/globals.csv); everything: [summary.json](summary.json).")
 PY

@@ -379,6 +379,9 @@ void ResultsWriter::write_frame(const State& s, const Eigen::Matrix3Xd& f) {
   a.point_vectors["force"] = f;
   a.cell_scalars["J"] = element_volume_ratio(mesh, s.x, element_volume0_);
   add_strain_fields(mesh, s.x, a);
+  // The mesh's own cell fields (a scar segment, the transmural coordinate, ...), so a frame shows
+  // where the scar is; a term's field of the same name takes precedence.
+  for (const auto& [name, v] : mesh.cell_scalars) a.cell_scalars.emplace(name, v);
   const StateView view{s.x, s.v, s.t};
   for (const auto& term : model_.terms) term->add_cell_fields(view, mesh.element_count(), a.cell_scalars);
   a.field_scalars["TimeValue"] = s.t;

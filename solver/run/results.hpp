@@ -7,7 +7,7 @@
 //                         once), velocity (m/s), force (N, the total of all terms), cell data
 //                         label, J (V/V0), the strain fields of add_strain_fields (Green-Lagrange
 //                         strain, in the fibre frame too, fibre/sheet/normal reference and
-//                         current, fibre stretch) and the terms' own cell fields (active_tension,
+//                         current, fibre stretch), the mesh cell fields (scar) and the terms' own cell fields (active_tension,
 //                         Pa); field data TimeValue (s) and per cavity pressure (Pa, mmHg),
 //                         volume (ml) and phase
 //   globals.csv           one row per logged step: step, t, dt, kinetic energy, total volume,
