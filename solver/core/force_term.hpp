@@ -66,6 +66,11 @@ class ForceTerm {
   /// absent) and the term writes its elements' values. The default adds nothing.
   virtual void add_cell_fields(const StateView& /*s*/, std::size_t /*element_count*/,
                                std::map<std::string, Eigen::VectorXd>& /*fields*/) const {}
+  /// Per-element 3 x 3 tensors for the frames (9 x element_count, row by row; a term adds into an
+  /// existing array of that name, so the stresses of several laws on one element sum): the law
+  /// terms write stress_pk2 and stress_cauchy (Pa, global frame) and stress_pk2_fibre_frame.
+  virtual void add_cell_tensors(const StateView& /*s*/, std::size_t /*element_count*/,
+                                std::map<std::string, Eigen::Matrix<double, 9, Eigen::Dynamic>>& /*fields*/) const {}
   /// Checkpoint/restart (solver/core/state_archive.hpp): writes the term's internal state -- whatever
   /// end_step or an integrator changes between steps (adaptive stiffnesses, a multiplier) -- into
   /// `archive` (a prefix of its own), so that load_state on a freshly built term of the same scene

@@ -68,6 +68,12 @@ class StencilTerm final : public ForceTerm {
     if constexpr (requires { kernel_.add_cell_fields(s, element_count, fields); })
       kernel_.add_cell_fields(s, element_count, fields);
   }
+  /// Forwards to `kernel.add_cell_tensors(s, element_count, fields)` when the kernel has tensor fields.
+  void add_cell_tensors(const StateView& s, std::size_t element_count,
+                        std::map<std::string, Eigen::Matrix<double, 9, Eigen::Dynamic>>& fields) const override {
+    if constexpr (requires { kernel_.add_cell_tensors(s, element_count, fields); })
+      kernel_.add_cell_tensors(s, element_count, fields);
+  }
   [[nodiscard]] std::string describe() const override { return std::to_string(kernel_.size()) + " items"; }
 
   [[nodiscard]] double energy(const StateView& s) const override {

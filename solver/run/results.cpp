@@ -383,7 +383,10 @@ void ResultsWriter::write_frame(const State& s, const Eigen::Matrix3Xd& f) {
   // where the scar is; a term's field of the same name takes precedence.
   for (const auto& [name, v] : mesh.cell_scalars) a.cell_scalars.emplace(name, v);
   const StateView view{s.x, s.v, s.t};
-  for (const auto& term : model_.terms) term->add_cell_fields(view, mesh.element_count(), a.cell_scalars);
+  for (const auto& term : model_.terms) {
+    term->add_cell_fields(view, mesh.element_count(), a.cell_scalars);
+    term->add_cell_tensors(view, mesh.element_count(), a.cell_tensors);
+  }
   a.field_scalars["TimeValue"] = s.t;
   for (const auto& c : model_.cavities) {
     const double p = c->pressure(s.t), v = c->volume(s.x);

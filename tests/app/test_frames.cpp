@@ -137,6 +137,80 @@ run: {t_end: 1 s}
   }
 }
 
+// The law's stresses in the frame (FEM element, 8 Gauss points, all equal here): a single hexahedron stretched
+// 10 % along z with its lateral faces free (bottom face held in z only, two corners pinned
+// against rigid motion) deforms homogeneously, so sigma = F S F^T / J with F from the nodes,
+// S_fibre = Q^T S Q, the lateral Cauchy stresses vanish, and sigma_zz times the current face
+// area equals the reaction force that summary.json reports on the pulled face (the support pulls
+// the face up: + z).
+TEST(Frames, TheLawStressesAgreeWithTheReactionOfAUniaxialStretch) {
+  const fs::path dir = scratch_dir("frames_stress");
+  const fs::path scene = write_scene(dir, R"(
+name: one_hex_stress
+mesh: {phantom: slab, slab_size: [1, 1, 1], voxel_size: 1 mm, topology: hex, fibre: [0, 0, 1], sheet: [1, 0, 0]}
+materials:
+  - name: m
+    labels: [1]
+    density: 1000 kg/m^3
+    terms:
+      - fem_element: {law: neo_hookean, parameters: {E: 10 kPa, nu: 0.3}}
+boundary:
+  - select: {region: {plane: {point: [0, 0, 0], normal: [0, 0, 1]}}}
+    fix: z
+  - select: {region: {box: {min: [-0.1 mm, -0.1 mm, -0.1 mm], max: [0.1 mm, 0.1 mm, 0.1 mm]}}}
+    fix: xyz
+  - select: {region: {box: {min: [0.9 mm, -0.1 mm, -0.1 mm], max: [1.1 mm, 0.1 mm, 0.1 mm]}}}
+    fix: y
+  - select: {region: {plane: {point: [0, 0, 1 mm], normal: [0, 0, 1], tolerance: 0.001 mm}}}
+    control: {axis: z, displacement: {ramp: {to: 0.1 mm, duration: 1 s}}}
+integrator: {type: static, dt: 0.5 s, newton_rtol: 1e-12}
+run: {t_end: 1 s}
+)");
+  const fs::path out = dir / "out";
+  const auto r = run_adamss("run " + scene.string() + " -o " + out.string() + cache_arg(dir) + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto grid = read_frame(last_frame(out));
+  vtkCellData* cd = grid->GetCellData();
+  for (const char* name : {"stress_pk2", "stress_pk2_fibre_frame", "stress_cauchy"}) {
+    ASSERT_NE(cd->GetArray(name), nullptr) << name;
+    ASSERT_EQ(cd->GetArray(name)->GetNumberOfComponents(), 9) << name;
+  }
+  const auto tensor = [&](const char* name) {
+    Eigen::Matrix3d m;
+    for (int rr = 0; rr < 3; ++rr)
+      for (int c = 0; c < 3; ++c) m(rr, c) = cd->GetArray(name)->GetComponent(0, 3 * rr + c);
+    return m;
+  };
+  const Eigen::Matrix3d S = tensor("stress_pk2"), Sf = tensor("stress_pk2_fibre_frame"),
+                        sigma = tensor("stress_cauchy");
+  Eigen::Matrix<double, 3, 8> X, x;
+  vtkPointData* pd = grid->GetPointData();
+  for (int a = 0; a < 8; ++a) {
+    for (int c = 0; c < 3; ++c) {
+      X(c, a) = grid->GetPoint(a)[c];
+      x(c, a) = X(c, a) + pd->GetArray("displacement")->GetComponent(a, c);
+    }
+  }
+  const double h = 1e-3;
+  Eigen::Matrix3d F = Eigen::Matrix3d::Zero();
+  for (int a = 0; a < 8; ++a) F += x.col(a) * ((2.0 * X.col(a) / h).array() - 1.0).matrix().transpose() / (4.0 * h);
+  const double scale = std::abs(sigma(2, 2));
+  ASSERT_GT(scale, 100.0);  // ~1 kPa at 10 % with E = 10 kPa
+  EXPECT_LT((sigma - F * S * F.transpose() / F.determinant()).cwiseAbs().maxCoeff(), 1e-9 * scale);
+  Eigen::Matrix3d Q;
+  Q << 0, 1, 0, 0, 0, 1, 1, 0, 0;
+  EXPECT_LT((Sf - Q.transpose() * S * Q).cwiseAbs().maxCoeff(), 1e-9 * scale);
+  EXPECT_LT(std::abs(sigma(0, 0)), 1e-6 * scale);  // free lateral faces
+  EXPECT_LT(std::abs(sigma(1, 1)), 1e-6 * scale);
+  const double area = F(0, 0) * F(1, 1) * h * h;  // current top face (homogeneous, no shear)
+  const auto summary = read_summary(out);
+  double reaction = 0.0;
+  for (const auto& entry : summary["reactions"]) {
+    if (entry["entry"] == "boundary[3]") reaction = entry["reaction_force_N"][2].get<double>();
+  }
+  EXPECT_NEAR(reaction, sigma(2, 2) * area, 1e-6 * scale * area) << "reaction " << reaction << " N";
+}
+
 // The LV with a circulation: every frame has the time and the cavity's pressure (Pa and mmHg),
 // volume (ml) and phase as field data, equal to globals.csv's last row in the last frame.
 TEST(Frames, HeartFramesCarryTimeAndTheCavityAsFieldData) {
@@ -176,8 +250,11 @@ TEST(Frames, HeartFramesCarryTimeAndTheCavityAsFieldData) {
   for (std::stringstream rs(row); std::getline(rs, line, ',');) values.push_back(line);
   ASSERT_EQ(names.size(), values.size());
   for (std::size_t i = 0; i < names.size(); ++i) {
-    if (names[i] == "lv_volume")
+    if (names[i] == "lv_volume") {
       EXPECT_NEAR(fd->GetArray("lv_volume_ml")->GetTuple1(0), std::stod(values[i]) * 1e6, 1e-6);
-    if (names[i] == "lv_pressure") EXPECT_NEAR(p, std::stod(values[i]), 1e-6 * std::max(1.0, std::abs(p)));
+    }
+    if (names[i] == "lv_pressure") {
+      EXPECT_NEAR(p, std::stod(values[i]), 1e-6 * std::max(1.0, std::abs(p)));
+    }
   }
 }

@@ -16,6 +16,44 @@ double GradientLawKernel<K>::energy(std::size_t i, const Mat3N<K>& x, const Mat3
 }
 
 template <int K>
+void GradientLawKernel<K>::add_cell_tensors(
+    const StateView& s, std::size_t element_count,
+    std::map<std::string, Eigen::Matrix<double, 9, Eigen::Dynamic>>& fields) const {
+  using Tensors = Eigen::Matrix<double, 9, Eigen::Dynamic>;
+  const auto n = static_cast<Eigen::Index>(element_count);
+  const auto field = [&](const char* name) -> Tensors& {
+    Tensors& t = fields[name];
+    if (t.cols() != n) t = Tensors::Zero(9, n);
+    return t;
+  };
+  Tensors &pk2 = field("stress_pk2"), &pk2f = field("stress_pk2_fibre_frame"), &cauchy = field("stress_cauchy");
+  const auto put = [](Tensors& t, Eigen::Index e, const Eigen::Matrix3d& m) {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) t(3 * r + c, e) += m(r, c);
+  };
+  const auto np = static_cast<std::size_t>(points);
+  Mat3N<K> x;
+  for (std::size_t i = 0; i < elements.size() && i < element_index.size(); ++i) {
+    for (int a = 0; a < K; ++a) x.col(a) = s.x.col(elements[i][static_cast<std::size_t>(a)]);
+    double weight = 0.0;
+    Eigen::Matrix3d sf = Eigen::Matrix3d::Zero(), sg = Eigen::Matrix3d::Zero(), sc = Eigen::Matrix3d::Zero();
+    for (std::size_t p = i * np; p < (i + 1) * np; ++p) {
+      const Eigen::Matrix3d F = deformation_gradient(p, x);
+      const Eigen::Matrix3d Sf = law->stress(fibre_strain(p, F));
+      const Eigen::Matrix3d S = materials::from_fibre_frame(frame[p], Sf);
+      sf += volume0[p] * Sf;
+      sg += volume0[p] * S;
+      sc += volume0[p] * (F * S * F.transpose()) / F.determinant();
+      weight += volume0[p];
+    }
+    const auto e = static_cast<Eigen::Index>(element_index[i]);
+    put(pk2f, e, sf / weight);
+    put(pk2, e, sg / weight);
+    put(cauchy, e, sc / weight);
+  }
+}
+
+template <int K>
 void GradientLawKernel<K>::forces(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& /*v*/, double /*t*/,
                                   Mat3N<K>& f) const {
   const auto np = static_cast<std::size_t>(points);
@@ -103,6 +141,7 @@ GradientLawKernel<K> make_virtual_hex_kernel(const preprocess::Mesh& mesh, const
     const Index* n = mesh.element(frames.element[k]);
     for (int a = 0; a < K; ++a) st[static_cast<std::size_t>(a)] = n[a];
     kern.elements.push_back(st);
+    kern.element_index.push_back(frames.element[k]);
     kern.gradient.push_back(grads[k]);
     kern.frame.push_back(frames.frame[k]);
     kern.volume0.push_back(frames.volume0[k]);

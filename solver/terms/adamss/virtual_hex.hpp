@@ -76,6 +76,7 @@ struct GradientLawKernel {
   std::vector<Eigen::Matrix3d> frame;                 ///< B = [f s n], fibre frame -> global, per point
   std::vector<double> volume0;                        ///< V0 (m^3), the point's weight, per point
   std::shared_ptr<const materials::Law> law;
+  std::vector<std::size_t> element_index;    ///< the mesh element of each item (frame output)
   std::string label = "virtual_hexahedron";  ///< term name (fem_element.hpp reuses the kernel)
 
   [[nodiscard]] std::string name() const { return label; }
@@ -92,6 +93,12 @@ struct GradientLawKernel {
   [[nodiscard]] double energy(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& v, double t) const;
   void forces(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& v, double t, Mat3N<K>& f) const;
   void jacobian(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& v, double t, MatJ<K>& dfdx, MatJ<K>& dfdv) const;
+  /// The law's stresses per element for the frames, averaged over the element's points with the
+  /// weights V0: the 2nd Piola-Kirchhoff stress S = B S_f B^T (stress_pk2, global frame), S_f
+  /// (stress_pk2_fibre_frame) and the Cauchy stress sigma = F S F^T / det F (stress_cauchy). Only
+  /// this law's part: a volume term's or penalty's pressure is not included.
+  void add_cell_tensors(const StateView& s, std::size_t element_count,
+                        std::map<std::string, Eigen::Matrix<double, 9, Eigen::Dynamic>>& fields) const;
 };
 
 extern template struct GradientLawKernel<4>;

@@ -63,6 +63,7 @@ GradientLawKernel<K> make_gauss_point_kernel(const preprocess::Mesh& mesh,
     }
     const Eigen::Matrix3d b = element_frame(mesh, e, label);
     kern.elements.push_back(st);
+    kern.element_index.push_back(e);
     for (int q = 0; q < kPoints; ++q) {
       Eigen::Matrix<double, K, 3> gamma;
       double w = 0.0;

@@ -198,7 +198,9 @@ TEST(CavityConstraint, WindkesselEjectionIsCoupledImplicitly) {
     // the aortic valve open the aortic pressure P_c + Z_c Q equals the cavity pressure.
     const auto& hd = term->circulation()->last_step();
     EXPECT_NEAR(hd.outflow, -(v - v_prev) / h, 1e-12 * std::abs(v_prev) / h) << "step " << i;
-    if (ejecting) EXPECT_NEAR(hd.aortic_pressure, p, 1e-4 * std::max(1.0, p)) << "step " << i;
+    if (ejecting) {
+      EXPECT_NEAR(hd.aortic_pressure, p, 1e-4 * std::max(1.0, p)) << "step " << i;
+    }
     const std::vector<double> cols = cav.column_values();
     ASSERT_EQ(cols.size(), 4u);
     EXPECT_EQ(cols[0], hd.aortic_pressure);
