@@ -14,9 +14,25 @@ numbers mean the hourglass patterns carry as much deformation as the physical st
 import re
 import struct
 import sys
+import zlib
 
 XI = [(-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1), (-1, -1, 1), (1, -1, 1), (1, 1, 1), (-1, 1, 1)]
 H = [[x * y, y * z, z * x, x * y * z] for (x, y, z) in XI]
+
+
+def appended_block(raw, at):
+    """The bytes of one appended array: zlib blocks (header [blocks, block size, last size,
+    compressed sizes...], UInt64) as adamss writes them, or one raw block [size] (older frames)."""
+    if b'compressor="vtkZLibDataCompressor"' not in raw[:4096]:
+        size = struct.unpack_from("<Q", raw, at)[0]
+        return raw[at + 8:at + 8 + size]
+    blocks = struct.unpack_from("<Q", raw, at)[0]
+    sizes = struct.unpack_from("<%dQ" % blocks, raw, at + 24)
+    out, pos = [], at + 24 + 8 * blocks
+    for size in sizes:
+        out.append(zlib.decompress(raw[pos:pos + size]))
+        pos += size
+    return b"".join(out)
 
 
 def read_vtu(path):
@@ -28,10 +44,9 @@ def read_vtu(path):
     for m in re.finditer(r'<DataArray type="(\w+)" Name="([^"]+)" NumberOfComponents="(\d+)" format="appended" '
                          r'offset="(\d+)"/>', head):
         typ, name, _, off = m.group(1), m.group(2), int(m.group(3)), int(m.group(4))
-        nbytes = struct.unpack_from("<Q", raw, base + off)[0]
         fmt = {"Float64": "d", "Int64": "q", "Int32": "i", "UInt8": "B"}[typ]
-        size = struct.calcsize(fmt)
-        arrays[name] = struct.unpack_from("<%d%s" % (nbytes // size, fmt), raw, base + off + 8)
+        block = appended_block(raw, base + off)
+        arrays[name] = struct.unpack("<%d%s" % (len(block) // struct.calcsize(fmt), fmt), block)
     return arrays
 
 

@@ -24,6 +24,7 @@ import os
 import re
 import struct
 import sys
+import zlib
 import xml.etree.ElementTree as ET
 
 import matplotlib
@@ -131,6 +132,21 @@ def scar_loops(g, s, out):
     save(fig, out, "pv_loop_scar_mmhg")
 
 
+def appended_block(raw, at):
+    """The bytes of one appended array: zlib blocks (header [blocks, block size, last size,
+    compressed sizes...], UInt64) as adamss writes them, or one raw block [size] (older frames)."""
+    if b'compressor="vtkZLibDataCompressor"' not in raw[:4096]:
+        size = struct.unpack_from("<Q", raw, at)[0]
+        return raw[at + 8:at + 8 + size]
+    blocks = struct.unpack_from("<Q", raw, at)[0]
+    sizes = struct.unpack_from("<%dQ" % blocks, raw, at + 24)
+    out, pos = [], at + 24 + 8 * blocks
+    for size in sizes:
+        out.append(zlib.decompress(raw[pos:pos + size]))
+        pos += size
+    return b"".join(out)
+
+
 def read_vtu(path):
     """The appended arrays of an adamss frame: {name: array of shape (n, components)}."""
     raw = open(path, "rb").read()
@@ -140,10 +156,8 @@ def read_vtu(path):
     for m in re.finditer(r'<DataArray type="(\w+)" Name="([^"]+)" NumberOfComponents="(\d+)" format="appended" '
                          r'offset="(\d+)"/>', raw[:start].decode()):
         typ, name, comps, off = m.group(1), m.group(2), int(m.group(3)), int(m.group(4))
-        nbytes = struct.unpack_from("<Q", raw, base + off)[0]
         dtype = {"Float64": "<f8", "Int64": "<i8", "Int32": "<i4", "UInt8": "u1"}[typ]
-        a = np.frombuffer(raw, dtype=dtype, count=nbytes // np.dtype(dtype).itemsize, offset=base + off + 8)
-        arrays[name] = a.reshape(-1, comps)
+        arrays[name] = np.frombuffer(appended_block(raw, base + off), dtype=dtype).reshape(-1, comps)
     return arrays
 
 
