@@ -18,6 +18,7 @@
 #include "common/error.hpp"
 #include "common/units.hpp"
 #include "preprocess/mesh/mesh_io.hpp"
+#include "preprocess/mesh/mesh_io_xdmf.hpp"
 #include "preprocess/pipeline/mesh_pipeline.hpp"
 
 namespace adamss::app {
@@ -313,6 +314,11 @@ void run_mesh(const MeshArgs& a) {
   const MeshOutputs out = output_paths(a);
   add_surface_options(a, req);
   check_outputs_against_inputs(a, req, out);
+  if (std::filesystem::path(out.h5).extension() == ".xdmf") {
+    throw InputError("-o: '" + out.h5 +
+                     "' ends in .xdmf, the name of the XDMF sidecar written beside the mesh; "
+                     "give the mesh file, e.g. mesh.h5");
+  }
   if (auto* rule = std::get_if<preprocess::RuleFibres>(&req.fibres)) rule->options = rule_options(a);
   req.on_fibres = print_fibres;
   // Header notes (unit assumed, scaling applied) and open cavities, on stderr as soon as found.
@@ -322,6 +328,8 @@ void run_mesh(const MeshArgs& a) {
 
   const auto t = Clock::now();
   write_mesh_h5(out.h5, b.mesh);
+  const std::string xdmf = std::filesystem::path(out.h5).replace_extension(".xdmf").string();
+  write_mesh_xdmf(xdmf, out.h5, b.mesh);
   if (!out.vtu.empty()) write_mesh_vtu(out.vtu, b.mesh, b.quality->element_volume, b.quality->element_min_dihedral);
   const double t_write = since(t);
 
@@ -332,7 +340,7 @@ void run_mesh(const MeshArgs& a) {
   std::cout << "  time: read " << s.read << " s, mesh " << s.mesh << " s, fibres " << s.fibres << " s, surfaces "
             << s.surfaces << " s, cell fields " << s.cell_fields << " s, checks " << s.checks << " s, write " << t_write
             << " s, total " << since(t_start) << " s\n"
-            << "wrote " << out.h5 << (out.vtu.empty() ? "" : " and " + out.vtu) << "\n";
+            << "wrote " << out.h5 << ", " << xdmf << (out.vtu.empty() ? "" : " and " + out.vtu) << "\n";
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "cli_runner.hpp"
 #include "preprocess/image/nifti_io.hpp"
@@ -280,4 +281,23 @@ TEST(Cli, InfoReadsVectorAndScalarImages) {
   EXPECT_DOUBLE_EQ(js["values"]["min"].get<double>(), 0.0);
   EXPECT_EQ(js["values"]["nonzero_voxels"].get<std::int64_t>(), scarred);
   EXPECT_EQ(js["values"]["nan_voxels"].get<std::int64_t>(), 1);
+}
+
+// mesh writes an XDMF sidecar beside mesh.h5 (read back by meshio in ctest python.xdmf); a mesh
+// name ending in .xdmf would be overwritten by its own sidecar and is refused before any work.
+TEST(Cli, MeshWritesAnXdmfSidecarAndRefusesAnXdmfName) {
+  const auto dir = scratch_dir("xdmf_sidecar");
+  const std::string img = (dir / "lv.nii").string();
+  ASSERT_EQ(run_adamss("phantom lv --voxel-size 2.5mm -o " + img).exit_code, 0);
+  auto r = run_adamss("mesh " + img + " --solid 1 --topology hex -o " + (dir / "m.h5").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream x(dir / "m.xdmf");
+  std::stringstream ss;
+  ss << x.rdbuf();
+  EXPECT_NE(ss.str().find("TopologyType=\"Hexahedron\""), std::string::npos) << ss.str();
+  EXPECT_NE(ss.str().find("m.h5:/nodes"), std::string::npos) << ss.str();
+  r = run_adamss("mesh " + img + " --solid 1 --topology hex -o " + (dir / "n.xdmf").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("ends in .xdmf"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "n.xdmf"));
 }
