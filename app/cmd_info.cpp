@@ -11,6 +11,7 @@
 #include "app/commands.hpp"
 #include "common/error.hpp"
 #include "preprocess/image/nifti_io.hpp"
+#include "preprocess/mesh/mesh_import.hpp"
 #include "preprocess/mesh/mesh_io.hpp"
 #include "preprocess/mesh/mesh_quality.hpp"
 #include "preprocess/surfaces/cavities.hpp"
@@ -146,7 +147,7 @@ json image_info(const std::string& path) {
 json mesh_info(const std::string& path) {
   using namespace preprocess;
   const auto t0 = Clock::now();
-  const Mesh mesh = read_mesh_h5(path);
+  const Mesh mesh = read_mesh_file(path);
   const double secs = std::chrono::duration<double>(Clock::now() - t0).count();
   const QualitySummary q = summarize_quality(mesh);
   std::map<std::int32_t, std::int64_t> hist;
@@ -317,10 +318,10 @@ void run_info(const InfoArgs& a) {
   json j;
   if (ends_with(a.file, ".nii") || ends_with(a.file, ".nii.gz")) {
     j = image_info(a.file);
-  } else if (ends_with(a.file, ".h5")) {
+  } else if (ends_with(a.file, ".h5") || ends_with(a.file, ".vtu")) {
     j = mesh_info(a.file);
   } else {
-    throw InputError("'" + a.file + "': unknown kind of file (expected .nii, .nii.gz or mesh .h5)");
+    throw InputError("'" + a.file + "': unknown kind of file (expected .nii, .nii.gz, mesh .h5 or a .vtu grid)");
   }
   if (a.as_json) {
     std::cout << j.dump(2) << "\n";

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "preprocess/mesh/mesh_import.hpp"
 #include "preprocess/mesh/mesh_io.hpp"
 #include "preprocess/meshers/box_mesh.hpp"
 #include "preprocess/meshers/ellipsoid_mesh.hpp"
@@ -114,13 +115,13 @@ preprocess::Mesh ellipsoid_mesh(SceneNode& node, std::string& source) {
   return mesh;
 }
 
-/// mesh: {file: mesh.h5}, relative to the scene's folder.
+/// mesh: {file: mesh.h5 or grid.vtu}, relative to the scene's folder.
 preprocess::Mesh file_mesh(SceneNode& node, const fs::path& base, std::string& source) {
   fs::path p = node.text("file");
   if (p.is_relative()) p = base / p;
   if (!fs::exists(p)) throw InputError(node.at("file") + ": mesh file '" + p.string() + "' does not exist");
   source = p.string();
-  return preprocess::read_mesh_h5(p);
+  return preprocess::read_mesh_file(p);
 }
 
 /// A phantom recipe's keys: what to mesh, and the text that names its cache file.

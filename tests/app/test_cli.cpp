@@ -296,6 +296,20 @@ TEST(Cli, MeshWritesAnXdmfSidecarAndRefusesAnXdmfName) {
   ss << x.rdbuf();
   EXPECT_NE(ss.str().find("TopologyType=\"Hexahedron\""), std::string::npos) << ss.str();
   EXPECT_NE(ss.str().find("m.h5:/nodes"), std::string::npos) << ss.str();
+  // The .vtu written beside it is a mesh a scene and info accept (preprocess/mesh/mesh_import.hpp).
+  r = run_adamss("info " + (dir / "m.vtu").string() + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("\"element_type\": \"hex8\""), std::string::npos) << r.output;
+  const std::filesystem::path scene = adamss::test::write_scene(
+      dir,
+      "name: v\nmesh: {file: m.vtu}\nmaterials:\n  - name: m\n    labels: [1]\n    density: 1000 kg/m^3\n"
+      "    terms:\n      - fem_element: {law: svk, parameters: {E: 10 kPa, nu: 0.3}}\n"
+      "boundary:\n  - select: {region: {plane: {point: [0, 0, 5 mm], normal: [0, 0, 1]}}}\n    fix: xyz\n"
+      "integrator: {type: static, dt: 1 ms}\nrun: {t_end: 1 ms}\n");
+  r = run_adamss("run " + scene.string() + " --check");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("scene v: "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(" hex8 elements"), std::string::npos) << r.output;
   r = run_adamss("mesh " + img + " --solid 1 --topology hex -o " + (dir / "n.xdmf").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("ends in .xdmf"), std::string::npos) << r.output;
