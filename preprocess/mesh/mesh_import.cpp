@@ -18,26 +18,11 @@
 
 #include "common/error.hpp"
 #include "preprocess/mesh/mesh_io.hpp"
+#include "preprocess/mesh/vtk_errors.hpp"
 
 namespace adamss::preprocess {
 
 namespace {
-
-/// Collects VTK's error messages (instead of VTK printing them) for one InputError.
-class ErrorText : public vtkCommand {
- public:
-  static ErrorText* New() { return new ErrorText; }
-  void Execute(vtkObject* /*caller*/, unsigned long /*event*/, void* data) override {
-    if (data == nullptr) return;
-    std::string text = static_cast<const char*>(data);
-    while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
-    if (const auto colon = text.rfind("): "); colon != std::string::npos) text = text.substr(colon + 3);
-    for (char& c : text) c = c == '\n' ? ' ' : c;
-    if (!message.empty()) message += "; ";
-    message += text;
-  }
-  std::string message;
-};
 
 /// The 3-component cell array `name` as a 3 x E matrix (0 columns when absent).
 Eigen::Matrix3Xd cell_vectors(vtkCellData* cd, const char* name, Eigen::Index e, const std::string& where) {
@@ -87,8 +72,8 @@ Mesh read_mesh_vtu(const std::filesystem::path& path) {
     }
   }
   vtkNew<vtkXMLUnstructuredGridReader> reader;
-  auto errors = vtkSmartPointer<ErrorText>::New();
-  auto executive_errors = vtkSmartPointer<ErrorText>::New();
+  auto errors = vtkSmartPointer<ErrorCatcher>::New();
+  auto executive_errors = vtkSmartPointer<ErrorCatcher>::New();
   reader->AddObserver(vtkCommand::ErrorEvent, errors);
   reader->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, executive_errors);
   reader->SetFileName(path.c_str());

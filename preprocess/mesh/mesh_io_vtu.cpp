@@ -26,6 +26,7 @@
 
 #include "common/error.hpp"
 #include "preprocess/mesh/mesh_io.hpp"
+#include "preprocess/mesh/vtk_errors.hpp"
 
 namespace adamss::preprocess {
 namespace {
@@ -33,23 +34,6 @@ namespace {
 namespace fs = std::filesystem;
 
 /// Captures a VTK object's error messages instead of letting them go to stderr.
-class ErrorCatcher : public vtkCommand {
- public:
-  static ErrorCatcher* New() { return new ErrorCatcher; }
-  void Execute(vtkObject* /*caller*/, unsigned long /*event*/, void* data) override {
-    if (data != nullptr) {
-      if (!message.empty()) message += "; ";
-      std::string text = static_cast<const char*>(data);
-      // VTK messages are multi-line ("ERROR: In file, line N\nclass (ptr): text\n"); keep the text.
-      while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
-      if (const auto colon = text.rfind("): "); colon != std::string::npos) text = text.substr(colon + 3);
-      std::replace(text.begin(), text.end(), '\n', ' ');
-      message += text;
-    }
-  }
-  std::string message;
-};
-
 /// vtkErrorCode::GetStringFromErrorCode lives in VTK::CommonMisc, which we do not link.
 std::string describe_vtk_error(unsigned long code) {
   switch (code) {

@@ -5,6 +5,7 @@
 
 #include "common/durable.hpp"
 #include "common/error.hpp"
+#include "common/xml.hpp"
 
 namespace adamss::preprocess {
 
@@ -21,31 +22,15 @@ std::string item(const std::string& h5, const std::string& path, std::size_t row
   return o.str();
 }
 
-std::string xml_name(const std::string& s) {
-  std::string out;
-  for (const char c : s) {
-    if (c == '&') {
-      out += "&amp;";
-    } else if (c == '<') {
-      out += "&lt;";
-    } else if (c == '"') {
-      out += "&quot;";
-    } else {
-      out += c;
-    }
-  }
-  return out;
-}
-
 }  // namespace
 
 void write_mesh_xdmf(const std::filesystem::path& xdmf, const std::filesystem::path& h5, const Mesh& mesh) {
   const std::size_t n = mesh.node_count(), e = mesh.element_count();
   const int k = nodes_per_element(mesh.type);
-  const std::string file = xml_name(h5.filename().string());
+  const std::string file = xml_escape(h5.filename().string());
   std::ostringstream o;
   o << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n"
-    << "    <Grid Name=\"" << xml_name(h5.stem().string()) << "\" GridType=\"Uniform\">\n"
+    << "    <Grid Name=\"" << xml_escape(h5.stem().string()) << "\" GridType=\"Uniform\">\n"
     << "      <Topology TopologyType=\"" << (mesh.type == ElementType::Tet4 ? "Tetrahedron" : "Hexahedron")
     << "\" NumberOfElements=\"" << e << "\" NodesPerElement=\"" << k << "\">\n"
     << item(file, "/elements/connectivity", e, k, "Int", 4) << "      </Topology>\n"
@@ -60,8 +45,8 @@ void write_mesh_xdmf(const std::filesystem::path& xdmf, const std::filesystem::p
     }
   }
   for (const auto& [name, values] : mesh.cell_scalars) {
-    o << "      <Attribute Name=\"" << xml_name(name) << "\" AttributeType=\"Scalar\" Center=\"Cell\">\n"
-      << item(file, "/elements/scalars/" + xml_name(name), e, 1, "Float", 8) << "      </Attribute>\n";
+    o << "      <Attribute Name=\"" << xml_escape(name) << "\" AttributeType=\"Scalar\" Center=\"Cell\">\n"
+      << item(file, "/elements/scalars/" + xml_escape(name), e, 1, "Float", 8) << "      </Attribute>\n";
   }
   o << "    </Grid>\n  </Domain>\n</Xdmf>\n";
   replace_file(xdmf, {o.str()});

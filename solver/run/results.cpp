@@ -14,6 +14,7 @@
 
 #include "common/durable.hpp"
 #include "common/error.hpp"
+#include "common/xml.hpp"
 #include "preprocess/mesh/element_faces.hpp"
 #include "solver/geometry/element_rules.hpp"
 
@@ -70,22 +71,6 @@ void put_block(std::string& buf, const T* data, std::size_t count) {
   put_u64(buf, bytes % kBlock);
   for (const std::string& p : packed) put_u64(buf, p.size());
   for (const std::string& p : packed) buf += p;
-}
-
-std::string xml_escape(const std::string& s) {
-  std::string out;
-  for (const char c : s) {
-    if (c == '&') {
-      out += "&amp;";
-    } else if (c == '<') {
-      out += "&lt;";
-    } else if (c == '"') {
-      out += "&quot;";
-    } else {
-      out += c;
-    }
-  }
-  return out;
 }
 
 }  // namespace
