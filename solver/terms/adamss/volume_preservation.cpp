@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -50,6 +51,43 @@ void add_determinant_term(double c, const Eigen::Matrix<double, K, 3>& gamma, co
   }
 }
 
+/// The hexahedron's volume Hessian in closed form. With F_g = x Gamma_g at the 8 Gauss points
+/// (weight 1/8 each), the block (a, b) of d^2 V / dx^2 is
+///   H_ab = -(1/8) sum_g [F_g (gamma_ga x gamma_gb)]_x = -[x w_ab]_x,
+///   w_ab = (1/8) sum_g Gamma_g (gamma_ga x gamma_gb)    (an 8-vector, gamma_ga = row a of Gamma_g),
+/// because F_g v = x (Gamma_g v) is linear in x. The 28 vectors w_ab (a < b) depend only on the
+/// reference cube, so the Hessian costs one 3 x 8 product per pair instead of 8 (the trilinear
+/// volume is a cubic in x, its Hessian linear); H_ba = H_ab^T = -H_ab (skew blocks), H_aa = 0.
+struct HexVolumeHessianTable {
+  std::array<Eigen::Matrix<double, 8, 1>, 28> w;
+  HexVolumeHessianTable() {
+    int k = 0;
+    for (int a = 0; a < 8; ++a) {
+      for (int b = a + 1; b < 8; ++b, ++k) {
+        w[k].setZero();
+        for (const auto& g : hex_gauss_gradients()) {
+          const Eigen::Vector3d ga = g.row(a).transpose(), gb = g.row(b).transpose();
+          w[k] += g * ga.cross(gb) / 8.0;
+        }
+      }
+    }
+  }
+};
+
+/// Adds c d^2V/dx^2 of a hexahedron at x (HexVolumeHessianTable).
+void add_hex_volume_hessian(double c, const Mat3N<8>& x, MatJ<8>& hess) {
+  static const HexVolumeHessianTable kTable;
+  int k = 0;
+  for (int a = 0; a < 8; ++a) {
+    for (int b = a + 1; b < 8; ++b, ++k) {
+      const Eigen::Vector3d u = -c * (x * kTable.w[k]);
+      const Eigen::Matrix3d h = skew(u);
+      hess.template block<3, 3>(3 * a, 3 * b) += h;
+      hess.template block<3, 3>(3 * b, 3 * a) -= h;  // h^T = -h
+    }
+  }
+}
+
 /// Adds scale * V(x) to J and scale * dV/dx to dJ (and the Hessian when hess).
 template <int K>
 void add_volume(double scale, const Mat3N<K>& x, double& J, Mat3N<K>& dJ, MatJ<K>* hess) {
@@ -59,7 +97,8 @@ void add_volume(double scale, const Mat3N<K>& x, double& J, Mat3N<K>& dJ, MatJ<K
     static const Eigen::Matrix<double, 4, 3> kTetGamma = tet_shape_gradients();
     add_determinant_term<4>(scale / 6.0, kTetGamma, x, J, dJ, hess);
   } else {
-    for (const auto& g : hex_gauss_gradients()) add_determinant_term<8>(scale / 8.0, g, x, J, dJ, hess);
+    for (const auto& g : hex_gauss_gradients()) add_determinant_term<8>(scale / 8.0, g, x, J, dJ, nullptr);
+    if (hess) add_hex_volume_hessian(scale, x, *hess);
   }
 }
 
