@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "common/suggest.hpp"
 
 namespace adamss::solver {
 
@@ -138,6 +139,24 @@ std::vector<Index> select_nodes_by_tag(const preprocess::Mesh& mesh, const std::
                      (have.empty() ? std::string(" (it has no node tags)") : " (it has: " + have + ")"));
   }
   std::vector<Index> out = it->second;
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+std::vector<Index> select_cavity_rim(const preprocess::Mesh& mesh, const std::string& cavity, const std::string& what) {
+  const auto it = mesh.cavities.find(cavity);
+  if (it == mesh.cavities.end()) {
+    std::vector<std::string> have;
+    for (const auto& [name, c] : mesh.cavities) have.push_back(name);
+    std::string list;
+    for (const std::string& h : have) list += (list.empty() ? "" : ", ") + h;
+    throw InputError(what + ": the mesh has no cavity '" + cavity + "'" + did_you_mean(cavity, have) +
+                     (list.empty() ? std::string(" (it has no cavities)") : " (it has: " + list + ")"));
+  }
+  std::vector<Index> out;
+  for (const auto& t : it->second.lid) out.insert(out.end(), t.begin(), t.end());
+  if (out.empty()) throw InputError(what + ": cavity '" + cavity + "' has no openings (no lid), so it has no rim");
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;

@@ -86,6 +86,11 @@ class Constraints {
 std::vector<Index> select_nodes(const Eigen::Matrix3Xd& x_ref, const Region& region, const std::string& what);
 /// Nodes of the mesh's node tag `tag`. InputError listing the tags the mesh has when missing or empty.
 std::vector<Index> select_nodes_by_tag(const preprocess::Mesh& mesh, const std::string& tag, const std::string& what);
+/// The rim of a cavity's openings: the nodes of the lid triangles of mesh cavity `cavity`, i.e. the
+/// wall nodes around each valve or base opening (preprocess/surfaces/cavities.hpp: lid triangles
+/// use only wall-loop nodes). Sorted. InputError naming `what` for an unknown cavity (listing the
+/// mesh's cavities) or a cavity without openings.
+std::vector<Index> select_cavity_rim(const preprocess::Mesh& mesh, const std::string& cavity, const std::string& what);
 /// Node indices (0-based) read from a text file: integers separated by white space or commas,
 /// '#' starts a comment. InputError naming the file and line for a missing file, a
 /// non-integer or an index outside [0, node_count).

@@ -53,6 +53,10 @@ std::vector<Index> select(SceneNode sel, const Model& model, const fs::path& bas
     ++kinds;
     nodes = select_nodes_by_tag(*model.mesh, sel.text("tag"), sel.at("tag"));
   }
+  if (sel.has("cavity_rim")) {
+    ++kinds;
+    nodes = select_cavity_rim(*model.mesh, sel.text("cavity_rim"), sel.at("cavity_rim"));
+  }
   if (sel.has("file")) {
     ++kinds;
     fs::path p = sel.text("file");
@@ -67,7 +71,7 @@ std::vector<Index> select(SceneNode sel, const Model& model, const fs::path& bas
       nodes.push_back(static_cast<Index>(i));
     }
   }
-  if (kinds != 1) throw InputError(sel.path() + ": give exactly one of region, tag, file, nodes");
+  if (kinds != 1) throw InputError(sel.path() + ": give exactly one of region, tag, cavity_rim, file, nodes");
   sel.finish();
   return nodes;
 }

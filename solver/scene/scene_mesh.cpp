@@ -1,7 +1,5 @@
 #include "solver/scene/scene_mesh.hpp"
 
-#include <unistd.h>
-
 #include <Eigen/Core>
 #include <algorithm>
 #include <cstdlib>
@@ -16,6 +14,8 @@
 #include "preprocess/meshers/box_mesh.hpp"
 #include "preprocess/meshers/ellipsoid_mesh.hpp"
 #include "preprocess/pipeline/mesh_pipeline.hpp"
+#include "solver/scene/mesh_cache.hpp"
+#include "solver/scene/scene_image_mesh.hpp"
 
 namespace adamss::solver {
 
@@ -30,18 +30,6 @@ fs::path default_cache_dir() {
 }
 
 namespace {
-
-/// FNV-1a, for cache file names.
-std::string hash_hex(const std::string& s) {
-  std::uint64_t h = 1469598103934665603ULL;
-  for (const unsigned char c : s) {
-    h ^= c;
-    h *= 1099511628211ULL;
-  }
-  std::ostringstream os;
-  os << std::hex << std::setw(16) << std::setfill('0') << h;
-  return os.str();
-}
 
 /// The three element counts of `divisions`; `example` is shown in the error.
 std::array<int, 3> divisions3(SceneNode& node, const char* example) {
@@ -197,28 +185,10 @@ PhantomRecipe phantom_recipe(SceneNode& node) {
   return r;
 }
 
-/// Builds the recipe's mesh into `file` (in the cache folder `dir`). Several runs (parallel tests) may build the same
-/// recipe at once: each writes its own file and renames it into place, so readers only ever see a complete mesh.
-preprocess::Mesh build_cached_mesh(const preprocess::MeshRequest& request, const fs::path& dir, const fs::path& file) {
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) throw InputError("mesh cache folder " + dir.string() + ": " + ec.message() + " (set ADAMSS_CACHE_DIR)");
-  preprocess::Mesh mesh = preprocess::build_mesh(request).mesh;
-  const fs::path part = file.string() + ".part" + std::to_string(::getpid());
-  preprocess::write_mesh_h5(part, mesh);
-  fs::rename(part, file, ec);
-  if (ec) throw InputError("mesh cache: cannot rename " + part.string() + " to " + file.string() + ": " + ec.message());
-  return mesh;
-}
-
 /// A phantom recipe's mesh: read from the cache when it was built before, else built and cached.
 preprocess::Mesh phantom_mesh(SceneNode& node, const SceneOptions& opt, std::string& source) {
   const PhantomRecipe r = phantom_recipe(node);
-  const fs::path dir = opt.cache_dir.empty() ? default_cache_dir() : opt.cache_dir;
-  const fs::path file = dir / ("mesh-" + r.kind + "-" + r.topology + "-" + hash_hex(r.key) + ".h5");
-  source = file.string();
-  if (fs::exists(file)) return preprocess::read_mesh_h5(file);
-  return build_cached_mesh(r.request, dir, file);
+  return cached_mesh(r.request, opt, "mesh-" + r.kind + "-" + r.topology + "-" + hash_hex(r.key) + ".h5", source);
 }
 
 /// Optional uniform fibre frame `fibre: [...], sheet: [...]` (slabs and beams have none;
@@ -251,13 +221,17 @@ preprocess::Mesh load_scene_mesh(SceneNode node, const fs::path& base, const Sce
   const bool has_box = node.has("box");
   const bool has_ellipsoid = node.has("ellipsoid");
   const bool has_cylinder = node.has("cylinder");
-  if (int(has_file) + int(has_phantom) + int(has_box) + int(has_ellipsoid) + int(has_cylinder) != 1) {
+  const bool has_image = node.has("image");
+  if (int(has_file) + int(has_phantom) + int(has_box) + int(has_ellipsoid) + int(has_cylinder) + int(has_image) != 1) {
     throw InputError(node.path() +
-                     ": give exactly one of file:, phantom: (a voxel recipe), box: (a structured cuboid), "
-                     "cylinder: (a structured cylinder), ellipsoid: (a truncated ellipsoid)");
+                     ": give exactly one of file:, image: (a label image meshed by the scene), phantom: (a voxel "
+                     "recipe), box: (a structured cuboid), cylinder: (a structured cylinder), ellipsoid: (a "
+                     "truncated ellipsoid)");
   }
   preprocess::Mesh mesh;
-  if (has_cylinder) {
+  if (has_image) {
+    mesh = image_recipe_mesh(node, base, opt, source);
+  } else if (has_cylinder) {
     mesh = cylinder_mesh(node, source);
   } else if (has_box) {
     mesh = box_mesh(node, source);

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "preprocess/mesh/mesh.hpp"
-#include "solver/geometry/axis_frame.hpp"
 #include "solver/core/model.hpp"
+#include "solver/geometry/axis_frame.hpp"
 #include "solver/scene/scene_node.hpp"
 
 namespace adamss::solver {

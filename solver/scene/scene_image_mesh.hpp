@@ -1,0 +1,28 @@
+#pragma once
+// `mesh: {image: labels.nii.gz, ...}`: a scene meshes a labelled image itself, by the pipeline
+// of `adamss mesh` (preprocess/pipeline/mesh_pipeline.hpp), and caches the result keyed by the
+// image's bytes and every meshing option (solver/scene/mesh_cache.hpp). Keys (all but image
+// optional; docs/scene-reference.md, "Image recipe"):
+//   image            path of the NIfTI label image, relative to the scene's folder
+//   solid            label or list of labels meshed as myocardium (default 1)
+//   cavities         {NAME: LABEL, ...}: closed cavity surfaces with lids (e.g. {lv: 2, rv: 3})
+//   topology         cgal (default) | hex | tet5 | tet5m | tet6 | tet6m
+//   cgal             {facet_angle, facet_size, facet_distance, cell_ratio, cell_size, seed}
+//   fibres           none (default) | rule (Laplace-coordinate rule, preprocess/fibres/rule_fibres.hpp)
+//   helix_endo, helix_epi, sheet_angle   angles of the rule (60, -60, 0 deg), within +-90 deg
+#include <filesystem>
+#include <string>
+
+#include "preprocess/mesh/mesh.hpp"
+#include "solver/scene/scene.hpp"
+#include "solver/scene/scene_node.hpp"
+
+namespace adamss::solver {
+
+/// The mesh of an image recipe (`node` is the scene's `mesh:` mapping, holding `image:`); `base`
+/// resolves a relative image path; `source` receives the cached mesh file. InputError naming
+/// the key for a missing image, bad labels or options, and the pipeline's own errors.
+preprocess::Mesh image_recipe_mesh(SceneNode& node, const std::filesystem::path& base, const SceneOptions& opt,
+                                   std::string& source);
+
+}  // namespace adamss::solver

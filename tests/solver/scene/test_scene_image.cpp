@@ -1,0 +1,113 @@
+// `mesh: {image: ...}` (solver/scene/scene_image_mesh.hpp): a scene meshes a label image itself,
+// caches it by the image's bytes and options, and selects the rims of the cavity openings
+// (`select: {cavity_rim: NAME}`).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <string>
+
+#include "common/error.hpp"
+#include "preprocess/image/nifti_io.hpp"
+#include "preprocess/image/phantom.hpp"
+#include "scene_fixtures.hpp"
+#include "solver/scene/scene.hpp"
+
+using namespace adamss;
+namespace fs = std::filesystem;
+
+namespace {
+
+/// The lv phantom at 2 mm written as a NIfTI label image (once per test binary).
+fs::path lv_image() {
+  static const fs::path p = [] {
+    const fs::path dir = fs::temp_directory_path() / ("adamss-test-scene-image-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    preprocess::PhantomOptions o;
+    o.voxel_size_m = 2e-3;
+    const fs::path file = dir / "lv_labels.nii.gz";
+    preprocess::write_label_image(file, preprocess::make_phantom("lv", o).image);
+    return file;
+  }();
+  return p;
+}
+
+/// A static scene on the image with MESH_EXTRA keys and BOUNDARY selection.
+std::string scene(const std::string& mesh_extra, const std::string& select = "{cavity_rim: lv}") {
+  return "name: t\nmesh: {image: " + lv_image().string() + mesh_extra +
+         "}\n"
+         "materials:\n  - {name: m, labels: [1], density: 1000 kg/m^3, terms: [{volume: {p: 1 kPa, "
+         "distribution: isotropic}}]}\n"
+         "boundary:\n  - {select: " +
+         select + ", fix: xyz}\nintegrator: {type: static, dt: 0.1 s}\nrun: {t_end: 1 s}\n";
+}
+
+const char* kTet = ", cavities: {lv: 2}, topology: tet6m";
+
+}  // namespace
+
+TEST(SceneImage, MeshesTheImageWithItsCavityAndCachesIt) {
+  const auto a = test::load_scene(scene(kTet));
+  const preprocess::Mesh& m = *a.model.mesh;
+  EXPECT_EQ(m.type, preprocess::ElementType::Tet4);
+  ASSERT_EQ(m.cavities.count("lv"), 1u);
+  EXPECT_TRUE(m.cavities.at("lv").closed);
+  EXPECT_NE(a.mesh_source.find("mesh-image-lv_labels-tet6m-"), std::string::npos) << a.mesh_source;
+  EXPECT_TRUE(fs::exists(a.mesh_source));
+  // The cavity at rest is the image's label-2 region: the voxel count times 8 mm^3, exactly,
+  // because the lattice mesh's wall follows voxel faces and the lid lies on the cut plane.
+  preprocess::PhantomOptions o;
+  o.voxel_size_m = 2e-3;
+  const auto img = preprocess::make_phantom("lv", o).image;
+  const auto n2 = std::count(img.labels.begin(), img.labels.end(), preprocess::kLvCavity);
+  EXPECT_NEAR(m.cavities.at("lv").volume_m3, static_cast<double>(n2) * 8e-9, 1e-12);
+  // Loaded again: the cached file, the same mesh.
+  const auto b = test::load_scene(scene(kTet));
+  EXPECT_EQ(b.mesh_source, a.mesh_source);
+  EXPECT_EQ(b.model.mesh->nodes, m.nodes);
+  // Another option is another file.
+  const auto c = test::load_scene(scene(", cavities: {lv: 2}, topology: hex"));
+  EXPECT_NE(c.mesh_source, a.mesh_source);
+  EXPECT_EQ(c.model.mesh->type, preprocess::ElementType::Hex8);
+}
+
+TEST(SceneImage, TheCavityRimIsTheLidBoundaryAndIsFixed) {
+  const auto s = test::load_scene(scene(kTet));
+  const preprocess::Mesh& m = *s.model.mesh;
+  std::vector<preprocess::Index> rim;
+  for (const auto& t : m.cavities.at("lv").lid) rim.insert(rim.end(), t.begin(), t.end());
+  std::sort(rim.begin(), rim.end());
+  rim.erase(std::unique(rim.begin(), rim.end()), rim.end());
+  ASSERT_GT(rim.size(), 8u);
+  // The phantom's cavity is open at the top of its lattice (z = 4 mm at 2 mm voxels): every rim
+  // node lies on the highest plane of the cavity wall and is fixed on all three axes.
+  double ztop = -1.0;
+  for (const auto& f : m.cavities.at("lv").faces)
+    for (const auto n : f) ztop = std::max(ztop, m.nodes(2, n));
+  EXPECT_NEAR(ztop, 4e-3, 1e-12);
+  for (const auto n : rim) {
+    EXPECT_NEAR(m.nodes(2, n), ztop, 1e-12);
+    EXPECT_TRUE(s.model.constraints.constrained(n, 0) && s.model.constraints.constrained(n, 2));
+  }
+  ASSERT_EQ(s.model.boundary_groups.size(), 1u);
+  EXPECT_EQ(s.model.boundary_groups[0].nodes, rim);
+}
+
+TEST(SceneImage, ErrorsNameTheKey) {
+  EXPECT_NE(test::scene_error("name: t\nmesh: {image: /nonexistent/x.nii.gz}\nmaterials: []\n"
+                              "integrator: {type: static, dt: 0.1 s}\nrun: {t_end: 1 s}\n")
+                .find("mesh.image: label image '/nonexistent/x.nii.gz' does not exist"),
+            std::string::npos);
+  EXPECT_NE(
+      test::scene_error(scene(", topology: hex, cgal: {cell_size: 3 mm}")).find("mesh.cgal: only with topology: cgal"),
+      std::string::npos);
+  EXPECT_NE(test::scene_error(scene(", helix_endo: 50 deg")).find("mesh.helix_endo: only with fibres: rule"),
+            std::string::npos);
+  EXPECT_NE(test::scene_error(scene(", cavities: {lv: 0}")).find("mesh.cavities.lv"), std::string::npos);
+  const std::string unknown = test::scene_error(scene(kTet, "{cavity_rim: lw}"));
+  EXPECT_NE(unknown.find("the mesh has no cavity 'lw'"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("lv"), std::string::npos) << unknown;
+  EXPECT_NE(test::scene_error(scene(", topology: tet6m")).find("has no cavity 'lv' (it has no cavities)"),
+            std::string::npos);
+}
