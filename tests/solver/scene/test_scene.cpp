@@ -223,7 +223,7 @@ TEST(Scene, MeshRecipeIsCached) {
   EXPECT_EQ(a.mesh_source, b.mesh_source);
   EXPECT_EQ(std::filesystem::last_write_time(b.mesh_source), t);
   EXPECT_NE(test::scene_error(replaced(kBase, "mesh: {phantom: slab,", "mesh: {file: nothing.h5, phantom: slab,"))
-                .find("exactly one of file:, phantom:"),
+                .find("exactly one of file:, image:"),
             std::string::npos);
   EXPECT_NE(test::scene_error(replaced(kBase,
                                        "mesh: {phantom: slab, slab_size: [2, 2, 3], voxel_size: 1 mm, topology: tet6m, "
