@@ -119,15 +119,21 @@ Dims dims_of(Dimension d) {
       return {4, -1, 2, 0};
     case Dimension::Elastance:
       return {-4, 1, -2, 0};
+    case Dimension::SupportStiffness:
+      return {-2, 1, -2, 0};
+    case Dimension::SupportDamping:
+      return {-2, 1, -1, 0};
   }
   return kNone;
 }
 
-constexpr std::array<Dimension, 19> kAllDimensions{
-    Dimension::Dimensionless, Dimension::Length,         Dimension::Time,       Dimension::Pressure, Dimension::Density,
-    Dimension::Acceleration,  Dimension::Velocity,       Dimension::Angle,      Dimension::Volume,   Dimension::Energy,
-    Dimension::Force,         Dimension::Stiffness,      Dimension::Viscosity,  Dimension::Rate,     Dimension::Damping,
-    Dimension::Area,          Dimension::FlowResistance, Dimension::Compliance, Dimension::Elastance};
+constexpr std::array<Dimension, 21> kAllDimensions{
+    Dimension::Dimensionless,  Dimension::Length,       Dimension::Time,      Dimension::Pressure,
+    Dimension::Density,        Dimension::Acceleration, Dimension::Velocity,  Dimension::Angle,
+    Dimension::Volume,         Dimension::Energy,       Dimension::Force,     Dimension::Stiffness,
+    Dimension::Viscosity,      Dimension::Rate,         Dimension::Damping,   Dimension::Area,
+    Dimension::FlowResistance, Dimension::Compliance,   Dimension::Elastance, Dimension::SupportStiffness,
+    Dimension::SupportDamping};
 
 /// "a pressure (Pa)" for a known combination, else the exponents in SI base units.
 std::string describe(const Dims& d) {
@@ -265,6 +271,10 @@ std::string dimension_name(Dimension d) {
       return "compliance (m^3/Pa; ml/mmHg = 7.5e-9)";
     case Dimension::Elastance:
       return "elastance (Pa/m^3; mmHg/ml = 1.333e8)";
+    case Dimension::SupportStiffness:
+      return "support stiffness per area (Pa/m; kPa/mm = 1e6)";
+    case Dimension::SupportDamping:
+      return "support damping per area (Pa s/m; kPa s/mm = 1e6)";
   }
   return "unknown";
 }

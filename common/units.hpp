@@ -10,24 +10,26 @@ namespace adamss::common {
 /// Physical dimension a quantity must have.
 enum class Dimension {
   Dimensionless,
-  Length,          ///< m
-  Time,            ///< s
-  Pressure,        ///< Pa (also stress, stiffness modulus)
-  Density,         ///< kg/m^3
-  Acceleration,    ///< m/s^2
-  Velocity,        ///< m/s
-  Angle,           ///< rad
-  Volume,          ///< m^3
-  Energy,          ///< J
-  Force,           ///< N
-  Stiffness,       ///< N/m
-  Viscosity,       ///< Pa s
-  Rate,            ///< 1/s
-  Damping,         ///< N s/m (= kg/s)
-  Area,            ///< m^2
-  FlowResistance,  ///< Pa s/m^3 (Windkessel resistances; mmHg s/ml)
-  Compliance,      ///< m^3/Pa (ml/mmHg)
-  Elastance,       ///< Pa/m^3 (mmHg/ml, kPa/ml)
+  Length,            ///< m
+  Time,              ///< s
+  Pressure,          ///< Pa (also stress, stiffness modulus)
+  Density,           ///< kg/m^3
+  Acceleration,      ///< m/s^2
+  Velocity,          ///< m/s
+  Angle,             ///< rad
+  Volume,            ///< m^3
+  Energy,            ///< J
+  Force,             ///< N
+  Stiffness,         ///< N/m
+  Viscosity,         ///< Pa s
+  Rate,              ///< 1/s
+  Damping,           ///< N s/m (= kg/s)
+  Area,              ///< m^2
+  FlowResistance,    ///< Pa s/m^3 (Windkessel resistances; mmHg s/ml)
+  Compliance,        ///< m^3/Pa (ml/mmHg)
+  Elastance,         ///< Pa/m^3 (mmHg/ml, kPa/ml)
+  SupportStiffness,  ///< Pa/m (N/m^3): a spring support per unit area (kPa/mm)
+  SupportDamping,    ///< Pa s/m (N s/m^3): a dashpot support per unit area
 };
 
 /// Human name of a dimension with its SI unit, e.g. "length (m)".

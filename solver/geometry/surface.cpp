@@ -102,12 +102,13 @@ Index find_root(std::vector<Index>& parent, Index i) {
 
 }  // namespace
 
-Surface boundary_surface(const preprocess::Mesh& mesh, const Region& region, std::string name) {
+namespace {
+
+/// The boundary faces whose nodes all have inside[node] != 0, oriented out of the solid.
+Surface boundary_faces_within(const preprocess::Mesh& mesh, const std::vector<char>& inside, std::string name) {
   const bool tet = mesh.type == preprocess::ElementType::Tet4;
   const std::vector<preprocess::FaceRecord> faces = preprocess::sorted_face_records(mesh);
-  std::vector<char> inside(mesh.node_count());
-  for (std::size_t i = 0; i < mesh.node_count(); ++i)
-    inside[i] = region.contains(mesh.nodes.col(static_cast<Eigen::Index>(i))) ? 1 : 0;
+  auto in = [&](Index k) { return inside[static_cast<std::size_t>(k)] != 0; };
   Surface s;
   s.name = std::move(name);
   for (std::size_t i = 0; i < faces.size();) {
@@ -118,22 +119,48 @@ Surface boundary_surface(const preprocess::Mesh& mesh, const Region& region, std
       if (tet) {
         const auto& lf = preprocess::kTetFaces[faces[i].local];
         const std::array<Index, 3> f{n[lf[0]], n[lf[1]], n[lf[2]]};
-        if (std::all_of(f.begin(), f.end(), [&](Index k) { return inside[static_cast<std::size_t>(k)] != 0; }))
-          s.triangles.push_back(f);
+        if (std::all_of(f.begin(), f.end(), in)) s.triangles.push_back(f);
       } else {
         const auto& lf = preprocess::kHexFaces[faces[i].local];
         const std::array<Index, 4> f{n[lf[0]], n[lf[1]], n[lf[2]], n[lf[3]]};
-        if (std::all_of(f.begin(), f.end(), [&](Index k) { return inside[static_cast<std::size_t>(k)] != 0; }))
-          s.quads.push_back(f);
+        if (std::all_of(f.begin(), f.end(), in)) s.quads.push_back(f);
       }
     }
     i = j;
   }
+  return s;
+}
+
+}  // namespace
+
+Surface boundary_surface(const preprocess::Mesh& mesh, const Region& region, std::string name) {
+  std::vector<char> inside(mesh.node_count());
+  for (std::size_t i = 0; i < mesh.node_count(); ++i)
+    inside[i] = region.contains(mesh.nodes.col(static_cast<Eigen::Index>(i))) ? 1 : 0;
+  Surface s = boundary_faces_within(mesh, inside, std::move(name));
   if (s.face_count() == 0) {
     throw InputError("surface '" + s.name + "': region " + describe_region(region) +
                      " contains no boundary face of the mesh (" + std::to_string(mesh.element_count()) + " " +
                      preprocess::element_type_name(mesh.type) + " elements)");
   }
+  return s;
+}
+
+Surface tagged_boundary_surface(const preprocess::Mesh& mesh, const std::string& tag, std::string name) {
+  const auto it = mesh.node_tags.find(tag);
+  if (it == mesh.node_tags.end()) {
+    std::string have;
+    for (const auto& [k, nodes] : mesh.node_tags) have += (have.empty() ? "" : ", ") + k;
+    throw InputError("surface '" + name + "': the mesh has no node tag '" + tag +
+                     "' (it has: " + (have.empty() ? std::string("none") : have) + ")");
+  }
+  std::vector<char> inside(mesh.node_count(), 0);
+  for (const Index n : it->second) {
+    if (n >= 0 && static_cast<std::size_t>(n) < inside.size()) inside[static_cast<std::size_t>(n)] = 1;
+  }
+  Surface s = boundary_faces_within(mesh, inside, std::move(name));
+  if (s.face_count() == 0)
+    throw InputError("surface '" + s.name + "': no boundary face has all its nodes in tag '" + tag + "'");
   return s;
 }
 

@@ -61,6 +61,11 @@ struct Surface {
 /// and the region if it selects no boundary face.
 [[nodiscard]] Surface boundary_surface(const preprocess::Mesh& mesh, const Region& region, std::string name);
 
+/// The boundary faces (as boundary_surface) whose nodes all carry the mesh's node tag `tag`, e.g.
+/// the epicardium "surface:1-0" of a label image mesh. InputError listing the mesh's tags for an
+/// unknown tag, or when no boundary face lies within it.
+[[nodiscard]] Surface tagged_boundary_surface(const preprocess::Mesh& mesh, const std::string& tag, std::string name);
+
 /// The surface of mesh.cavities[name]: its wall triangles and quads (loaded) and lid (not
 /// loaded). Throws adamss::InputError listing the available cavity names if there is
 /// none of that name, or if a face references a node outside the mesh.

@@ -7,6 +7,7 @@
 #include "solver/terms/loads/cavity_constraint.hpp"
 #include "solver/terms/loads/cavity_pressure.hpp"
 #include "solver/terms/loads/global_friction.hpp"
+#include "solver/terms/loads/robin_support.hpp"
 
 namespace adamss::solver {
 
@@ -139,6 +140,37 @@ void build_pressure(SceneNode& p, Model& model, std::set<std::string>& names) {
   }
 }
 
+/// One `robin:` entry: {name, surface: {tag | region | cavity}, stiffness (Pa/m), damping (Pa s/m)}.
+void build_robin(SceneNode& r, Model& model, std::set<std::string>& names) {
+  const std::string name = r.text("name");
+  if (!names.insert(name).second) throw InputError(r.at("name") + ": a second robin support named '" + name + "'");
+  SceneNode sel = r.map("surface");
+  const int kinds = int(sel.has("tag")) + int(sel.has("region")) + int(sel.has("cavity"));
+  if (kinds != 1) throw InputError(sel.path() + ": give exactly one of tag: NAME, region: {...}, cavity: NAME");
+  Surface surface;
+  try {
+    if (sel.has("tag")) {
+      surface = tagged_boundary_surface(*model.mesh, sel.text("tag"), name);
+    } else if (sel.has("region")) {
+      surface = boundary_surface(*model.mesh, sel.region("region"), name);
+    } else {
+      surface = cavity_surface(*model.mesh, sel.text("cavity"));
+      surface.name = name;
+    }
+  } catch (const InputError& e) {
+    throw InputError(sel.path() + ": " + e.what());
+  }
+  sel.finish();
+  const double k = r.positive("stiffness", Dimension::SupportStiffness, 0.0, true);
+  const double c = r.positive("damping", Dimension::SupportDamping, 0.0, true);
+  r.finish();
+  try {
+    model.terms.push_back(make_robin_support_term(surface, model.x_ref, k, c));
+  } catch (const InputError& e) {
+    throw InputError(r.path() + ": " + e.what());
+  }
+}
+
 }  // namespace
 
 void build_loads(SceneNode& loads, Model& model, const std::filesystem::path& /*base*/) {
@@ -159,6 +191,8 @@ void build_loads(SceneNode& loads, Model& model, const std::filesystem::path& /*
   }
   std::set<std::string> names;
   for (SceneNode& p : loads.list("pressure")) build_pressure(p, model, names);
+  std::set<std::string> supports;
+  for (SceneNode& r : loads.list("robin")) build_robin(r, model, supports);
 }
 
 }  // namespace adamss::solver
