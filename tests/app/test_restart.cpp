@@ -251,7 +251,7 @@ TEST(Restart, SigtermInsideALongStaticStepStopsAtOnce) {
   std::stringstream ss;
   ss << in.rdbuf();
   std::string text = ss.str();
-  for (const auto& [from, to] : {std::pair<std::string, std::string>{"dt: 0.1 s", "dt: 1 s"},
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{"dt: 0.25 s", "dt: 1 s"},
                                  {"frame_interval: 0.25 s", "frame_interval: 1 s"}}) {
     const auto at = text.find(from);
     ASSERT_NE(at, std::string::npos) << from;

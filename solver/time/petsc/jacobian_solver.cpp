@@ -76,20 +76,7 @@ void JacobianSolver::Petsc::configure(const Eigen::Matrix3Xd& x_ref, double ksp_
     // -log_view, with OpenBLAS as the BLAS).
     PetscBool mumps = PETSC_FALSE;
     petsc_check(MatGetFactorAvailable(a.mat(), MATSOLVERMUMPS, MAT_FACTOR_LU, &mumps), "MatGetFactorAvailable");
-    if (mumps == PETSC_TRUE) {
-      petsc_check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
-      // No column permutation to a zero-free diagonal (ICNTL(6) = 0) and no row/column scaling
-      // (ICNTL(8) = 0): the operators here have a structurally symmetric pattern with a non-zero
-      // diagonal (eliminated rows carry 1), and the per-factorisation work of both steps was
-      // ~1/6 of MUMPS's time (perf: dmumps_simscaleabsuns, the arrowhead distribution). Land
-      // problem 1: 2.38 s -> 1.97 s of factorisation over 118 factorisations, problem 2:
-      // 10.7 s -> 9.5 s (132), results identical to the last printed digit. Given options win.
-      for (const char* key : {"-mat_mumps_icntl_6", "-mat_mumps_icntl_8"}) {
-        PetscBool set = PETSC_FALSE;
-        petsc_check(PetscOptionsHasName(nullptr, nullptr, key, &set), "PetscOptionsHasName");
-        if (set == PETSC_FALSE) petsc_check(PetscOptionsSetValue(nullptr, key, "0"), "PetscOptionsSetValue");
-      }
-    }
+    if (mumps == PETSC_TRUE) petsc_check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
   } else {
     petsc_check(KSPSetType(ksp, KSPGMRES), "KSPSetType");
     petsc_check(PCSetType(pc, PCGAMG), "PCSetType");
