@@ -9,6 +9,7 @@
 #include "preprocess/mesh/element_faces.hpp"
 #include "preprocess/mesh/face_table.hpp"
 #include "preprocess/mesh/open_edges.hpp"
+#include "solver/core/boundary.hpp"
 
 namespace adamss::solver {
 namespace {
@@ -147,15 +148,8 @@ Surface boundary_surface(const preprocess::Mesh& mesh, const Region& region, std
 }
 
 Surface tagged_boundary_surface(const preprocess::Mesh& mesh, const std::string& tag, std::string name) {
-  const auto it = mesh.node_tags.find(tag);
-  if (it == mesh.node_tags.end()) {
-    std::string have;
-    for (const auto& [k, nodes] : mesh.node_tags) have += (have.empty() ? "" : ", ") + k;
-    throw InputError("surface '" + name + "': the mesh has no node tag '" + tag +
-                     "' (it has: " + (have.empty() ? std::string("none") : have) + ")");
-  }
   std::vector<char> inside(mesh.node_count(), 0);
-  for (const Index n : it->second) {
+  for (const Index n : select_nodes_by_tag(mesh, tag, "surface '" + name + "'")) {
     if (n >= 0 && static_cast<std::size_t>(n) < inside.size()) inside[static_cast<std::size_t>(n)] = 1;
   }
   Surface s = boundary_faces_within(mesh, inside, std::move(name));

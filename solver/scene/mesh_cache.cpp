@@ -19,6 +19,15 @@ namespace {
 constexpr std::uint64_t kFnvOffset = 1469598103934665603ULL;
 constexpr std::uint64_t kFnvPrime = 1099511628211ULL;
 
+/// Continues the FNV-1a hash h over n bytes.
+std::uint64_t fnv1a(std::uint64_t h, const char* data, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i) {
+    h ^= static_cast<unsigned char>(data[i]);
+    h *= kFnvPrime;
+  }
+  return h;
+}
+
 std::string hex16(std::uint64_t h) {
   std::ostringstream os;
   os << std::hex << std::setw(16) << std::setfill('0') << h;
@@ -28,12 +37,7 @@ std::string hex16(std::uint64_t h) {
 }  // namespace
 
 std::string hash_hex(const std::string& s) {
-  std::uint64_t h = kFnvOffset;
-  for (const unsigned char c : s) {
-    h ^= c;
-    h *= kFnvPrime;
-  }
-  return hex16(h);
+  return hex16(fnv1a(kFnvOffset, s.data(), s.size()));
 }
 
 std::string file_hash_hex(const fs::path& file, const std::string& what) {
@@ -41,12 +45,7 @@ std::string file_hash_hex(const fs::path& file, const std::string& what) {
   if (!in) throw InputError(what + ": cannot read '" + file.string() + "'");
   std::uint64_t h = kFnvOffset;
   char buf[1 << 16];
-  while (in.read(buf, sizeof buf) || in.gcount() > 0) {
-    for (std::streamsize i = 0; i < in.gcount(); ++i) {
-      h ^= static_cast<unsigned char>(buf[i]);
-      h *= kFnvPrime;
-    }
-  }
+  while (in.read(buf, sizeof buf) || in.gcount() > 0) h = fnv1a(h, buf, static_cast<std::size_t>(in.gcount()));
   return hex16(h);
 }
 
