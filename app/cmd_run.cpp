@@ -137,6 +137,11 @@ nlohmann::json summary_json(const solver::LoadedScene& sc, const solver::RunOutc
   j["fiber_stretch_min"] = sum.fibre_stretch_min;
   add_probes(j, sum.probes);
   j["reactions"] = reactions_json(sum.reactions);
+  if (m.long_axis) {
+    j["long_axis"] = {{"point_m", vec(m.long_axis->point)},
+                      {"direction", vec(m.long_axis->direction)},
+                      {"source", m.long_axis->source}};
+  }
   if (out.bad_element) j["bad_element"] = *out.bad_element;
   j["terms"] = sc.term_summary;
   j["axis_frame_elements"] = sc.axis_frame_elements;

@@ -68,7 +68,9 @@ class ForceTerm {
                                std::map<std::string, Eigen::VectorXd>& /*fields*/) const {}
   /// Per-element 3 x 3 tensors for the frames (9 x element_count, row by row; a term adds into an
   /// existing array of that name, so the stresses of several laws on one element sum): the law
-  /// terms write stress_pk2 and stress_cauchy (Pa, global frame) and stress_pk2_fibre_frame.
+  /// terms write stress_pk2 and stress_cauchy (Pa, global frame). The volume terms instead add
+  /// their hydrostatic stress as the cell field "volumetric_stress" (add_cell_fields), which the
+  /// result writer adds to both (solver/run/results.hpp, complete_stress_fields).
   virtual void add_cell_tensors(const StateView& /*s*/, std::size_t /*element_count*/,
                                 std::map<std::string, Eigen::Matrix<double, 9, Eigen::Dynamic>>& /*fields*/) const {}
   /// Checkpoint/restart (solver/core/state_archive.hpp): writes the term's internal state -- whatever

@@ -7,6 +7,7 @@
 // The equations of motion are M a = f(x, v, t) (eqs. 2.121-2.126) with a diagonal M.
 #include <Eigen/Core>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -14,6 +15,7 @@
 #include "preprocess/mesh/mesh.hpp"
 #include "solver/core/boundary.hpp"
 #include "solver/core/force_term.hpp"
+#include "solver/geometry/long_axis.hpp"
 
 namespace adamss::solver {
 
@@ -65,6 +67,9 @@ struct Model {
   std::vector<Probe> probes;
   std::vector<std::unique_ptr<VolumeMonitor>> cavities;
   std::vector<BoundaryGroup> boundary_groups;  ///< one per scene boundary entry, in scene order
+  /// The ventricle's long axis for the cardiac-frame strain outputs (output.long_axis, else
+  /// estimated from a cavity lid; solver/geometry/long_axis.hpp); none for a mesh without cavities.
+  std::optional<LongAxis> long_axis;
 
   [[nodiscard]] std::size_t node_count() const { return static_cast<std::size_t>(x_ref.cols()); }
 };

@@ -117,6 +117,101 @@ void add_strain_fields(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x, 
   a.cell_vectors["normal_current"] = n;
 }
 
+namespace {
+
+/// The element's fibre frame B = [f s n] (Gram-Schmidt, n = f x s, as the FEM element builds it);
+/// identity without fibres or for a degenerate frame.
+Eigen::Matrix3d fibre_frame_of(const preprocess::Mesh& mesh, Eigen::Index e) {
+  if (!mesh.has_fibres()) return Eigen::Matrix3d::Identity();
+  Eigen::Vector3d f = mesh.fiber.col(e), sh = mesh.sheet.col(e);
+  if (!(f.norm() > 0.0)) return Eigen::Matrix3d::Identity();
+  f.normalize();
+  sh -= sh.dot(f) * f;
+  if (!(sh.norm() > 0.0)) return Eigen::Matrix3d::Identity();
+  sh.normalize();
+  Eigen::Matrix3d b;
+  b << f, sh, f.cross(sh);
+  return b;
+}
+
+Eigen::Matrix3d tensor_at(const Eigen::Matrix<double, 9, Eigen::Dynamic>& t, Eigen::Index e) {
+  Eigen::Matrix3d m;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) m(r, c) = t(3 * r + c, e);
+  return m;
+}
+
+void set_tensor(Eigen::Matrix<double, 9, Eigen::Dynamic>& t, Eigen::Index e, const Eigen::Matrix3d& m) {
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) t(3 * r + c, e) = m(r, c);
+}
+
+}  // namespace
+
+void complete_stress_fields(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x, VtuArrays& a) {
+  using Tensors = Eigen::Matrix<double, 9, Eigen::Dynamic>;
+  const auto ne = static_cast<Eigen::Index>(mesh.element_count());
+  const auto q = a.cell_scalars.find("volumetric_stress");
+  const bool has_q = q != a.cell_scalars.end();
+  if (!has_q && a.cell_tensors.count("stress_pk2") == 0) return;
+  for (const char* name : {"stress_pk2", "stress_cauchy"}) {
+    Tensors& t = a.cell_tensors[name];
+    if (t.cols() != ne) t = Tensors::Zero(9, ne);
+  }
+  Tensors& pk2 = a.cell_tensors["stress_pk2"];
+  Tensors& cauchy = a.cell_tensors["stress_cauchy"];
+  Tensors pk2f(9, ne);
+  Eigen::VectorXd pressure(ne);
+  const std::vector<Eigen::Matrix3d> F =
+      has_q ? element_deformation_gradients(mesh, x) : std::vector<Eigen::Matrix3d>{};
+  for (Eigen::Index e = 0; e < ne; ++e) {
+    Eigen::Matrix3d S = tensor_at(pk2, e), sigma = tensor_at(cauchy, e);
+    if (has_q) {
+      // sigma_vol = q I; S_vol = J F^-1 sigma_vol F^-T = q J C^-1.
+      const Eigen::Matrix3d& Fe = F[static_cast<std::size_t>(e)];
+      const double J = Fe.determinant(), qe = q->second[e];
+      sigma += qe * Eigen::Matrix3d::Identity();
+      S += qe * J * (Fe.transpose() * Fe).inverse();
+      set_tensor(pk2, e, S);
+      set_tensor(cauchy, e, sigma);
+    }
+    const Eigen::Matrix3d B = fibre_frame_of(mesh, e);
+    set_tensor(pk2f, e, B.transpose() * S * B);
+    pressure[e] = -sigma.trace() / 3.0;
+  }
+  a.cell_tensors["stress_pk2_fibre_frame"] = pk2f;
+  a.cell_scalars["pressure"] = pressure;
+}
+
+void add_cardiac_strain_fields(const preprocess::Mesh& mesh, const LongAxis& axis, VtuArrays& a) {
+  const auto it = a.cell_tensors.find("green_lagrange");
+  if (it == a.cell_tensors.end()) return;
+  const Eigen::Matrix<double, 9, Eigen::Dynamic>& strain = it->second;
+  const Eigen::Index ne = strain.cols();
+  const Eigen::Matrix3Xd centre = element_centroids(mesh);
+  Eigen::Matrix<double, 9, Eigen::Dynamic> local(9, ne);
+  Eigen::Matrix3Xd ec(3, ne), el(3, ne), er(3, ne);
+  Eigen::VectorXd cc(ne), ll(ne), rr(ne);
+  for (Eigen::Index e = 0; e < ne; ++e) {
+    const Eigen::Matrix3d Q = cardiac_frame(axis, centre.col(e));
+    const Eigen::Matrix3d El = Q.transpose() * tensor_at(strain, e) * Q;
+    set_tensor(local, e, El);
+    ec.col(e) = Q.col(0);
+    el.col(e) = Q.col(1);
+    er.col(e) = Q.col(2);
+    cc[e] = El(0, 0);
+    ll[e] = El(1, 1);
+    rr[e] = El(2, 2);
+  }
+  a.cell_tensors["green_lagrange_cardiac"] = local;
+  a.cell_vectors["circumferential"] = ec;
+  a.cell_vectors["longitudinal"] = el;
+  a.cell_vectors["radial"] = er;
+  a.cell_scalars["strain_circumferential"] = cc;
+  a.cell_scalars["strain_longitudinal"] = ll;
+  a.cell_scalars["strain_radial"] = rr;
+}
+
 std::vector<double> element_volumes(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x) {
   std::vector<double> v(mesh.element_count());
   for (std::size_t e = 0; e < v.size(); ++e) v[e] = element_volume_at(mesh, x, e);
@@ -397,6 +492,8 @@ void ResultsWriter::write_frame(const State& s, const Eigen::Matrix3Xd& f) {
     term->add_cell_fields(view, mesh.element_count(), a.cell_scalars);
     term->add_cell_tensors(view, mesh.element_count(), a.cell_tensors);
   }
+  complete_stress_fields(mesh, s.x, a);
+  if (model_.long_axis) add_cardiac_strain_fields(mesh, *model_.long_axis, a);
   a.field_scalars["TimeValue"] = s.t;
   for (const auto& c : model_.cavities) {
     const double p = c->pressure(s.t), v = c->volume(s.x);

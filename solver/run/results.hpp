@@ -7,9 +7,10 @@
 //                         once), velocity (m/s), force (N, the total of all terms), cell data
 //                         label, J (V/V0), the strain fields of add_strain_fields (Green-Lagrange
 //                         strain, in the fibre frame too, fibre/sheet/normal reference and
-//                         current, fibre stretch), the mesh cell fields (scar) and the terms' own cell fields (active_tension,
-//                         Pa); field data TimeValue (s) and per cavity pressure (Pa, mmHg),
-//                         volume (ml) and phase
+//                         current, fibre stretch; in the cardiac frame when the model has a long
+//                         axis), the stresses (complete_stress_fields), the mesh cell fields (scar)
+//                         and the terms' own cell fields (active_tension, Pa); field data TimeValue
+//                         (s) and per cavity pressure (Pa, mmHg), volume (ml) and phase
 //   globals.csv           one row per logged step: step, t, dt, kinetic energy, total volume,
 //                         relative volume change, barycentre, per cavity volume and pressure,
 //                         force evaluations, rejected steps, ABM3 error, wall time
@@ -155,6 +156,24 @@ struct VtuArrays {
 ///   fibre_current, sheet_current F f0 / |F f0|, F s0 / |F s0|
 ///   normal_current               F^-T n0 / |F^-T n0| (the normal of the deformed fibre-sheet plane)
 void add_strain_fields(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x, VtuArrays& arrays);
+
+/// Completes the stress arrays that the terms wrote (ForceTerm::add_cell_tensors: the laws'
+/// stress_pk2 and stress_cauchy) with the volume terms' hydrostatic stress q
+/// (cell scalar "volumetric_stress", Pa, positive in tension; with an uncoupled law it is the
+/// whole hydrostatic part):
+///   stress_cauchy += q I,   stress_pk2 += q J C^-1   (F, J, C = F^T F at the element centre),
+/// then writes, for the totals,
+///   stress_pk2_fibre_frame   B^T S B, B = [f s n] of the mesh (the identity without fibres)
+///   pressure                 -tr(sigma) / 3 (Pa)
+/// Does nothing when no term wrote a stress or a volumetric stress.
+void complete_stress_fields(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x, VtuArrays& arrays);
+
+/// The strain in the cardiac frame (solver/geometry/long_axis.hpp: Q = [e_c e_l e_r] at each
+/// element's reference centroid) from the green_lagrange array already in `arrays`:
+///   green_lagrange_cardiac       Q^T E Q (E_cc, E_cl, E_cr; E_lc, ...; 9 x elements)
+///   strain_circumferential, strain_longitudinal, strain_radial   E_cc, E_ll, E_rr
+///   circumferential, longitudinal, radial                        e_c, e_l, e_r (reference)
+void add_cardiac_strain_fields(const preprocess::Mesh& mesh, const LongAxis& axis, VtuArrays& arrays);
 
 /// Writes a VTK XML unstructured grid (binary appended, via a temporary file renamed over `path`)
 /// with `points` as its points, the cell label and the given arrays; "displacement", if given, is

@@ -166,8 +166,10 @@ void load_run(SceneNode r, RunSettings& run) {
   r.finish();
 }
 
-/// `output:` (intervals, probes at the nearest node); without it a frame every t_end / 10.
+/// `output:` (intervals, probes at the nearest node, the long axis); without it a frame every
+/// t_end / 10. The long axis is estimated from a cavity lid unless output.long_axis gives it.
 void load_output(SceneNode& root, RunSettings& run, Model& model) {
+  model.long_axis = estimate_long_axis(*model.mesh);
   auto out = root.optional_map("output");
   if (!out) {
     run.export_interval = run.t_end / 10.0;
@@ -186,6 +188,17 @@ void load_output(SceneNode& root, RunSettings& run, Model& model) {
     (model.x_ref.colwise() - pt).colwise().squaredNorm().minCoeff(&best);
     model.probes.push_back({pname, static_cast<Index>(best)});
     p.finish();
+  }
+  if (auto axis = out->optional_map("long_axis")) {
+    LongAxis a;
+    a.point = axis->vector3("point", Dimension::Length);
+    a.direction = axis->vector3("direction", Dimension::Dimensionless);
+    if (!a.direction.allFinite() || !(a.direction.norm() > 0.0))
+      throw InputError(axis->at("direction") + ": must be a non-zero vector (from the apex towards the base)");
+    a.direction.normalize();
+    a.source = "scene";
+    model.long_axis = a;
+    axis->finish();
   }
   out->finish();
 }

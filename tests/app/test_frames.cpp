@@ -4,9 +4,11 @@
 // the deformed element once), and its strain arrays equal E = (F^T F - I)/2 computed here from
 // the nodes; a heart scene's frames carry time, cavity pressure, volume and phase as field data.
 #include <gtest/gtest.h>
+#include <vtkCell.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
 #include <vtkFieldData.h>
+#include <vtkIdList.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
@@ -15,8 +17,10 @@
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include <Eigen/Dense>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <sstream>
 #include <string>
 
@@ -257,4 +261,216 @@ TEST(Frames, HeartFramesCarryTimeAndTheCavityAsFieldData) {
       EXPECT_NEAR(p, std::stod(values[i]), 1e-6 * std::max(1.0, std::abs(p)));
     }
   }
+}
+
+// The volume terms' hydrostatic stress is in the frames' stresses: one hexahedron of an uncoupled
+// neo-Hookean (no volumetric part of its own) with a nearly incompressible volume term, stretched
+// 10 % along z with free lateral faces. Traction-free lateral faces need sigma_xx = sigma_yy = 0,
+// which holds only when the volume term's q I is added to the law's deviatoric sigma (the law alone
+// gives sigma_xx = -q, about -1/3 of sigma_zz). sigma_zz times the current area equals the
+// reaction, and pressure = -tr(sigma) / 3. Element (isotropic) and nodal distributions: on one
+// homogeneously deformed element both give q = U'(J).
+TEST(Frames, TheStressesIncludeTheVolumeTermsPressure) {
+  for (const std::string distribution : {"isotropic", "nodal"}) {
+    SCOPED_TRACE(distribution);
+    const fs::path dir = scratch_dir("frames_stress_volume_" + distribution);
+    const fs::path scene = write_scene(dir, R"(
+name: one_hex_volume_stress
+mesh: {phantom: slab, slab_size: [1, 1, 1], voxel_size: 1 mm, topology: hex, fibre: [0, 0, 1], sheet: [1, 0, 0]}
+materials:
+  - name: m
+    labels: [1]
+    density: 1000 kg/m^3
+    terms:
+      - fem_element: {law: neo_hookean, uncoupled: true, parameters: {E: 10 kPa, nu: 0.3}}
+      - volume: {p: 200 kPa, distribution: )" + distribution +
+                                                R"(}
+boundary:
+  - select: {region: {plane: {point: [0, 0, 0], normal: [0, 0, 1]}}}
+    fix: z
+  - select: {region: {box: {min: [-0.1 mm, -0.1 mm, -0.1 mm], max: [0.1 mm, 0.1 mm, 0.1 mm]}}}
+    fix: xyz
+  - select: {region: {box: {min: [0.9 mm, -0.1 mm, -0.1 mm], max: [1.1 mm, 0.1 mm, 0.1 mm]}}}
+    fix: y
+  - select: {region: {plane: {point: [0, 0, 1 mm], normal: [0, 0, 1], tolerance: 0.001 mm}}}
+    control: {axis: z, displacement: {ramp: {to: 0.1 mm, duration: 1 s}}}
+integrator: {type: static, dt: 0.5 s, newton_rtol: 1e-12}
+run: {t_end: 1 s}
+)");
+    const fs::path out = dir / "out";
+    const auto r = run_adamss("run " + scene.string() + " -o " + out.string() + cache_arg(dir) + " -q");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const auto grid = read_frame(last_frame(out));
+    vtkCellData* cd = grid->GetCellData();
+    for (const char* name : {"stress_pk2", "stress_pk2_fibre_frame", "stress_cauchy", "volumetric_stress", "pressure"})
+      ASSERT_NE(cd->GetArray(name), nullptr) << name;
+    const auto tensor = [&](const char* name) {
+      Eigen::Matrix3d m;
+      for (int rr = 0; rr < 3; ++rr)
+        for (int c = 0; c < 3; ++c) m(rr, c) = cd->GetArray(name)->GetComponent(0, 3 * rr + c);
+      return m;
+    };
+    const Eigen::Matrix3d S = tensor("stress_pk2"), Sf = tensor("stress_pk2_fibre_frame"),
+                          sigma = tensor("stress_cauchy");
+    Eigen::Matrix<double, 3, 8> X, x;
+    vtkPointData* pd = grid->GetPointData();
+    for (int a = 0; a < 8; ++a) {
+      for (int c = 0; c < 3; ++c) {
+        X(c, a) = grid->GetPoint(a)[c];
+        x(c, a) = X(c, a) + pd->GetArray("displacement")->GetComponent(a, c);
+      }
+    }
+    const double h = 1e-3;
+    Eigen::Matrix3d F = Eigen::Matrix3d::Zero();
+    for (int a = 0; a < 8; ++a) F += x.col(a) * ((2.0 * X.col(a) / h).array() - 1.0).matrix().transpose() / (4.0 * h);
+    const double scale = std::abs(sigma(2, 2));
+    ASSERT_GT(scale, 500.0);  // ~3.3 kPa: 3 mu (stretch^2 - 1/stretch) at 10 %, mu = 3.85 kPa
+    const double q = cd->GetArray("volumetric_stress")->GetTuple1(0);
+    EXPECT_GT(std::abs(q), 0.2 * scale) << "the volume term carries about a third of sigma_zz here";
+    EXPECT_LT(std::abs(sigma(0, 0)), 1e-6 * scale) << "q = " << q;  // free lateral faces
+    EXPECT_LT(std::abs(sigma(1, 1)), 1e-6 * scale);
+    EXPECT_LT((sigma - F * S * F.transpose() / F.determinant()).cwiseAbs().maxCoeff(), 1e-9 * scale);
+    Eigen::Matrix3d Q;
+    Q << 0, 1, 0, 0, 0, 1, 1, 0, 0;
+    EXPECT_LT((Sf - Q.transpose() * S * Q).cwiseAbs().maxCoeff(), 1e-9 * scale);
+    EXPECT_NEAR(cd->GetArray("pressure")->GetTuple1(0), -sigma.trace() / 3.0, 1e-9 * scale);
+    const double area = F(0, 0) * F(1, 1) * h * h;
+    const auto summary = read_summary(out);
+    double reaction = 0.0;
+    for (const auto& entry : summary["reactions"]) {
+      if (entry["entry"] == "boundary[3]") reaction = entry["reaction_force_N"][2].get<double>();
+    }
+    EXPECT_NEAR(reaction, sigma(2, 2) * area, 1e-6 * scale * area) << "reaction " << reaction << " N";
+  }
+}
+
+// The strain in the cardiac frame on the idealised LV inflated passively to 1 kPa: the long axis
+// comes from the LV lid (the phantom's axis is z, apex at -z, so the direction is +z through the
+// base centre on the axis), every element's e_c, e_l, e_r are orthonormal with e_l = +z and e_r
+// pointing away from the axis, the scalars equal Q^T E Q of the frame's own green_lagrange, and
+// the inflated wall stretches circumferentially (mean E_cc > 0) and thins (mean E_rr < 0).
+TEST(Frames, AnInflatedLvHasStrainInTheCardiacFrame) {
+  const fs::path dir = scratch_dir("frames_cardiac");
+  std::ifstream in(std::string(ADAMSS_SOURCE_DIR) + "/cases/quick/lv_isovolumic_static.yaml");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string text = ss.str();
+  const auto replace = [&](const std::string& from, const std::string& to) {
+    ASSERT_NE(text.find(from), std::string::npos) << from;
+    text.replace(text.find(from), from.size(), to);
+  };
+  replace("volume_ratio: 1", "pressure: {ramp: {to: 1 kPa, duration: 1 s}}");
+  replace("      - active_tension: {form: stress, tension: {ramp: {to: 20 kPa, duration: 1 s}}}\n", "");
+  const fs::path scene = write_scene(dir, text);
+  const fs::path out = dir / "out";
+  const auto r = run_adamss("run " + scene.string() + " -o " + out.string() + cache_arg(dir) + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto summary = read_summary(out);
+  ASSERT_TRUE(summary.contains("long_axis"));
+  EXPECT_EQ(summary["long_axis"]["source"], "lid of cavity lv");
+  const Eigen::Vector3d l(summary["long_axis"]["direction"][0].get<double>(),
+                          summary["long_axis"]["direction"][1].get<double>(),
+                          summary["long_axis"]["direction"][2].get<double>());
+  const Eigen::Vector3d c(summary["long_axis"]["point_m"][0].get<double>(),
+                          summary["long_axis"]["point_m"][1].get<double>(),
+                          summary["long_axis"]["point_m"][2].get<double>());
+  EXPECT_NEAR(l.z(), 1.0, 1e-6) << l.transpose();
+  EXPECT_LT(std::hypot(c.x(), c.y()), 1e-4) << "the base centre is on the phantom's axis: " << c.transpose();
+
+  const auto grid = read_frame(last_frame(out));
+  vtkCellData* cd = grid->GetCellData();
+  for (const char* name : {"green_lagrange_cardiac", "strain_circumferential", "strain_longitudinal", "strain_radial",
+                           "circumferential", "longitudinal", "radial"})
+    ASSERT_NE(cd->GetArray(name), nullptr) << name;
+  const vtkIdType ne = grid->GetNumberOfCells();
+  double ecc = 0.0, err = 0.0;
+  for (vtkIdType e = 0; e < ne; ++e) {
+    Eigen::Matrix3d Q, E, El;
+    for (int k = 0; k < 3; ++k) {
+      Q(k, 0) = cd->GetArray("circumferential")->GetComponent(e, k);
+      Q(k, 1) = cd->GetArray("longitudinal")->GetComponent(e, k);
+      Q(k, 2) = cd->GetArray("radial")->GetComponent(e, k);
+    }
+    for (int rr = 0; rr < 3; ++rr) {
+      for (int k = 0; k < 3; ++k) {
+        E(rr, k) = cd->GetArray("green_lagrange")->GetComponent(e, 3 * rr + k);
+        El(rr, k) = cd->GetArray("green_lagrange_cardiac")->GetComponent(e, 3 * rr + k);
+      }
+    }
+    ASSERT_LT((Q.transpose() * Q - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff(), 1e-12) << e;
+    ASSERT_NEAR(Q.determinant(), 1.0, 1e-12) << e;
+    ASSERT_LT((Q.col(1) - l).norm(), 1e-12) << e;
+    // e_r points away from the axis at the element's reference centroid.
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    vtkIdList* ids = grid->GetCell(e)->GetPointIds();
+    for (vtkIdType a = 0; a < ids->GetNumberOfIds(); ++a)
+      centre += Eigen::Vector3d(grid->GetPoint(ids->GetId(a))) / static_cast<double>(ids->GetNumberOfIds());
+    Eigen::Vector3d d = centre - c;
+    d -= d.dot(l) * l;
+    if (d.norm() > 1e-4) {
+      ASSERT_GT(Q.col(2).dot(d.normalized()), 1.0 - 1e-9) << e;
+    }
+    ASSERT_LT((El - Q.transpose() * E * Q).cwiseAbs().maxCoeff(), 1e-12) << e;
+    ASSERT_DOUBLE_EQ(cd->GetArray("strain_circumferential")->GetTuple1(e), El(0, 0));
+    ASSERT_DOUBLE_EQ(cd->GetArray("strain_longitudinal")->GetTuple1(e), El(1, 1));
+    ASSERT_DOUBLE_EQ(cd->GetArray("strain_radial")->GetTuple1(e), El(2, 2));
+    ecc += El(0, 0) / static_cast<double>(ne);
+    err += El(2, 2) / static_cast<double>(ne);
+  }
+  std::cout << "mean E_cc " << ecc << ", mean E_rr " << err << " over " << ne << " elements\n";
+  EXPECT_GT(ecc, 0.01) << "inflation stretches the wall circumferentially";
+  EXPECT_LT(err, -0.005) << "and thins it";
+}
+
+// output.long_axis overrides the estimate (normalised); a zero direction is refused by key.
+TEST(Frames, TheSceneCanGiveTheLongAxis) {
+  const fs::path dir = scratch_dir("frames_axis_scene");
+  const std::string base = R"(
+name: one_hex_axis
+mesh: {phantom: slab, slab_size: [1, 1, 1], voxel_size: 1 mm, topology: hex}
+materials:
+  - name: m
+    labels: [1]
+    density: 1000 kg/m^3
+    terms:
+      - fem_element: {law: neo_hookean, parameters: {E: 10 kPa, nu: 0.3}}
+boundary:
+  - select: {region: {plane: {point: [0, 0, 0], normal: [0, 0, 1]}}}
+    fix: xyz
+  - select: {region: {plane: {point: [0, 0, 1 mm], normal: [0, 0, 1], tolerance: 0.001 mm}}}
+    control: {axis: x, displacement: {ramp: {to: 0.1 mm, duration: 1 s}}}
+integrator: {type: static, dt: 0.5 s}
+run: {t_end: 1 s}
+output:
+  long_axis: {point: [0, 0, 0], direction: )";
+  const fs::path scene = write_scene(dir, base + "[0, 0, 2]}\n");
+  const fs::path out = dir / "out";
+  const auto r = run_adamss("run " + scene.string() + " -o " + out.string() + cache_arg(dir) + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto summary = read_summary(out);
+  EXPECT_EQ(summary["long_axis"]["source"], "scene");
+  EXPECT_DOUBLE_EQ(summary["long_axis"]["direction"][2].get<double>(), 1.0);
+  const auto grid = read_frame(last_frame(out));
+  vtkCellData* cd = grid->GetCellData();
+  ASSERT_NE(cd->GetArray("strain_circumferential"), nullptr);
+  // Simple shear in the x-z plane: e_r is the centroid's direction normal to z (from the axis
+  // through the origin), e_l = z, and E_rl = e_r^T E e_l = e_r,x E_xz picks up the shear.
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (vtkIdType a = 0; a < 8; ++a) centre += Eigen::Vector3d(grid->GetPoint(a)) / 8.0;
+  const Eigen::Vector3d er = Eigen::Vector3d(centre.x(), centre.y(), 0.0).normalized();
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(cd->GetArray("radial")->GetComponent(0, k), er[k], 1e-12);
+    EXPECT_NEAR(cd->GetArray("longitudinal")->GetComponent(0, k), k == 2 ? 1.0 : 0.0, 1e-12);
+  }
+  const double exz = cd->GetArray("green_lagrange")->GetComponent(0, 2);
+  const double eyz = cd->GetArray("green_lagrange")->GetComponent(0, 5);
+  const double erl = cd->GetArray("green_lagrange_cardiac")->GetComponent(0, 3 * 2 + 1);
+  ASSERT_GT(std::abs(exz), 0.01);
+  EXPECT_NEAR(erl, er.x() * exz + er.y() * eyz, 1e-12);
+
+  const fs::path bad = write_scene(scratch_dir("frames_axis_scene_bad"), base + "[0, 0, 0]}\n");
+  const auto rb = run_adamss("run " + bad.string() + " -o " + (dir / "bad_out").string() + cache_arg(dir) + " -q");
+  EXPECT_NE(rb.exit_code, 0);
+  EXPECT_NE(rb.output.find("output.long_axis.direction"), std::string::npos) << rb.output;
+  EXPECT_NE(rb.output.find("non-zero"), std::string::npos) << rb.output;
 }

@@ -26,7 +26,7 @@ void GradientLawKernel<K>::add_cell_tensors(
     if (t.cols() != n) t = Tensors::Zero(9, n);
     return t;
   };
-  Tensors &pk2 = field("stress_pk2"), &pk2f = field("stress_pk2_fibre_frame"), &cauchy = field("stress_cauchy");
+  Tensors &pk2 = field("stress_pk2"), &cauchy = field("stress_cauchy");
   const auto put = [](Tensors& t, Eigen::Index e, const Eigen::Matrix3d& m) {
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) t(3 * r + c, e) += m(r, c);
@@ -36,18 +36,15 @@ void GradientLawKernel<K>::add_cell_tensors(
   for (std::size_t i = 0; i < elements.size() && i < element_index.size(); ++i) {
     for (int a = 0; a < K; ++a) x.col(a) = s.x.col(elements[i][static_cast<std::size_t>(a)]);
     double weight = 0.0;
-    Eigen::Matrix3d sf = Eigen::Matrix3d::Zero(), sg = Eigen::Matrix3d::Zero(), sc = Eigen::Matrix3d::Zero();
+    Eigen::Matrix3d sg = Eigen::Matrix3d::Zero(), sc = Eigen::Matrix3d::Zero();
     for (std::size_t p = i * np; p < (i + 1) * np; ++p) {
       const Eigen::Matrix3d F = deformation_gradient(p, x);
-      const Eigen::Matrix3d Sf = law->stress(fibre_strain(p, F));
-      const Eigen::Matrix3d S = materials::from_fibre_frame(frame[p], Sf);
-      sf += volume0[p] * Sf;
+      const Eigen::Matrix3d S = materials::from_fibre_frame(frame[p], law->stress(fibre_strain(p, F)));
       sg += volume0[p] * S;
       sc += volume0[p] * (F * S * F.transpose()) / F.determinant();
       weight += volume0[p];
     }
     const auto e = static_cast<Eigen::Index>(element_index[i]);
-    put(pk2f, e, sf / weight);
     put(pk2, e, sg / weight);
     put(cauchy, e, sc / weight);
   }

@@ -94,9 +94,10 @@ struct GradientLawKernel {
   void forces(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& v, double t, Mat3N<K>& f) const;
   void jacobian(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& v, double t, MatJ<K>& dfdx, MatJ<K>& dfdv) const;
   /// The law's stresses per element for the frames, averaged over the element's points with the
-  /// weights V0: the 2nd Piola-Kirchhoff stress S = B S_f B^T (stress_pk2, global frame), S_f
-  /// (stress_pk2_fibre_frame) and the Cauchy stress sigma = F S F^T / det F (stress_cauchy). Only
-  /// this law's part: a volume term's or penalty's pressure is not included.
+  /// weights V0: the 2nd Piola-Kirchhoff stress S = B S_f B^T (stress_pk2, global frame) and the
+  /// Cauchy stress sigma = F S F^T / det F (stress_cauchy). The result writer adds the volume
+  /// terms' hydrostatic stress and forms the fibre-frame S (complete_stress_fields,
+  /// solver/run/results.hpp).
   void add_cell_tensors(const StateView& s, std::size_t element_count,
                         std::map<std::string, Eigen::Matrix<double, 9, Eigen::Dynamic>>& fields) const;
 };

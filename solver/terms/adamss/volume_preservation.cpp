@@ -237,6 +237,20 @@ void VolumeKernel<K>::jacobian(std::size_t i, const Mat3N<K>& x, const Mat3N<K>&
   dfdx.noalias() += (c * (J - ratio(t))) * hess;
 }
 
+template <int K>
+void VolumeKernel<K>::add_cell_fields(const StateView& s, std::size_t element_count,
+                                      std::map<std::string, Eigen::VectorXd>& fields) const {
+  Eigen::VectorXd& q = fields["volumetric_stress"];
+  if (q.size() != static_cast<Eigen::Index>(element_count))
+    q = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(element_count));
+  const VolumePenalty u{form, p};
+  const double r = ratio(s.t);
+  for (std::size_t i = 0; i < elements.size(); ++i) {
+    const Mat3N<K> x = element_positions<K>(s.x, elements[i].data());
+    q[static_cast<Eigen::Index>(mesh_element[i])] += u.slope(volume_ratio(i, x), r);
+  }
+}
+
 template struct VolumeKernel<4>;
 template struct VolumeKernel<8>;
 

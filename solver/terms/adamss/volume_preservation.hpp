@@ -66,6 +66,7 @@
 //
 // No allocation in the per-element calls (fixed-size Eigen only).
 #include <array>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -136,6 +137,13 @@ struct VolumeKernel {
   [[nodiscard]] double energy(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& v, double t) const;
   void forces(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& v, double t, Mat3N<K>& f) const;
   void jacobian(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& v, double t, MatJ<K>& dfdx, MatJ<K>& dfdv) const;
+  /// Adds the term's hydrostatic Cauchy stress to `fields["volumetric_stress"]` (Pa, positive in
+  /// tension) for the frames: sigma_vol = U'(J; r) I. Derivation: with W = U(J), P = dW/dF =
+  /// U'(J) J F^-T, so sigma = P F^T / J = U'(J) I (anisotropic J = det(X G) exactly; isotropic
+  /// J = V / V0, the element mean of det F). The result writer adds it to stress_cauchy and
+  /// J U' C^-1 to stress_pk2 (solver/run/results.hpp).
+  void add_cell_fields(const StateView& s, std::size_t element_count,
+                       std::map<std::string, Eigen::VectorXd>& fields) const;
 
  private:
   /// J, dJ/dx (3 x K) and, when hess is non-null, adds d^2J/dx^2 (3K x 3K) to *hess.

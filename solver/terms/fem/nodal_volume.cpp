@@ -36,6 +36,11 @@ class NodalVolumeTerm final : public ForceTerm {
   void add_forces(const StateView& s, Eigen::Matrix3Xd& f) const override;
   void add_jacobian(const StateView& s, JacobianSink& sink) const override;
   void add_couplings(std::vector<std::vector<Index>>& adj) const override;
+  /// `volumetric_stress` (Pa, positive in tension) per element: c_e = sum_{n in e} U'_n / K, the
+  /// hydrostatic Cauchy stress that the element's forces -c_e dV_e/dx carry (the result writer
+  /// adds it to the stress tensors; solver/run/results.hpp).
+  void add_cell_fields(const StateView& s, std::size_t element_count,
+                       std::map<std::string, Eigen::VectorXd>& fields) const override;
 
  private:
   /// Current nodal volume ratios J_n = V_n / V0_n.
@@ -47,6 +52,7 @@ class NodalVolumeTerm final : public ForceTerm {
   TimeCourse ratio_;
   std::vector<std::array<Index, K>> elements_;  ///< global node indices
   std::vector<std::array<int, K>> local_;       ///< local node indices of each element
+  std::vector<std::size_t> mesh_element_;       ///< mesh element index of each element
   std::vector<Index> nodes_;                    ///< global index of each local node
   std::vector<double> volume0_;                 ///< V0_n (m^3)
   // Node patches, CSR over local nodes: the elements around node n are
@@ -86,6 +92,7 @@ NodalVolumeTerm<K>::NodalVolumeTerm(const preprocess::Mesh& mesh, const NodalVol
     for (const int loc : l) volume0_[static_cast<std::size_t>(loc)] += v0 / K;
     elements_.push_back(g);
     local_.push_back(l);
+    mesh_element_.push_back(e);
   }
   build_patches();
 }
@@ -193,6 +200,22 @@ void NodalVolumeTerm<K>::add_jacobian(const StateView& s, JacobianSink& sink) co
         sink.add_block(np, nodes_[static_cast<std::size_t>(patch_[p0 + q])], -w * g[p] * g[q].transpose(), zero);
       }
     }
+  }
+}
+
+template <int K>
+void NodalVolumeTerm<K>::add_cell_fields(const StateView& s, std::size_t element_count,
+                                         std::map<std::string, Eigen::VectorXd>& fields) const {
+  Eigen::VectorXd& q = fields["volumetric_stress"];
+  const auto n = static_cast<Eigen::Index>(element_count);
+  if (q.size() != n) q = Eigen::VectorXd::Zero(n);
+  std::vector<double> jn = ratios(s.x);
+  const double r = ratio_(s.t);
+  for (double& j : jn) j = penalty_.slope(j, r);  // now U'_n
+  for (std::size_t e = 0; e < elements_.size(); ++e) {
+    double c = 0.0;
+    for (const int m : local_[e]) c += jn[static_cast<std::size_t>(m)] / K;
+    q[static_cast<Eigen::Index>(mesh_element_[e])] += c;
   }
 }
 
