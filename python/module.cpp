@@ -13,6 +13,7 @@
 
 #include "common/error.hpp"
 #include "preprocess/mesh/mesh.hpp"
+#include "preprocess/mesh/mesh_import.hpp"
 #include "preprocess/mesh/mesh_io.hpp"
 #include "solver/run/output_lock.hpp"
 #include "solver/run/results.hpp"
@@ -115,10 +116,10 @@ py::dict run(const std::string& text, const std::string& origin, const std::stri
   return r;
 }
 
-/// mesh.h5 as numpy arrays: nodes (m), connectivity, labels, the fibre frame, cell fields, node
-/// tags, cavities (volume, closed).
+/// A mesh file (mesh.h5, .vtu or gmsh .msh: preprocess::read_mesh_file) as numpy arrays: nodes (m),
+/// connectivity, labels, the fibre frame, cell fields, node tags, cavities (volume, closed).
 py::dict read_mesh(const std::string& path) {
-  const preprocess::Mesh mesh = preprocess::read_mesh_h5(path);
+  const preprocess::Mesh mesh = preprocess::read_mesh_file(path);
   py::dict r;
   r["element_type"] = preprocess::element_type_name(mesh.type);
   r["nodes"] = rows_of(mesh.nodes);
@@ -165,5 +166,6 @@ PYBIND11_MODULE(_core, m) {
   py::register_exception<IoError>(m, "IoError", PyExc_OSError);
   m.def("run", &run, py::arg("text"), py::arg("origin"), py::arg("output"), py::arg("cache") = "",
         py::arg("progress") = false, "Run a scene given as YAML text; see adamss.run");
-  m.def("read_mesh", &read_mesh, py::arg("path"), "Read a mesh.h5 into numpy arrays; see adamss.read_mesh");
+  m.def("read_mesh", &read_mesh, py::arg("path"),
+        "Read a mesh file (.h5, .vtu, .msh) into numpy arrays; see adamss.read_mesh");
 }

@@ -148,22 +148,28 @@ Mesh read_mesh_vtu(const std::filesystem::path& path) {
     for (vtkIdType e = 0; e < cells; ++e) v[e] = a->GetComponent(e, 0);
     mesh.cell_scalars[name] = v;
   }
+  check_element_orientation(mesh, where, "VTK node order expected");
+  mesh.attributes["source"] = path.string();
+  return mesh;
+}
+
+void check_element_orientation(const Mesh& mesh, const std::string& where, const std::string& hint) {
   for (std::size_t e = 0; e < mesh.element_count(); ++e) {
     if (!(centre_jacobian(mesh, e) > 0.0)) {
       throw InputError(where + ": element " + std::to_string(e) +
-                       " is inverted or degenerate (volume <= 0 at its centre; VTK node order expected)");
+                       " is inverted or degenerate (volume <= 0 at its centre; " + hint + ")");
     }
   }
-  mesh.attributes["source"] = path.string();
-  return mesh;
 }
 
 Mesh read_mesh_file(const std::filesystem::path& path) {
   const std::string ext = path.extension().string();
   if (ext == ".vtu") return read_mesh_vtu(path);
+  if (ext == ".msh") return read_mesh_msh(path);
   if (ext == ".h5" || ext == ".hdf5") return read_mesh_h5(path);
   throw InputError("mesh '" + path.string() + "': unknown kind of file '" + ext +
-                   "' (adamss reads mesh.h5 from `adamss mesh` and VTK .vtu grids of tetrahedra or hexahedra)");
+                   "' (adamss reads mesh.h5 from `adamss mesh`, VTK .vtu grids and gmsh .msh files of tetrahedra or "
+                   "hexahedra)");
 }
 
 }  // namespace adamss::preprocess

@@ -1,8 +1,9 @@
 #pragma once
-// Meshes made elsewhere: a VTK XML unstructured grid (.vtu, e.g. from ParaView, meshio, gmsh via
-// meshio, or the .vtu adamss mesh writes) read into a Mesh, so that a scene's `mesh: {file: ...}`
-// and `adamss info` accept it beside mesh.h5.
+// Meshes made elsewhere: a VTK XML unstructured grid (.vtu, e.g. from ParaView, meshio, or the .vtu
+// adamss mesh writes) or a gmsh MSH file (.msh) read into a Mesh, so that a scene's
+// `mesh: {file: ...}` and `adamss info` accept it beside mesh.h5.
 #include <filesystem>
+#include <string>
 
 #include "preprocess/mesh/mesh.hpp"
 
@@ -18,7 +19,26 @@ namespace adamss::preprocess {
 /// frame, an inverted element (negative volume at its centre).
 Mesh read_mesh_vtu(const std::filesystem::path& path);
 
-/// read_mesh_h5 for .h5, read_mesh_vtu for .vtu; InputError for another extension.
+/// Reads a gmsh MSH file, ASCII format 2.2 or 4.1 (mesh_import_msh.cpp). The mesh is its linear
+/// tetrahedra (gmsh type 4) or hexahedra (type 5), all of one type, with the nodes they use
+/// (renumbered from 0 in order of first use; node tags need not be contiguous). Each element's
+/// label is its first physical group (else its elementary entity; 1 for neither); the names of
+/// volume groups go into attributes["label_names"] ("1=myocardium,2=scar"). Every physical group
+/// of points, lines, triangles or quadrangles becomes a node tag named by $PhysicalNames (else
+/// "physical_<tag>"), so a scene selects "endocardium" or "base" with `select: {tag: ...}` and
+/// loads a tagged surface. No fibres (use the scene's fibre rule). InputError naming the file and
+/// line for: a binary file or another format version, a missing section, an element type other
+/// than points/lines/triangles/quadrangles/tetrahedra/hexahedra, mixed tetrahedra and hexahedra,
+/// no volume element, an undefined or duplicated node, a non-finite coordinate, an inverted
+/// element.
+Mesh read_mesh_msh(const std::filesystem::path& path);
+
+/// InputError (`where`: the file, `hint` after the message) naming the first element whose volume
+/// measure at its centre is not positive (inverted, degenerate or in another node order).
+void check_element_orientation(const Mesh& mesh, const std::string& where, const std::string& hint);
+
+/// read_mesh_h5 for .h5, read_mesh_vtu for .vtu, read_mesh_msh for .msh; InputError for another
+/// extension.
 Mesh read_mesh_file(const std::filesystem::path& path);
 
 }  // namespace adamss::preprocess

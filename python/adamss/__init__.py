@@ -50,7 +50,8 @@ def run(scene, output, cache=None, progress=False):
 
 
 def read_mesh(path):
-    """Read a mesh.h5 written by `adamss mesh`: a dict of numpy arrays.
+    """Read a mesh file: a mesh.h5 written by `adamss mesh`, a VTK .vtu grid or a gmsh .msh file
+    (ASCII 2.2 or 4.1) of tetrahedra or hexahedra, as a dict of numpy arrays.
 
     element_type ("tet4" or "hex8"), nodes (n x 3, m), connectivity (elements x 4 or 8, VTK
     order), labels, fiber / sheet / normal (elements x 3, when the mesh has fibres), cell_fields

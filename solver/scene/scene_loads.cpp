@@ -64,17 +64,26 @@ class ConstraintMonitor final : public VolumeMonitor {
   const CavityConstraintTerm* term_;
 };
 
-/// `surface: {cavity: NAME}` (a cavity of the mesh) or `surface: {region: {...}}` (the boundary
-/// faces in a region), named `name`.
-Surface pressure_surface(SceneNode sel, const preprocess::Mesh& mesh, const std::string& name) {
+/// A load surface named `name`: `surface: {cavity: NAME}` (a cavity of the mesh: its wall faces,
+/// not its lid), `{tag: NAME}` (the boundary faces whose nodes all carry the mesh's node tag, e.g.
+/// a gmsh physical surface) or `{region: {...}}` (the boundary faces in a region); exactly one.
+/// Shared by the pressure surfaces and the Robin supports.
+Surface load_surface(SceneNode sel, const preprocess::Mesh& mesh, const std::string& name) {
+  const int kinds = int(sel.has("tag")) + int(sel.has("region")) + int(sel.has("cavity"));
+  if (kinds != 1) throw InputError(sel.path() + ": give exactly one of cavity: NAME, tag: NAME, region: {...}");
   Surface surface;
-  const bool cav = sel.has("cavity"), reg = sel.has("region");
-  if (cav == reg) throw InputError(sel.path() + ": give either cavity: NAME (from the mesh) or region: {...}");
-  if (cav) {
-    surface = cavity_surface(mesh, sel.text("cavity"));
-    surface.name = name;
-  } else {
+  if (sel.has("region")) {
     surface = boundary_surface(mesh, sel.region("region"), name);
+  } else {
+    const bool tag = sel.has("tag");
+    const std::string key = tag ? "tag" : "cavity";
+    const std::string value = sel.text(key);
+    try {
+      surface = tag ? tagged_boundary_surface(mesh, value, name) : cavity_surface(mesh, value);
+    } catch (const InputError& e) {
+      throw InputError(sel.at(key) + ": " + e.what());
+    }
+    surface.name = name;
   }
   sel.finish();
   return surface;
@@ -109,7 +118,7 @@ CirculationSettings circulation_settings(SceneNode& c) {
 void build_pressure(SceneNode& p, Model& model, std::set<std::string>& names) {
   const std::string name = p.text("name");
   if (!names.insert(name).second) throw InputError(p.at("name") + ": a second pressure surface named '" + name + "'");
-  Surface surface = pressure_surface(p.map("surface"), *model.mesh, name);
+  Surface surface = load_surface(p.map("surface"), *model.mesh, name);
   const bool given_p = p.has("pressure"), given_v = p.has("volume_ratio"), given_c = p.has("circulation");
   if (int(given_p) + int(given_v) + int(given_c) != 1) {
     throw InputError(p.path() +
@@ -144,23 +153,7 @@ void build_pressure(SceneNode& p, Model& model, std::set<std::string>& names) {
 void build_robin(SceneNode& r, Model& model, std::set<std::string>& names) {
   const std::string name = r.text("name");
   if (!names.insert(name).second) throw InputError(r.at("name") + ": a second robin support named '" + name + "'");
-  SceneNode sel = r.map("surface");
-  const int kinds = int(sel.has("tag")) + int(sel.has("region")) + int(sel.has("cavity"));
-  if (kinds != 1) throw InputError(sel.path() + ": give exactly one of tag: NAME, region: {...}, cavity: NAME");
-  Surface surface;
-  try {
-    if (sel.has("tag")) {
-      surface = tagged_boundary_surface(*model.mesh, sel.text("tag"), name);
-    } else if (sel.has("region")) {
-      surface = boundary_surface(*model.mesh, sel.region("region"), name);
-    } else {
-      surface = cavity_surface(*model.mesh, sel.text("cavity"));
-      surface.name = name;
-    }
-  } catch (const InputError& e) {
-    throw InputError(sel.path() + ": " + e.what());
-  }
-  sel.finish();
+  const Surface surface = load_surface(r.map("surface"), *model.mesh, name);
   const double k = r.positive("stiffness", Dimension::SupportStiffness, 0.0, true);
   const double c = r.positive("damping", Dimension::SupportDamping, 0.0, true);
   r.finish();

@@ -103,7 +103,7 @@ preprocess::Mesh ellipsoid_mesh(SceneNode& node, std::string& source) {
   return mesh;
 }
 
-/// mesh: {file: mesh.h5 or grid.vtu}, relative to the scene's folder.
+/// mesh: {file: mesh.h5, grid.vtu or gmsh.msh}, relative to the scene's folder.
 preprocess::Mesh file_mesh(SceneNode& node, const fs::path& base, std::string& source) {
   fs::path p = node.text("file");
   if (p.is_relative()) p = base / p;

@@ -101,6 +101,6 @@ TEST(RobinSupport, ErrorsNameTheKey) {
             std::string::npos);
   EXPECT_NE(err("{name: base, surface: {region: {plane: {point: [0, 0, 0], normal: [0, 0, 1]}}, cavity: lv}, "
                 "stiffness: 1 kPa/mm}")
-                .find("exactly one of tag"),
+                .find("exactly one of cavity: NAME, tag: NAME, region"),
             std::string::npos);
 }
