@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdint>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include "common/error.hpp"
 
@@ -43,6 +45,7 @@ Circulation::Circulation(CirculationSettings settings, double v_initial, const s
   if (!(set_.period >= 0.0)) throw InputError(what + ".period must be >= 0 s (0: one beat)");
   last_.aortic_pressure = wk_.compliance_pressure();
   last_.atrial_pressure = set_.atrial_pressure(0.0);
+  p_prev_ = last_.atrial_pressure;
 }
 
 CavityCondition Circulation::condition(double t1, double h) const {
@@ -78,6 +81,14 @@ void Circulation::end_step(double t, double h, double v, double p) {
   last_.aortic_pressure = wk_.compliance_pressure() + (ejecting ? wk_.parameters().characteristic_impedance * q : 0.0);
   peak_ = std::max(peak_, p);
   beat_peak_ = std::max(beat_peak_, p);
+  // The beat's running values over the step just taken (in phase_, before any switch).
+  const double dpdt = h > 0.0 ? (p - p_prev_) / h : 0.0;
+  pdv_ += 0.5 * (p + p_prev_) * dv;  // trapezoidal int P dV
+  if (phase_ == CardiacPhase::IsovolumicContraction || phase_ == CardiacPhase::Ejection)
+    dpdt_max_ = std::max(dpdt_max_, dpdt);
+  if (phase_ == CardiacPhase::IsovolumicRelaxation) dpdt_min_ = std::min(dpdt_min_, dpdt);
+  if (ejecting) ao_max_ = std::max(ao_max_, last_.aortic_pressure);
+  p_prev_ = p;
   if (phase_ == CardiacPhase::IsovolumicContraction || phase_ == CardiacPhase::IsovolumicRelaxation)
     drift_ = std::max(drift_, std::abs(v / v_held_ - 1.0));
   ValveInputs in;
@@ -98,21 +109,47 @@ void Circulation::end_step(double t, double h, double v, double p) {
         edp_ = p;
         beat_peak_ = p;
         if (edv_first_ < 0) edv_first_ = v;
+        filling_pdv_ = pdv_;
+        pdv_ = 0.0;
+        dpdt_max_ = -INFINITY;
+        t_mc_ = t;
         break;
       case CardiacPhase::Ejection:
         events_.emplace_back(t, "aortic_opens");
+        t_ao_ = t;
+        ao_diastolic_ = wk_.compliance_pressure();
+        ao_max_ = ao_diastolic_;
         break;
-      case CardiacPhase::IsovolumicRelaxation:
+      case CardiacPhase::IsovolumicRelaxation: {
         events_.emplace_back(t, "aortic_closes");
         v_held_ = v;
         esv_ = v;
         esp_ = p;
         ++completed_;
-        beats_.push_back({edv_, edp_, esv_, esp_, beat_peak_});
+        BeatRecord b;
+        b.edv = edv_;
+        b.edp = edp_;
+        b.esv = esv_;
+        b.esp = esp_;
+        b.peak = beat_peak_;
+        b.dpdt_max = dpdt_max_;
+        b.stroke_work = -(pdv_ + filling_pdv_);
+        b.aortic_systolic = ao_max_;
+        b.aortic_diastolic = ao_diastolic_;
+        b.t_mc = t_mc_;
+        b.t_ao = t_ao_;
+        b.t_ac = t;
+        beats_.push_back(b);
+        dpdt_min_ = INFINITY;
         break;
+      }
       case CardiacPhase::Filling:
         events_.emplace_back(t, "mitral_opens");
         ++beat_;
+        if (!beats_.empty() && std::isnan(beats_.back().t_mo)) {
+          beats_.back().t_mo = t;
+          beats_.back().dpdt_min = dpdt_min_;
+        }
         break;
     }
     phase_ = next;
@@ -133,6 +170,12 @@ std::vector<std::pair<std::string, double>> Circulation::metrics() const {
     m.emplace_back("ejection_fraction", (edv_ - esv_) / edv_);
   }
   m.emplace_back("peak_pressure_Pa", beats_.empty() ? peak_ : beats_.back().peak);  // of the last beat
+  if (!beats_.empty()) {
+    for (auto& kv : beats_.back().metrics(set_.period)) {
+      const bool known = std::any_of(m.begin(), m.end(), [&](const auto& e) { return e.first == kv.first; });
+      if (!known) m.push_back(std::move(kv));
+    }
+  }
   m.emplace_back("isovolumic_volume_drift", drift_);
   if (edv_first_ > 0 && completed_ > 0 && phase_ == CardiacPhase::Filling)
     m.emplace_back("loop_closure", std::abs(v_prev_ - edv_first_) / edv_first_);
@@ -145,17 +188,33 @@ std::vector<std::pair<std::string, double>> Circulation::metrics() const {
   return m;
 }
 
+std::vector<std::pair<std::string, double>> BeatRecord::metrics(double period) const {
+  std::vector<std::pair<std::string, double>> m = {{"edv_m3", edv},
+                                                   {"edp_Pa", edp},
+                                                   {"esv_m3", esv},
+                                                   {"esp_Pa", esp},
+                                                   {"stroke_volume_m3", edv - esv},
+                                                   {"ejection_fraction", ejection_fraction()},
+                                                   {"peak_pressure_Pa", peak},
+                                                   {"dpdt_max_Pa_per_s", dpdt_max},
+                                                   {"stroke_work_J", stroke_work},
+                                                   {"aortic_systolic_pressure_Pa", aortic_systolic},
+                                                   {"aortic_diastolic_pressure_Pa", aortic_diastolic},
+                                                   {"isovolumic_contraction_s", t_ao - t_mc},
+                                                   {"ejection_s", t_ac - t_ao}};
+  if (!std::isnan(t_mo)) {
+    m.emplace_back("dpdt_min_Pa_per_s", dpdt_min);
+    m.emplace_back("isovolumic_relaxation_s", t_mo - t_ac);
+  }
+  if (period > 0.0) m.emplace_back("cardiac_output_m3_per_s", (edv - esv) / period);
+  std::erase_if(m, [](const auto& kv) { return std::isnan(kv.second); });  // (a record of an earlier checkpoint)
+  return m;
+}
+
 std::vector<std::vector<std::pair<std::string, double>>> Circulation::beat_metrics() const {
   std::vector<std::vector<std::pair<std::string, double>>> out;
-  for (const BeatRecord& b : beats_) {
-    out.push_back({{"edv_m3", b.edv},
-                   {"edp_Pa", b.edp},
-                   {"esv_m3", b.esv},
-                   {"esp_Pa", b.esp},
-                   {"stroke_volume_m3", b.edv - b.esv},
-                   {"ejection_fraction", b.ejection_fraction()},
-                   {"peak_pressure_Pa", b.peak}});
-  }
+  out.reserve(beats_.size());
+  for (const BeatRecord& b : beats_) out.push_back(b.metrics(set_.period));
   return out;
 }
 
@@ -187,8 +246,9 @@ void Circulation::save_state(StateArchive& archive) const {
   for (const auto& kv : settings_list(set_)) settings.push_back(kv.second);
   archive.put("settings", settings);
   archive.put_ints("counters", {static_cast<std::int64_t>(phase_), beat_, completed_});
-  archive.put("values",
-              std::vector<double>{v_prev_, v_held_, edv_, edp_, esv_, esp_, edv_first_, peak_, drift_, beat_peak_});
+  archive.put("values", std::vector<double>{v_prev_, v_held_, edv_, edp_, esv_, esp_, edv_first_, peak_, drift_,
+                                            beat_peak_, p_prev_, pdv_, filling_pdv_, dpdt_max_, dpdt_min_, ao_max_,
+                                            ao_diastolic_, t_mc_, t_ao_});
   StateArchive wk = archive.child("windkessel");
   wk_.save_state(wk);
   std::vector<double> et;
@@ -200,7 +260,10 @@ void Circulation::save_state(StateArchive& archive) const {
   archive.put("events/t", et);
   archive.put_ints("events/kind", ek);
   std::vector<double> beats;
-  for (const BeatRecord& b : beats_) beats.insert(beats.end(), {b.edv, b.edp, b.esv, b.esp, b.peak});
+  for (const BeatRecord& b : beats_) {
+    beats.insert(beats.end(), {b.edv, b.edp, b.esv, b.esp, b.peak, b.dpdt_max, b.dpdt_min, b.stroke_work,
+                               b.aortic_systolic, b.aortic_diastolic, b.t_mc, b.t_ao, b.t_ac, b.t_mo});
+  }
   archive.put("beats", beats);
 }
 
@@ -225,8 +288,12 @@ void Circulation::load_state(const StateArchive& archive) {
   const auto& et = archive.doubles("events/t");
   const auto& ek = archive.integers("events/kind");
   const auto& b = archive.doubles("beats");
-  if (c.size() != 3 || c[0] < 0 || c[0] > 3 || c[1] < 0 || c[2] < 0 || v.size() != 10 || et.size() != ek.size() ||
-      b.size() % 5 != 0 || b.size() / 5 != static_cast<std::size_t>(c[2]))
+  // 19 values and 14 per beat; a checkpoint of an earlier adamss has 10 and 5 (the beat metrics
+  // added since start from the resumed step: no dP/dt, work or aortic extrema for the beat under way).
+  const bool earlier = v.size() == 10;
+  const std::size_t stride = earlier ? 5 : BeatRecord::kFields;
+  if (c.size() != 3 || c[0] < 0 || c[0] > 3 || c[1] < 0 || c[2] < 0 || (v.size() != 19 && !earlier) ||
+      et.size() != ek.size() || b.size() % stride != 0 || b.size() / stride != static_cast<std::size_t>(c[2]))
     throw InputError(src + ": the circulation state is malformed (counters, values, events or beats)");
   phase_ = static_cast<CardiacPhase>(c[0]);
   beat_ = static_cast<int>(c[1]);
@@ -241,6 +308,17 @@ void Circulation::load_state(const StateArchive& archive) {
   peak_ = v[7];
   drift_ = v[8];
   beat_peak_ = v[9];
+  if (!earlier) {
+    p_prev_ = v[10];
+    pdv_ = v[11];
+    filling_pdv_ = v[12];
+    dpdt_max_ = v[13];
+    dpdt_min_ = v[14];
+    ao_max_ = v[15];
+    ao_diastolic_ = v[16];
+    t_mc_ = v[17];
+    t_ao_ = v[18];
+  }
   wk_.load_state(archive.child("windkessel"));
   events_.clear();
   for (std::size_t k = 0; k < et.size(); ++k) {
@@ -249,7 +327,29 @@ void Circulation::load_state(const StateArchive& archive) {
     events_.emplace_back(et[k], kEventNames[static_cast<std::size_t>(ek[k])]);
   }
   beats_.clear();
-  for (std::size_t k = 0; k < b.size(); k += 5) beats_.push_back({b[k], b[k + 1], b[k + 2], b[k + 3], b[k + 4]});
+  for (std::size_t k = 0; k < b.size(); k += stride) {
+    BeatRecord r;
+    r.edv = b[k];
+    r.edp = b[k + 1];
+    r.esv = b[k + 2];
+    r.esp = b[k + 3];
+    r.peak = b[k + 4];
+    if (earlier) {
+      r.dpdt_max = r.stroke_work = r.aortic_systolic = r.aortic_diastolic = NAN;
+      r.t_mc = r.t_ao = r.t_ac = NAN;
+    } else {
+      r.dpdt_max = b[k + 5];
+      r.dpdt_min = b[k + 6];
+      r.stroke_work = b[k + 7];
+      r.aortic_systolic = b[k + 8];
+      r.aortic_diastolic = b[k + 9];
+      r.t_mc = b[k + 10];
+      r.t_ao = b[k + 11];
+      r.t_ac = b[k + 12];
+      r.t_mo = b[k + 13];
+    }
+    beats_.push_back(r);
+  }
 }
 
 }  // namespace adamss::solver

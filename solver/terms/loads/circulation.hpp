@@ -25,6 +25,8 @@
 //   ejection     -> IVR       aortic valve closes: Q = -dV/h <= 0. V_held = V; ESV = V, ESP = P.
 //   IVR          -> filling   mitral valve opens: P <= P_at(t).
 // The contraction onset of beat n (n = 0, 1, ...) is onset + n period (period 0: one beat).
+#include <cmath>
+#include <cstddef>
 #include <string>
 #include <utility>
 #include <vector>
@@ -61,9 +63,23 @@ struct ValveInputs {
 
 /// The valve-event values of one completed beat (SI): EDV and EDP at the mitral closure, ESV
 /// and ESP at the aortic closure, the peak cavity pressure between the two.
+/// One beat, from mitral closure (MC) through aortic opening (AO) and closure (AC) to mitral
+/// opening (MO). Recorded at AC; dpdt_min and t_mo are NaN until MO (the end of the isovolumic
+/// relaxation) has happened.
 struct BeatRecord {
-  double edv = 0.0, edp = 0.0, esv = 0.0, esp = 0.0, peak = 0.0;
+  double edv = 0.0, edp = 0.0, esv = 0.0, esp = 0.0, peak = 0.0;  ///< m^3, Pa (at MC, at AC; peak MC..AC)
+  double dpdt_max = 0.0;                                          ///< Pa/s, largest step dP/dt from MC to AC
+  double dpdt_min = NAN;                                          ///< Pa/s, smallest step dP/dt from AC to MO
+  /// J, the loop's area -oint P dV: -(int_MC^AC P dV + int P dV over the filling before MC).
+  double stroke_work = 0.0;
+  double aortic_systolic = 0.0;                           ///< Pa, largest aortic pressure during ejection
+  double aortic_diastolic = 0.0;                          ///< Pa, the arterial pressure at AO (the lowest of the beat)
+  double t_mc = 0.0, t_ao = 0.0, t_ac = 0.0, t_mo = NAN;  ///< s, the valve events
   [[nodiscard]] double ejection_fraction() const { return edv > 0.0 ? (edv - esv) / edv : 0.0; }
+  /// The record as summary.json key/value pairs (SI units in the keys; durations from the
+  /// events; keys whose value is not known yet left out; cardiac output with a period only).
+  [[nodiscard]] std::vector<std::pair<std::string, double>> metrics(double period) const;
+  static constexpr std::size_t kFields = 14;  ///< doubles per record in a checkpoint
 };
 
 struct CirculationSettings {
@@ -103,16 +119,15 @@ class Circulation {
   [[nodiscard]] const std::vector<std::pair<double, std::string>>& events() const { return events_; }
   /// Beat metrics (SI, keys as in summary.json): edv_m3, edp_Pa, esv_m3, esp_Pa, stroke_volume_m3,
   /// ejection_fraction, peak_pressure_Pa (of the last completed beat; before one completes,
-  /// the largest pressure so far), isovolumic_volume_drift (max |V/V_held - 1|, all beats),
-  /// loop_closure (|V_end - EDV_first| / EDV_first once the cavity is filling again), beats,
-  /// and after two completed beats beat_to_beat_change = max(|EDV_n/EDV_{n-1} - 1|,
-  /// |ESV_n/ESV_{n-1} - 1|) of the last two (0 for a periodic state).
-  /// Values of the LAST completed beat; keys whose event has not happened are left out.
+  /// the largest pressure so far), the rest of BeatRecord::metrics of the last completed beat, isovolumic_volume_drift
+  /// (max |V/V_held - 1|, all beats), loop_closure (|V_end - EDV_first| / EDV_first once the cavity is filling again),
+  /// beats, and after two completed beats beat_to_beat_change = max(|EDV_n/EDV_{n-1} - 1|, |ESV_n/ESV_{n-1} - 1|) of
+  /// the last two (0 for a periodic state). Values of the LAST completed beat; keys whose event has not happened are
+  /// left out.
   [[nodiscard]] std::vector<std::pair<std::string, double>> metrics() const;
   /// Every completed beat, in order.
   [[nodiscard]] const std::vector<BeatRecord>& beats() const { return beats_; }
-  /// beats() as summary.json key/value lists (edv_m3, edp_Pa, esv_m3, esp_Pa, stroke_volume_m3,
-  /// ejection_fraction, peak_pressure_Pa).
+  /// beats() as summary.json key/value lists (BeatRecord::metrics).
   [[nodiscard]] std::vector<std::vector<std::pair<std::string, double>>> beat_metrics() const;
 
   /// Checkpoint: everything that evolves between accepted steps (phase, beat counters, previous
@@ -133,6 +148,11 @@ class Circulation {
   std::vector<std::pair<double, std::string>> events_;
   double edv_ = -1, edp_ = 0, esv_ = -1, esp_ = 0, edv_first_ = -1, peak_ = 0, drift_ = 0;
   double beat_peak_ = 0;  ///< peak pressure since the last mitral closure
+  // Running values of the beat under way (BeatRecord): the last accepted pressure, int P dV since
+  // the last MC (or the start) and over the filling before it, the dP/dt extrema, the aortic
+  // systolic and diastolic pressures, the MC and AO times.
+  double p_prev_ = 0, pdv_ = 0, filling_pdv_ = 0, dpdt_max_ = -INFINITY, dpdt_min_ = INFINITY, ao_max_ = 0,
+         ao_diastolic_ = 0, t_mc_ = 0, t_ao_ = 0;
   int completed_ = 0;
   std::vector<BeatRecord> beats_;
   Haemodynamics last_;

@@ -9,8 +9,8 @@
 #include <string>
 
 #include "common/error.hpp"
-#include "solver/terms/loads/circulation.hpp"
 #include "solver/core/state_archive.hpp"
+#include "solver/terms/loads/circulation.hpp"
 
 using namespace adamss;
 using solver::CardiacPhase;
@@ -77,16 +77,19 @@ TEST(Circulation, ConditionsPerPhaseAndASyntheticBeat) {
   t += h;
   c.end_step(t, h, v, 10100.0);
   EXPECT_EQ(c.phase(), CardiacPhase::Ejection);
+  const double diastolic = c.windkessel().compliance_pressure();
   // Ejection condition: V*(P) = V_prev - h (P - a) / b, the Windkessel relation.
   k = c.condition(t + h, h);
   const auto r = c.windkessel().relation(h);
   const double p_test = 12000.0;
   EXPECT_NEAR(k.volume + k.dvolume_dpressure * p_test, v - h * (p_test - r.a) / r.b, 1e-18);
   EXPECT_LT(k.dvolume_dpressure, 0.0);
+  double systolic = 0.0;
   for (int i = 0; i < 50; ++i) {
     t += h;
     v -= 1e-6;
     c.end_step(t, h, v, 12000.0);
+    systolic = std::max(systolic, c.last_step().aortic_pressure);
   }
   EXPECT_EQ(c.phase(), CardiacPhase::Ejection);
   // The Windkessel was charged by the outflow: P_c rose.
@@ -106,6 +109,22 @@ TEST(Circulation, ConditionsPerPhaseAndASyntheticBeat) {
   EXPECT_DOUBLE_EQ(m.at("peak_pressure_Pa"), 12000.0);
   EXPECT_DOUBLE_EQ(m.at("beats"), 1.0);
   EXPECT_EQ(c.events().size(), 4u);
+  // The beat's haemodynamics, by hand from the inputs (trapezoidal P dV, step dP/dt):
+  //   filling   100 steps of +1e-8 m^3 at 1000 Pa: int P dV = 1e-3 J
+  //   ejection  -0.5 (10100 + 12000) 1e-6 - 49 * 12000e-6 = -0.59905 J
+  //   stroke work -(-0.59905 + 1e-3) = 0.59805 J
+  //   dP/dt max (10100 - 1000) / 1 ms (the isovolumic step), min (900 - 11000) / 1 ms (relaxation)
+  //   MC 0.101 s, AO 0.102 s, AC 0.153 s, MO 0.154 s
+  EXPECT_NEAR(m.at("stroke_work_J"), 0.59805, 1e-12);
+  EXPECT_NEAR(m.at("dpdt_max_Pa_per_s"), 9.1e6, 1e-3);
+  EXPECT_NEAR(m.at("dpdt_min_Pa_per_s"), -1.01e7, 1e-3);
+  EXPECT_NEAR(m.at("isovolumic_contraction_s"), 1e-3, 1e-12);
+  EXPECT_NEAR(m.at("ejection_s"), 51e-3, 1e-12);
+  EXPECT_NEAR(m.at("isovolumic_relaxation_s"), 1e-3, 1e-12);
+  EXPECT_DOUBLE_EQ(m.at("aortic_diastolic_pressure_Pa"), diastolic);
+  EXPECT_DOUBLE_EQ(m.at("aortic_systolic_pressure_Pa"), systolic);
+  EXPECT_GT(systolic, diastolic);
+  EXPECT_EQ(m.count("cardiac_output_m3_per_s"), 0u) << "one beat (period 0): no heart rate";
   // One beat (period 0): a later fall of the volume does not start another contraction.
   t += h;
   c.end_step(t, h, v - 1e-9, 1000.0);
@@ -226,6 +245,7 @@ TEST(Circulation, SecondBeatAfterOnePeriod) {
   std::map<std::string, double> b2(per_beat[1].begin(), per_beat[1].end());
   EXPECT_NEAR(b2.at("ejection_fraction"), c.beats()[1].ejection_fraction(), 1e-15);
   EXPECT_NEAR(b2.at("stroke_volume_m3"), 40 * 1.05e-6, 1e-15);
+  EXPECT_NEAR(b2.at("cardiac_output_m3_per_s"), 40 * 1.05e-6 / 0.5, 1e-15);  // SV / period
   EXPECT_DOUBLE_EQ(m.at("peak_pressure_Pa"), c.beats()[1].peak);
 }
 
