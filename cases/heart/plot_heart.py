@@ -4,7 +4,11 @@ OUT/scar/globals.csv when the scarred run exists), in the units cardiologists re
   pv_loop_mmhg.png/.svg  pressure-volume loop of every beat, mmHg and ml, the passive inflation
                          before the first contraction (the ventricle's EDPVR: the atrial pressure
                          rises quasi-statically) and the last beat's end-diastolic and
-                         end-systolic points (ESPVR needs loops at several loads: not drawn)
+                         end-systolic points
+  espvr.png/.svg         (when OUT/occlusion exists: lv_beat_occlusion.yaml, the same beats at
+                         lower preloads) every loop of both runs with their end-systolic points,
+                         the ESPVR fitted through them, P_es = E_es (V_es - V_0) by least squares,
+                         and the EDPVR; espvr.json holds E_es (mmHg/ml), V_0 (ml), r^2 and the points
   wiggers.png/.svg       Wiggers diagram: LV, aortic and atrial pressure (mmHg) and LV volume
                          (ml) against time, the four phases shaded, valve events marked
                          (MC mitral closes, AO aortic opens, AC aortic closes, MO mitral opens)
@@ -252,6 +256,58 @@ def bullseye(r, out, name, title):
     return means
 
 
+def es_points(summary_path):
+    """(ESV ml, ESP mmHg) of every completed beat in a run's summary.json."""
+    with open(summary_path) as f:
+        beats_ = json.load(f)["cavities"]["lv"].get("per_beat", [])
+    return [(1e6 * b["esv_m3"], b["esp_Pa"] / MMHG) for b in beats_]
+
+
+def fit_espvr(points):
+    """Least-squares line P = E_es (V - V_0) through (V, P); None when the volumes span < 5 %."""
+    v, p = np.array([q[0] for q in points]), np.array([q[1] for q in points])
+    if len(v) < 2 or np.ptp(v) < 0.05 * np.mean(v):
+        return None
+    slope, intercept = np.polyfit(v, p, 1)
+    fitted = slope * v + intercept
+    r2 = 1.0 - np.sum((p - fitted) ** 2) / max(np.sum((p - p.mean()) ** 2), 1e-300)
+    return {"Ees_mmHg_per_ml": float(slope), "V0_ml": float(-intercept / slope), "r2": float(r2),
+            "points": [{"esv_ml": float(a), "esp_mmHg": float(b)} for a, b in points]}
+
+
+def espvr(g, go, sim, out):
+    """PV loops of the baseline and occlusion runs with the fitted ESPVR; writes espvr.json."""
+    points = es_points(os.path.join(sim, "summary.json")) + es_points(os.path.join(out, "occlusion", "summary.json"))
+    fit = fit_espvr(points)
+    if fit is None:
+        sys.exit("plot_heart.py: the end-systolic points %s span too little volume for an ESPVR" % points)
+    fig, ax = plt.subplots(figsize=(8.4, 4.6))
+    b = beats(g, None)
+    ax.plot(g["lv_volume"][b == 0] * 1e6, g["lv_pressure"][b == 0] / MMHG, "-", lw=1.0, color="0.35",
+            label="passive inflation (EDPVR)")
+    for run, data, style in (("baseline", g, "-"), ("occlusion", go, "--")):
+        bb = beats(data, None)
+        for k in range(1, bb.max() + 1):
+            sel = bb == k
+            ax.plot(data["lv_volume"][sel] * 1e6, data["lv_pressure"][sel] / MMHG, style, lw=1.3,
+                    label="%s beat %d" % (run, k))
+    pv = np.array([[q["esv_ml"], q["esp_mmHg"]] for q in fit["points"]])
+    ax.plot(pv[:, 0], pv[:, 1], "ks", ms=5, label="end-systolic points")
+    vv = np.linspace(max(fit["V0_ml"], 0.0), pv[:, 0].max() * 1.25, 50)
+    ax.plot(vv, fit["Ees_mmHg_per_ml"] * (vv - fit["V0_ml"]), "k-", lw=1.0,
+            label="ESPVR: E_es %.1f mmHg/ml, V_0 %.2f ml" % (fit["Ees_mmHg_per_ml"], fit["V0_ml"]))
+    ax.set_xlabel("LV volume (ml)")
+    ax.set_ylabel("LV pressure (mmHg)")
+    ax.set_title("Loops at three preloads and the ESPVR")
+    ax.set_ylim(bottom=0)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=7, frameon=False)
+    ax.grid(alpha=0.3)
+    save(fig, out, "espvr")
+    with open(os.path.join(out, "espvr.json"), "w") as f:
+        json.dump(fit, f, indent=2)
+    return fit
+
+
 def main(out, sim=None):
     g = read_globals(os.path.join(sim or os.path.join(out, "sim"), "globals.csv"))
     for col in ("lv_volume", "lv_pressure", "lv_aortic_pressure", "lv_atrial_pressure", "lv_phase"):
@@ -281,6 +337,12 @@ def main(out, sim=None):
                 regional["scar"]["scar_region_percent"] = 100 * rs["strain"][rs["scar"]].mean()
                 regional["scar"]["remote_percent"] = 100 * rs["strain"][~rs["scar"]].mean()
             written.append("bullseye_scar")
+    occlusion = os.path.join(out, "occlusion", "globals.csv")
+    if os.path.exists(occlusion):
+        fit = espvr(g, read_globals(occlusion), sim, out)
+        written.append("espvr")
+        print("plot_heart.py: ESPVR E_es = %.2f mmHg/ml, V_0 = %.3f ml (r^2 %.4f, %d end-systolic points)"
+              % (fit["Ees_mmHg_per_ml"], fit["V0_ml"], fit["r2"], len(fit["points"])))
     with open(os.path.join(out, "regional_strain.json"), "w") as f:
         json.dump(regional, f, indent=2)
     for n in written:

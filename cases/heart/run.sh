@@ -4,7 +4,7 @@
 # Usage: cases/heart/run.sh ADAMSS_BINARY OUTPUT_DIR
 #   HEART_VOXEL (default 2.5mm; 1.25mm does not yet finish: the refilling after the beat stalls) sets the voxel size (the base plane z = 5 mm must be a whole
 #   number of voxels: 0.5, 1, 1.25, 2.5 mm); HEART_CHECK=0 skips the physiology check.
-#   HEART_SCAR=0 skips the scarred run.
+#   HEART_SCAR=0 skips the scarred run; HEART_ESPVR=0 skips the lower-preload run (and the ESPVR).
 # Writes OUTPUT_DIR/{summary.json, pv_loop.png, pressure_volume_time.png, pv_loop_scar.png,
 # report.md}, the healthy simulation in OUTPUT_DIR/sim (series.pvd + frames/*.vtu, globals.csv)
 # and the scarred one in OUTPUT_DIR/scar (its summary.json there).
@@ -48,6 +48,14 @@ else
   echo "skipped (HEART_SCAR=0)"
 fi
 
+echo "== 4b/6 simulation, lower preloads: the healthy beats at atrial pressures 0.6 and 0.3 kPa (a caval occlusion), for the ESPVR; see lv_beat_occlusion.yaml"
+if [[ "${HEART_ESPVR:-1}" == 1 ]]; then
+  cp "$here/lv_beat_occlusion.yaml" "$out/lv_beat_occlusion.yaml"
+  OMP_NUM_THREADS=${OMP_NUM_THREADS:-1} "$adamss" run "$out/lv_beat_occlusion.yaml" -o "$out/occlusion" --progress-interval 5s
+else
+  echo "skipped (HEART_ESPVR=0)"
+fi
+
 echo "== 5/6 plots and report"
 pv_dat() {
   awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) { if ($i == "t") ct = i; if ($i == "lv_volume") cv = i; if ($i == "lv_pressure") cp = i } next }
@@ -88,15 +96,27 @@ for k in ("mitral_closes_t_s", "aortic_opens_t_s", "aortic_closes_t_s", "mitral_
 for a, b in rows: print(f"| {a} | {b} |")
 beats = c.get("per_beat", [])
 if beats:
-    print("\nPer beat (healthy):\n\n| beat | EDV (ml) | ESV (ml) | EF | EDP (kPa) | ESP (kPa) | peak (kPa) |\n|---|---|---|---|---|---|---|")
+    mm = 1.0 / 133.322387415
+    print("\nPer beat (healthy; pressures in mmHg, dP/dt in mmHg/s):\n\n| beat | EDV (ml) | ESV (ml) | EF | EDP | ESP | peak "
+          "| aortic sys/dia | dP/dt max / min | stroke work (mJ) | IVC / ejection / IVR (ms) |\n|---|---|---|---|---|---|---|---|---|---|---|")
     for i, b in enumerate(beats):
+        n = lambda k, f=1.0: b.get(k, float("nan")) * f
         print(f"| {i + 1} | {1e6 * b['edv_m3']:.3f} | {1e6 * b['esv_m3']:.3f} | {100 * b['ejection_fraction']:.1f} % | "
-              f"{1e-3 * b['edp_Pa']:.2f} | {1e-3 * b['esp_Pa']:.2f} | {1e-3 * b['peak_pressure_Pa']:.2f} |")
+              f"{mm * b['edp_Pa']:.1f} | {mm * b['esp_Pa']:.1f} | {mm * b['peak_pressure_Pa']:.1f} | "
+              f"{n('aortic_systolic_pressure_Pa', mm):.0f} / {n('aortic_diastolic_pressure_Pa', mm):.0f} | "
+              f"{n('dpdt_max_Pa_per_s', mm):.0f} / {n('dpdt_min_Pa_per_s', mm):.0f} | {n('stroke_work_J', 1e3):.1f} | "
+              f"{n('isovolumic_contraction_s', 1e3):.0f} / {n('ejection_s', 1e3):.0f} / {n('isovolumic_relaxation_s', 1e3):.0f} |")
 print("\n![PV loops in mmHg, with the passive inflation (EDPVR)](pv_loop_mmhg.png)\n\n"
       "![Wiggers diagram: LV, aortic and atrial pressure, LV volume, phases and valve events](wiggers.png)\n\n"
       "Also: [PV loop in kPa](pv_loop.png), [pressure and volume against time](pressure_volume_time.png); "
       "SVG versions beside the PNGs.\n")
 import os
+if os.path.exists(out + "/espvr.json"):
+    e = json.load(open(out + "/espvr.json"))
+    print(f"End-systolic pressure-volume relation from {len(e['points'])} beats at three preloads (these two and "
+          f"[lv_beat_occlusion.yaml](lv_beat_occlusion.yaml), atrial pressure 0.6 then 0.3 kPa): "
+          f"E_es = {e['Ees_mmHg_per_ml']:.1f} mmHg/ml, V_0 = {e['V0_ml']:.2f} ml, r^2 = {e['r2']:.4f} "
+          f"([espvr.json](espvr.json)).\n\n![Loops at three preloads with the ESPVR and EDPVR](espvr.png)\n")
 rs = json.load(open(out + "/regional_strain.json")) if os.path.exists(out + "/regional_strain.json") else {}
 if "healthy" in rs:
     print("Regional fibre strain from end diastole to end systole of the last beat, AHA 17 segments "

@@ -141,6 +141,7 @@ void Circulation::end_step(double t, double h, double v, double p) {
         b.t_ac = t;
         beats_.push_back(b);
         dpdt_min_ = INFINITY;
+        pdv_ = 0.0;  // from here: the relaxation and filling before the next MC
         break;
       }
       case CardiacPhase::Filling:

@@ -149,7 +149,7 @@ class Circulation {
   double edv_ = -1, edp_ = 0, esv_ = -1, esp_ = 0, edv_first_ = -1, peak_ = 0, drift_ = 0;
   double beat_peak_ = 0;  ///< peak pressure since the last mitral closure
   // Running values of the beat under way (BeatRecord): the last accepted pressure, int P dV since
-  // the last MC (or the start) and over the filling before it, the dP/dt extrema, the aortic
+  // the last MC or AC (or the start) and over the relaxation and filling before the last MC, the dP/dt extrema, the aortic
   // systolic and diastolic pressures, the MC and AO times.
   double p_prev_ = 0, pdv_ = 0, filling_pdv_ = 0, dpdt_max_ = -INFINITY, dpdt_min_ = INFINITY, ao_max_ = 0,
          ao_diastolic_ = 0, t_mc_ = 0, t_ao_ = 0;

@@ -325,6 +325,35 @@ TEST(Circulation, SaveLoadContinuesBitForBit) {
   }
 }
 
+// The stroke work of each beat is the loop area -oint P dV: the trapezoidal sum over every step
+// from the previous aortic closure (the start for beat 1) to this one, from the raw inputs.
+TEST(Circulation, StrokeWorkIsTheLoopAreaOfEachBeat) {
+  const double v0 = 100e-6, h = 1e-3;
+  const auto in = two_beats(v0);
+  solver::Circulation c(two_beat_settings(), v0);
+  for (const auto& [t, v, p] : in) c.end_step(t, h, v, p);
+  ASSERT_EQ(c.beats().size(), 2u);
+  double vp = v0, pp = 1000.0, area = 0.0;  // the atrial pressure at t = 0
+  std::vector<double> expected;
+  for (const auto& [t, v, p] : in) {
+    area -= 0.5 * (p + pp) * (v - vp);
+    vp = v;
+    pp = p;
+    for (const solver::BeatRecord& b : c.beats()) {
+      if (t == b.t_ac) {
+        expected.push_back(area);
+        area = 0.0;
+      }
+    }
+  }
+  ASSERT_EQ(expected.size(), 2u);
+  EXPECT_NEAR(c.beats()[0].stroke_work, expected[0], 1e-12 * std::abs(expected[0]));
+  EXPECT_NEAR(c.beats()[1].stroke_work, expected[1], 1e-12 * std::abs(expected[1]));
+  // Beat 2 ejects 42 ml-steps of 1.05 ml at ~15 kPa: ~0.6 J, less its small filling work.
+  EXPECT_GT(c.beats()[1].stroke_work, 0.55);
+  EXPECT_LT(c.beats()[1].stroke_work, 0.7);
+}
+
 // A checkpoint of a circulation with other settings is refused, naming the setting.
 TEST(Circulation, LoadRefusesOtherSettingsByName) {
   solver::Circulation a(two_beat_settings(), 100e-6);
