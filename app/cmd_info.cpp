@@ -318,11 +318,13 @@ void run_info(const InfoArgs& a) {
   json j;
   if (ends_with(a.file, ".nii") || ends_with(a.file, ".nii.gz")) {
     j = image_info(a.file);
-  } else if (ends_with(a.file, ".h5") || ends_with(a.file, ".vtu") || ends_with(a.file, ".msh")) {
+  } else if (ends_with(a.file, ".h5") || ends_with(a.file, ".vtu") || ends_with(a.file, ".msh") ||
+             ends_with(a.file, ".xdmf") || ends_with(a.file, ".xmf")) {
     j = mesh_info(a.file);
   } else {
-    throw InputError("'" + a.file +
-                     "': unknown kind of file (expected .nii, .nii.gz, mesh .h5, a .vtu grid or a gmsh .msh mesh)");
+    throw InputError(
+        "'" + a.file +
+        "': unknown kind of file (expected .nii, .nii.gz, mesh .h5, a .vtu grid, a gmsh .msh or an .xdmf mesh)");
   }
   if (a.as_json) {
     std::cout << j.dump(2) << "\n";

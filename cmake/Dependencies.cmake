@@ -22,7 +22,7 @@ set(HDF5_PREFER_PARALLEL TRUE)
 find_package(HDF5 REQUIRED COMPONENTS C)
 
 # VTK: always name the components, otherwise VTK 9.1 asks for Qt.
-find_package(VTK REQUIRED COMPONENTS CommonCore CommonDataModel IOXML)
+find_package(VTK REQUIRED COMPONENTS CommonCore CommonDataModel IOXML IOXMLParser)
 
 # nifti_clib: Debian's FindNIFTI looks in the wrong folder, so build the target here.
 # Only libnifti2 (reads NIfTI-1 and NIfTI-2); never libniftiio beside it.

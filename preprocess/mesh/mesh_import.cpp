@@ -166,10 +166,11 @@ Mesh read_mesh_file(const std::filesystem::path& path) {
   const std::string ext = path.extension().string();
   if (ext == ".vtu") return read_mesh_vtu(path);
   if (ext == ".msh") return read_mesh_msh(path);
+  if (ext == ".xdmf" || ext == ".xmf") return read_mesh_xdmf(path);
   if (ext == ".h5" || ext == ".hdf5") return read_mesh_h5(path);
   throw InputError("mesh '" + path.string() + "': unknown kind of file '" + ext +
-                   "' (adamss reads mesh.h5 from `adamss mesh`, VTK .vtu grids and gmsh .msh files of tetrahedra or "
-                   "hexahedra)");
+                   "' (adamss reads mesh.h5 from `adamss mesh`, VTK .vtu grids, gmsh .msh and XDMF .xdmf files of "
+                   "tetrahedra or hexahedra)");
 }
 
 }  // namespace adamss::preprocess

@@ -1,7 +1,7 @@
 #pragma once
 // Meshes made elsewhere: a VTK XML unstructured grid (.vtu, e.g. from ParaView, meshio, or the .vtu
-// adamss mesh writes) or a gmsh MSH file (.msh) read into a Mesh, so that a scene's
-// `mesh: {file: ...}` and `adamss info` accept it beside mesh.h5.
+// adamss mesh writes), a gmsh MSH file (.msh) or an XDMF file (.xdmf, meshio/FEniCS) read into a Mesh, so that a
+// scene's `mesh: {file: ...}` and `adamss info` accept it beside mesh.h5.
 #include <filesystem>
 #include <string>
 
@@ -33,12 +33,24 @@ Mesh read_mesh_vtu(const std::filesystem::path& path);
 /// element.
 Mesh read_mesh_msh(const std::filesystem::path& path);
 
+/// Reads an XDMF (2 or 3) mesh (mesh_import_xdmf.cpp): the first uniform grid of its domain (of a
+/// time series, the first step), TopologyType Tetrahedron or Hexahedron, GeometryType XYZ, data
+/// items in HDF5 ("file.h5:/dataset", relative to the .xdmf) or inline XML. Cell attributes: the
+/// label from "label" (else "gmsh:physical" or "medit:ref", as meshio writes them; default 1),
+/// "fiber"/"fibre", "sheet", "normal" (3 per cell; unit and orthogonal) and every other scalar as
+/// a cell field; node attributes are ignored. Files written by meshio, dolfinx and adamss's
+/// mesh.xdmf sidecar read. InputError naming the file for: not XML or not <Xdmf>, no uniform grid,
+/// another topology (mixed, 2-D, quadratic) or geometry type, a missing HDF5 file or dataset, a
+/// size that does not match Dimensions, a node index out of range, NaN coordinates, a non-integral
+/// label, a bad fibre frame, an inverted element.
+Mesh read_mesh_xdmf(const std::filesystem::path& path);
+
 /// InputError (`where`: the file, `hint` after the message) naming the first element whose volume
 /// measure at its centre is not positive (inverted, degenerate or in another node order).
 void check_element_orientation(const Mesh& mesh, const std::string& where, const std::string& hint);
 
-/// read_mesh_h5 for .h5, read_mesh_vtu for .vtu, read_mesh_msh for .msh; InputError for another
-/// extension.
+/// read_mesh_h5 for .h5, read_mesh_vtu for .vtu, read_mesh_msh for .msh, read_mesh_xdmf for
+/// .xdmf/.xmf; InputError for another extension.
 Mesh read_mesh_file(const std::filesystem::path& path);
 
 }  // namespace adamss::preprocess

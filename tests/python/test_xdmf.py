@@ -33,3 +33,24 @@ for topology, cell_type in (("tet6m", "tetra"), ("hex", "hexahedron")):
     assert np.array_equal(x.cell_data["scar"][0].ravel(), m["cell_fields"]["scar"]), topology
     assert m["cell_fields"]["scar"].max() == 1.0
     print("%s: %d nodes, %d cells read back through the XDMF sidecar" % (topology, len(x.points), len(x.cells[0].data)))
+
+# adamss reads XDMF too: its own sidecar gives the mesh.h5's arrays exactly, and meshio's XDMF
+# (HDF5 and inline XML data, labels as gmsh:physical) gives the same elements and labels.
+for topology, cell_type in (("tet6m", "tetra"), ("hex", "hexahedron")):
+    m = adamss.read_mesh(os.path.join(work, topology + ".h5"))
+    x = adamss.read_mesh(os.path.join(work, topology + ".xdmf"))
+    for key in ("nodes", "connectivity", "labels", "fiber", "sheet", "normal"):
+        assert np.array_equal(np.asarray(x[key]), np.asarray(m[key])), (topology, key)
+    assert np.array_equal(x["cell_fields"]["scar"], m["cell_fields"]["scar"]), topology
+    for fmt in ("HDF", "XML"):
+        mesh = meshio.Mesh(np.asarray(m["nodes"]), [(cell_type, np.asarray(m["connectivity"]))],
+                           cell_data={"gmsh:physical": [np.asarray(m["labels"])],
+                                      "scar": [np.asarray(m["cell_fields"]["scar"])]})
+        path = os.path.join(work, "%s-meshio-%s.xdmf" % (topology, fmt))
+        meshio.xdmf.write(path, mesh, data_format=fmt)
+        y = adamss.read_mesh(path)
+        assert np.array_equal(np.asarray(y["connectivity"]), np.asarray(m["connectivity"])), (topology, fmt)
+        assert np.allclose(np.asarray(y["nodes"]), np.asarray(m["nodes"]), rtol=0, atol=1e-15), (topology, fmt)
+        assert np.array_equal(np.asarray(y["labels"]), np.asarray(m["labels"])), (topology, fmt)
+        assert np.array_equal(y["cell_fields"]["scar"], m["cell_fields"]["scar"]), (topology, fmt)
+    print("%s: adamss reads its sidecar and meshio's XDMF (HDF and XML) back" % topology)
