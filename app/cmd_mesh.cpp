@@ -46,6 +46,7 @@ struct MeshArgs {
   std::string cgal_facet_distance;
   std::string cgal_cell_ratio;
   std::string cgal_cell_size;
+  std::string resample;
   bool cgal_no_perturb = false;
   bool cgal_no_exude = false;
   bool cgal_lloyd = false;
@@ -187,6 +188,7 @@ preprocess::MeshRequest request_from_options(const MeshArgs& a) {
   req.image = ImageFile{a.image, a.allow_scaled_labels};
   req.source = a.image;
   req.solid_labels.assign(a.solid.begin(), a.solid.end());
+  if (!a.resample.empty()) req.resample_m = parse_length(a.resample, "--resample");
   if (rule) {
     req.fibres = RuleFibres{};  // options read after the surface options, as before
   } else if (!a.fiber.empty()) {
@@ -247,7 +249,7 @@ std::string cgal_report(const preprocess::CgalMeshResult& r, const preprocess::C
   os << std::setprecision(4) << "  cgal: facet angle " << c.facet_angle_deg << " deg, facet size "
      << c.facet_size_m * 1e3 << " mm, facet distance " << c.facet_distance_m * 1e3 << " mm, cell radius-edge ratio "
      << c.cell_radius_edge_ratio << ", cell size " << c.cell_size_m * 1e3 << " mm (voxel " << c.voxel_size_m * 1e3
-     << " mm), seed " << opt.seed << "\n"
+     << " mm), seed " << opt.seed << ", voxel axes orthogonal to cosine " << c.max_axis_cosine << "\n"
      << "  cgal time: refine " << r.refine_seconds << " s"
      << (opt.odt || opt.lloyd ? ", smoothing " + std::to_string(r.smooth_seconds) + " s" : "") << ", perturb "
      << r.perturb_seconds << " s (" << r.perturb_attempts << " attempts" << (r.perturb_capped ? ", capped" : "")
@@ -267,6 +269,21 @@ void print_mesh_summary(const preprocess::MeshRequest& req, const preprocess::Me
   const preprocess::Mesh& mesh = b.mesh;
   const preprocess::QualitySummary& q = *b.quality;
   const preprocess::ConformityReport& conf = *b.conformity;
+  if (b.resample) {
+    const preprocess::ResampleReport& r = *b.resample;
+    std::cout << std::setprecision(4) << "resampled (shape-based, per-label signed distance) " << r.dims_before[0]
+              << "x" << r.dims_before[1] << "x" << r.dims_before[2] << " voxels of " << r.spacing_before.x() * 1e3
+              << " x " << r.spacing_before.y() * 1e3 << " x " << r.spacing_before.z() * 1e3 << " mm to "
+              << r.dims_after[0] << "x" << r.dims_after[1] << "x" << r.dims_after[2] << " of " << r.spacing_after * 1e3
+              << " mm in " << r.seconds << " s; label volumes (ml):";
+    for (const auto& [label, v] : r.volume_before_m3) {
+      if (label == 0) continue;
+      const auto after = r.volume_after_m3.find(label);
+      std::cout << " " << label << ": " << v * 1e6 << " -> "
+                << (after != r.volume_after_m3.end() ? after->second * 1e6 : 0.0);
+    }
+    std::cout << "\n";
+  }
   std::cout << std::setprecision(6) << "mesh " << preprocess::topology_name(req.topology) << ": " << mesh.node_count()
             << " nodes, " << mesh.element_count() << " " << element_type_name(mesh.type) << " elements, volume "
             << q.volume_m3 * 1e9 << " mm^3\n"
@@ -393,6 +410,9 @@ void add_mesh_command(CLI::App& app) {
                   "cgal: upper bound on the facet-to-surface distance, a length (default half a voxel)");
   sub->add_option("--cgal-cell-ratio", args->cgal_cell_ratio,
                   "cgal: upper bound on the tetrahedron radius-edge ratio, >= 2 (default 3)");
+  sub->add_option("--resample", args->resample,
+                  "resample the label image to isotropic voxels of this edge before meshing (shape-based "
+                  "interpolation of per-label signed distances; e.g. 1.37mm for a 10 mm slice stack)");
   sub->add_option("--cgal-cell-size", args->cgal_cell_size,
                   "cgal: upper bound on the tetrahedron circumradius, a length (default 2 voxels)");
   sub->add_flag("--cgal-no-perturb", args->cgal_no_perturb, "cgal: skip the sliver perturbation");

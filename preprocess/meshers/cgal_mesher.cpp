@@ -431,18 +431,22 @@ CgalCriteria resolve_cgal_criteria(const Grid& grid, const CgalMeshOptions& opti
   const Eigen::Matrix3d a = grid.index_to_world.topLeftCorner<3, 3>();
   const Eigen::Vector3d s = grid.spacing();
   if (!a.allFinite() || !(s.minCoeff() > 0.0)) throw InputError("--topology cgal: the image affine is singular");
+  double max_cosine = 0.0;
   for (int i = 0; i < 3; ++i) {
     for (int j = i + 1; j < 3; ++j) {
       const double c = std::abs(a.col(i).dot(a.col(j))) / (s(i) * s(j));
-      if (c > 1e-6) {
+      max_cosine = std::max(max_cosine, c);
+      if (c > 1e-3) {
         std::ostringstream os;
         os << "--topology cgal: the image affine shears the voxel axes (voxel axes " << i << " and " << j
-           << " are not orthogonal, cosine " << c << "); resample the image to an orthogonal grid";
+           << " are not orthogonal, cosine " << c
+           << " > 1e-3, more than rounding); resample the image to an orthogonal grid";
         throw InputError(os.str());
       }
     }
   }
   CgalCriteria c;
+  c.max_axis_cosine = max_cosine;
   c.voxel_size_m = s.minCoeff();
   const double h = c.voxel_size_m;
   c.facet_angle_deg = options.facet_angle_deg;

@@ -94,6 +94,11 @@ struct CgalCriteria {
   double facet_distance_m = 0.0;
   double cell_radius_edge_ratio = 0.0;
   double cell_size_m = 0.0;
+  /// Largest |cosine| between two voxel axes of the image affine. Mesh_3 meshes the image in its
+  /// own (index x spacing) frame and the affine maps the nodes to the world exactly; axes
+  /// orthogonal to rounding (cosine <= 1e-3, within 0.06 deg; DICOM-derived affines give ~1e-5)
+  /// are accepted, a larger cosine is a real shear and refused.
+  double max_axis_cosine = 0.0;
 };
 
 /// A boundary or interface triangle of the mesh, see the header comment.

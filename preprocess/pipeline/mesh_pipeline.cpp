@@ -6,6 +6,7 @@
 
 #include "common/error.hpp"
 #include "preprocess/image/nifti_io.hpp"
+#include "preprocess/image/resample.hpp"
 #include "preprocess/surfaces/boundary_labels.hpp"
 
 namespace adamss::preprocess {
@@ -171,7 +172,17 @@ void check_mesh(MeshBuild& out) {
 MeshBuild build_mesh(const MeshRequest& request) {
   MeshBuild out;
   auto t = Clock::now();
-  const Phantom source = source_image(request, out);
+  Phantom source = source_image(request, out);
+  if (request.resample_m > 0.0) {
+    if (std::holds_alternative<FibreImages>(request.fibres) || std::holds_alternative<PhantomFibres>(request.fibres)) {
+      throw InputError(
+          "--resample: fibre images are on the label image's lattice; use rule-based fibres (--fiber "
+          "rule) with a resampled image");
+    }
+    ResampleReport report;
+    source.image = resample_labels(source.image, request.resample_m, &report);
+    out.resample = report;
+  }
   out.times.read = since(t);
 
   t = Clock::now();

@@ -69,6 +69,9 @@ struct MeshRequest {
   ImageSource image;
   std::string source;  ///< mesh.attributes["source"]
   std::vector<std::int32_t> solid_labels{1};
+  /// > 0: resample the label image to isotropic voxels of this edge (m) before meshing, by
+  /// shape-based interpolation (preprocess/image/resample.hpp); 0: mesh the image as read.
+  double resample_m = 0.0;
   Topology topology = Topology::Tet6m;
   CgalMeshOptions cgal;  ///< Topology::Cgal only; its solid_labels are replaced by solid_labels
   FibreSource fibres;

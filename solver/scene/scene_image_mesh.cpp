@@ -122,6 +122,10 @@ preprocess::Mesh image_recipe_mesh(SceneNode& node, const fs::path& base, const 
     throw InputError(node.at("cgal") + ": only with topology: cgal (got topology: " + topo + ")");
   }
   req.fibres = fibre_source(node, key);
+  if (node.has("resample")) {
+    req.resample_m = node.positive("resample", Dimension::Length);
+    key << ";resample;" << req.resample_m;  // (no key without it: the earlier cache names stay valid)
+  }
   req.check = true;
   const std::string stem = image.filename().string().substr(0, image.filename().string().find('.'));
   try {

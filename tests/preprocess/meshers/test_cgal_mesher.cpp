@@ -395,3 +395,23 @@ TEST(CgalMesher, AOneVoxelRodIsSeededOnAllSides) {
   }
   EXPECT_NEAR(zmax - zmin, 8e-3, 1e-3);
 }
+
+// The affine check (issue 20 item 1): a DICOM-derived affine is orthogonal only to rounding (the
+// Sunnybrook stacks: cosine 2.3e-5 between voxel axes); it is meshed and the cosine reported, while
+// a real shear (cosine 0.01) is refused by name.
+TEST(CgalMesher, AffinesOrthogonalToRoundingAreAcceptedRealShearIsNot) {
+  Grid g;
+  g.dims = {10, 10, 10};
+  g.index_to_world.topLeftCorner<3, 3>() = Eigen::Vector3d(1.37e-3, 1.37e-3, 10e-3).asDiagonal();
+  g.index_to_world(0, 2) = 2.3e-5 * 10e-3;  // axis 2 tilted by 2.3e-5 rad towards axis 0
+  const CgalCriteria c = resolve_cgal_criteria(g, CgalMeshOptions{});
+  EXPECT_NEAR(c.max_axis_cosine, 2.3e-5, 1e-7);
+  g.index_to_world(0, 2) = 1e-2 * 10e-3;
+  try {
+    (void)resolve_cgal_criteria(g, CgalMeshOptions{});
+    ADD_FAILURE() << "no error";
+  } catch (const adamss::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cosine 0.0099"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("> 1e-3"), std::string::npos) << e.what();
+  }
+}
