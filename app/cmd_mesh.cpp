@@ -47,6 +47,7 @@ struct MeshArgs {
   std::string cgal_cell_ratio;
   std::string cgal_cell_size;
   std::string resample;
+  bool clean_labels = false;
   bool cgal_no_perturb = false;
   bool cgal_no_exude = false;
   bool cgal_lloyd = false;
@@ -189,6 +190,7 @@ preprocess::MeshRequest request_from_options(const MeshArgs& a) {
   req.source = a.image;
   req.solid_labels.assign(a.solid.begin(), a.solid.end());
   if (!a.resample.empty()) req.resample_m = parse_length(a.resample, "--resample");
+  req.clean_labels = a.clean_labels;
   if (rule) {
     req.fibres = RuleFibres{};  // options read after the surface options, as before
   } else if (!a.fiber.empty()) {
@@ -283,6 +285,12 @@ void print_mesh_summary(const preprocess::MeshRequest& req, const preprocess::Me
                 << (after != r.volume_after_m3.end() ? after->second * 1e6 : 0.0);
     }
     std::cout << "\n";
+  }
+  if (b.cleanup) {
+    const preprocess::LabelCleanupReport& c = *b.cleanup;
+    std::cout << "clean labels: " << c.solid_components << " solid component(s), kept the largest (" << c.largest_voxels
+              << " voxels), relabelled " << c.relabelled_voxels << " voxels of the others; filled " << c.holes
+              << " enclosed background hole(s) (" << c.filled_voxels << " voxels)\n";
   }
   std::cout << std::setprecision(6) << "mesh " << preprocess::topology_name(req.topology) << ": " << mesh.node_count()
             << " nodes, " << mesh.element_count() << " " << element_type_name(mesh.type) << " elements, volume "
@@ -413,6 +421,9 @@ void add_mesh_command(CLI::App& app) {
   sub->add_option("--resample", args->resample,
                   "resample the label image to isotropic voxels of this edge before meshing (shape-based "
                   "interpolation of per-label signed distances; e.g. 1.37mm for a 10 mm slice stack)");
+  sub->add_flag("--clean-labels", args->clean_labels,
+                "keep the largest connected solid component (islands take their surroundings' label) and fill "
+                "background holes enclosed by the image's labels");
   sub->add_option("--cgal-cell-size", args->cgal_cell_size,
                   "cgal: upper bound on the tetrahedron circumradius, a length (default 2 voxels)");
   sub->add_flag("--cgal-no-perturb", args->cgal_no_perturb, "cgal: skip the sliver perturbation");

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "common/error.hpp"
+#include "preprocess/image/label_cleanup.hpp"
 #include "preprocess/image/nifti_io.hpp"
 #include "preprocess/image/resample.hpp"
 #include "preprocess/surfaces/boundary_labels.hpp"
@@ -183,6 +184,7 @@ MeshBuild build_mesh(const MeshRequest& request) {
     source.image = resample_labels(source.image, request.resample_m, &report);
     out.resample = report;
   }
+  if (request.clean_labels) out.cleanup = clean_labels(source.image, request.solid_labels);
   out.times.read = since(t);
 
   t = Clock::now();

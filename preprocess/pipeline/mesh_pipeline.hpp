@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "preprocess/fibres/fibre_field.hpp"
+#include "preprocess/image/label_cleanup.hpp"
 #include "preprocess/image/resample.hpp"
 #include "preprocess/mesh/mesh_quality.hpp"
 #include "preprocess/pipeline/mesh_request.hpp"
@@ -31,6 +32,7 @@ struct MeshBuild {
   std::optional<FibreReport> image_fibres;  ///< FibreImages or PhantomFibres
   std::optional<RuleFibreReport> rule_fibres;
   std::optional<ResampleReport> resample;      ///< request.resample_m > 0 only
+  std::optional<LabelCleanupReport> cleanup;   ///< request.clean_labels only
   std::vector<CavityBuildInfo> cavities;       ///< one per request.cavities
   std::vector<CellFieldReport> cell_fields;    ///< one per request.cell_fields
   std::optional<QualitySummary> quality;       ///< request.check only

@@ -126,6 +126,10 @@ preprocess::Mesh image_recipe_mesh(SceneNode& node, const fs::path& base, const 
     req.resample_m = node.positive("resample", Dimension::Length);
     key << ";resample;" << req.resample_m;  // (no key without it: the earlier cache names stay valid)
   }
+  if (node.has("clean")) {
+    req.clean_labels = node.flag("clean", false);
+    if (req.clean_labels) key << ";clean";
+  }
   req.check = true;
   const std::string stem = image.filename().string().substr(0, image.filename().string().find('.'));
   try {

@@ -12,6 +12,8 @@
 //   helix_endo, helix_epi, sheet_angle   angles of the rule (60, -60, 0 deg), within +-90 deg
 //   resample         a length: isotropic voxels of that edge before meshing (shape-based,
 //                    preprocess/image/resample.hpp), for anisotropic slice stacks
+//   clean            true: keep the largest solid component, fill enclosed holes
+//                    (preprocess/image/label_cleanup.hpp)
 #include <filesystem>
 #include <string>
 
