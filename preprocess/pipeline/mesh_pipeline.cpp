@@ -8,6 +8,7 @@
 #include "preprocess/image/label_cleanup.hpp"
 #include "preprocess/image/nifti_io.hpp"
 #include "preprocess/image/resample.hpp"
+#include "preprocess/surfaces/anatomical_tags.hpp"
 #include "preprocess/surfaces/boundary_labels.hpp"
 
 namespace adamss::preprocess {
@@ -141,6 +142,9 @@ void add_surfaces(const MeshRequest& request, const LabelImage& image, MeshBuild
     check_cavity_labels_present(image, request.cavities);
     for (const std::string& w : cavity_border_warnings(image, request.cavities)) warn(request, out, w);
     add_cavities(out.mesh, faces, request.cavities, &out.cavities);
+    out.anatomy = add_anatomical_tags(out.mesh, request.cavities, request.solid_labels);
+    for (const std::string& name : out.anatomy->skipped)
+      warn(request, out, "anatomical tag '" + name + "' not added: the mesh already has a tag of that name");
   }
 }
 

@@ -10,6 +10,7 @@
 #include "preprocess/image/resample.hpp"
 #include "preprocess/mesh/mesh_quality.hpp"
 #include "preprocess/pipeline/mesh_request.hpp"
+#include "preprocess/surfaces/anatomical_tags.hpp"
 
 namespace adamss::preprocess {
 
@@ -31,8 +32,10 @@ struct MeshBuild {
   std::optional<CgalMeshResult> cgal;
   std::optional<FibreReport> image_fibres;  ///< FibreImages or PhantomFibres
   std::optional<RuleFibreReport> rule_fibres;
-  std::optional<ResampleReport> resample;      ///< request.resample_m > 0 only
-  std::optional<LabelCleanupReport> cleanup;   ///< request.clean_labels only
+  std::optional<ResampleReport> resample;     ///< request.resample_m > 0 only
+  std::optional<LabelCleanupReport> cleanup;  ///< request.clean_labels only
+  /// With cavities: the anatomical tags and long axis added (preprocess/surfaces/anatomical_tags.hpp).
+  std::optional<AnatomicalTagReport> anatomy;
   std::vector<CavityBuildInfo> cavities;       ///< one per request.cavities
   std::vector<CellFieldReport> cell_fields;    ///< one per request.cell_fields
   std::optional<QualitySummary> quality;       ///< request.check only

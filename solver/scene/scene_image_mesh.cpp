@@ -105,7 +105,7 @@ preprocess::Mesh image_recipe_mesh(SceneNode& node, const fs::path& base, const 
   if (!fs::is_regular_file(image))
     throw InputError(node.at("image") + ": label image '" + image.string() + "' does not exist");
   std::ostringstream key;
-  key << std::setprecision(17) << "image-v1;" << file_hash_hex(image, node.at("image"));
+  key << std::setprecision(17) << "image-v2;" << file_hash_hex(image, node.at("image"));
   preprocess::MeshRequest req;
   req.image = preprocess::ImageFile{image.string(), false};
   req.source = image.string() + " (scene image recipe)";

@@ -173,7 +173,7 @@ PhantomRecipe phantom_recipe(SceneNode& node) {
   r.topology = node.choice("topology", {"hex", "tet5", "tet5m", "tet6", "tet6m"}, "tet6m");
   const std::optional<preprocess::ScarCone> scar = scar_cone(node, r.kind);
   std::ostringstream key;
-  key << std::setprecision(17) << "v2;" << r.kind << ';' << po.voxel_size_m << ';' << po.helix_endo_rad << ';'
+  key << std::setprecision(17) << "v3;" << r.kind << ';' << po.voxel_size_m << ';' << po.helix_endo_rad << ';'
       << po.helix_epi_rad << ';' << po.slab_size[0] << ',' << po.slab_size[1] << ',' << po.slab_size[2] << ';'
       << r.topology;
   if (scar) {

@@ -8,6 +8,7 @@
 #include "common/error.hpp"
 #include "preprocess/fibres/fibre_field.hpp"
 #include "preprocess/pipeline/mesh_pipeline.hpp"
+#include "preprocess/surfaces/anatomical_tags.hpp"
 #include "preprocess/surfaces/boundary_labels.hpp"
 
 namespace {
@@ -55,6 +56,7 @@ TEST(MeshPipeline, PhantomRequestEqualsTheStagesCalledByHand) {
   m.node_tags = label_pair_tags(faces);
   m.node_tags["base"] = nodes_on_plane(m, {"base", 2, kPhantomBaseZ, 1e-3 * po.voxel_size_m});
   add_cavities(m, faces, {{"lv", kLvCavity}});
+  (void)add_anatomical_tags(m, {{"lv", kLvCavity}}, {1});
 
   EXPECT_EQ(b.mesh.connectivity, m.connectivity);
   EXPECT_EQ(b.mesh.labels, m.labels);
