@@ -116,7 +116,7 @@ py::dict run(const std::string& text, const std::string& origin, const std::stri
   return r;
 }
 
-/// A mesh file (mesh.h5, .vtu or gmsh .msh: preprocess::read_mesh_file) as numpy arrays: nodes (m),
+/// A mesh file (mesh.h5, .vtu, gmsh .msh or .xdmf: preprocess::read_mesh_file) as numpy arrays: nodes (m),
 /// connectivity, labels, the fibre frame, cell fields, node tags, cavities (volume, closed).
 py::dict read_mesh(const std::string& path) {
   const preprocess::Mesh mesh = preprocess::read_mesh_file(path);
@@ -167,5 +167,5 @@ PYBIND11_MODULE(_core, m) {
   m.def("run", &run, py::arg("text"), py::arg("origin"), py::arg("output"), py::arg("cache") = "",
         py::arg("progress") = false, "Run a scene given as YAML text; see adamss.run");
   m.def("read_mesh", &read_mesh, py::arg("path"),
-        "Read a mesh file (.h5, .vtu, .msh) into numpy arrays; see adamss.read_mesh");
+        "Read a mesh file (.h5, .vtu, .msh, .xdmf) into numpy arrays; see adamss.read_mesh");
 }

@@ -143,6 +143,8 @@ LabelImage resample_labels(const LabelImage& image, double h, ResampleReport* re
   for (int ax = 0; ax < 3; ++ax) {
     const auto ua = static_cast<std::size_t>(ax);
     const double extent = static_cast<double>(g.dims[ua]) * s[ax];
+    if (!(extent / h < 2147483647.0))
+      throw InputError("resample: the resampled image would have more than 2^31 voxels");
     const auto n = std::max<std::int64_t>(1, std::llround(extent / h));
     out.grid.dims[ua] = n;
     count *= static_cast<double>(n);

@@ -25,7 +25,7 @@ Mesh read_mesh_vtu(const std::filesystem::path& path);
 /// label is its first physical group (else its elementary entity; 1 for neither); the names of
 /// volume groups go into attributes["label_names"] ("1=myocardium,2=scar"). Every physical group
 /// of points, lines, triangles or quadrangles becomes a node tag named by $PhysicalNames (else
-/// "physical_<tag>"), so a scene selects "endocardium" or "base" with `select: {tag: ...}` and
+/// "physical_<dim>_<tag>"), so a scene selects "endocardium" or "base" with `select: {tag: ...}` and
 /// loads a tagged surface. No fibres (use the scene's fibre rule). InputError naming the file and
 /// line for: a binary file or another format version, a missing section, an element type other
 /// than points/lines/triangles/quadrangles/tetrahedra/hexahedra, mixed tetrahedra and hexahedra,

@@ -303,10 +303,11 @@ MshContent read_sections(const std::filesystem::path& path, const std::string& w
   return c;
 }
 
-/// The name of a physical group: its $PhysicalNames entry, else "physical_<tag>".
+/// The name of a physical group: its $PhysicalNames entry, else "physical_<dim>_<tag>" (tags are
+/// numbered per dimension, so the dimension keeps unnamed groups apart).
 std::string group_name(const MshContent& c, int dim, int tag) {
   const auto it = c.names.find({dim, tag});
-  return it != c.names.end() ? it->second : "physical_" + std::to_string(tag);
+  return it != c.names.end() ? it->second : "physical_" + std::to_string(dim) + "_" + std::to_string(tag);
 }
 
 }  // namespace
@@ -343,13 +344,13 @@ Mesh read_mesh_msh(const std::filesystem::path& path) {
     points.push_back(x->second);
     return i;
   };
-  std::set<int> labels;
+  std::set<int> labels;  // the labels that are physical groups (only those have names)
   for (const RawElement& e : c.elements) {
     if (e.dim != 3) continue;
     for (const long long t : e.nodes) mesh.connectivity.push_back(node_of(t));
     const int label = !e.physical.empty() ? e.physical.front() : (e.entity != 0 ? e.entity : 1);
     mesh.labels.push_back(label);
-    labels.insert(label);
+    if (!e.physical.empty()) labels.insert(label);
   }
   mesh.nodes.resize(3, static_cast<Eigen::Index>(points.size()));
   for (std::size_t i = 0; i < points.size(); ++i) mesh.nodes.col(static_cast<Eigen::Index>(i)) = points[i];

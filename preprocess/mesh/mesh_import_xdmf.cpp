@@ -96,7 +96,7 @@ Values read_item(vtkXMLDataElement* item, const std::filesystem::path& dir, cons
   if (format == "hdf") {
     text.erase(0, text.find_first_not_of(" \t\r\n"));
     text.erase(text.find_last_not_of(" \t\r\n") + 1);
-    const auto colon = text.rfind(':');
+    const auto colon = text.find(":/");  // (a dataset path may hold ':' itself)
     if (colon == std::string::npos || colon == 0)
       throw InputError(what + ": expected FILE.h5:/DATASET, found '" + text.substr(0, 80) + "'");
     std::filesystem::path h5 = text.substr(0, colon);
@@ -119,8 +119,9 @@ Values read_item(vtkXMLDataElement* item, const std::filesystem::path& dir, cons
   long long d = 0;
   long long product = 1;
   while (dims >> d) {
+    if (d < 0 || __builtin_mul_overflow(product, d, &product))
+      throw InputError(what + ": Dimensions '" + attr(item, "Dimensions") + "' is not a valid size");
     v.dims.push_back(d);
-    product *= d;
   }
   if (!v.dims.empty() && product != static_cast<long long>(v.data.size())) {
     throw InputError(what + ": Dimensions '" + attr(item, "Dimensions") + "' but " + std::to_string(v.data.size()) +
@@ -200,10 +201,11 @@ Mesh read_mesh_xdmf(const std::filesystem::path& path) {
     const std::string name = attr(a, "Name");
     const Values v = read_item(child(a, "DataItem"), dir, where + " attribute '" + name + "'");
     const std::size_t comps = v.data.size() / std::max<std::size_t>(ne, 1);
-    if (comps * ne != v.data.size() || (comps != 1 && comps != 3)) {
+    if (comps * ne != v.data.size() || comps == 0) {
       throw InputError(where + ": attribute '" + name + "' has " + std::to_string(v.data.size()) + " values for " +
                        std::to_string(ne) + " cells");
     }
+    if (comps != 1 && comps != 3) continue;  // tensors and the like: not mesh data
     if (comps == 3) {
       Eigen::Matrix3Xd m = Eigen::Map<const Eigen::Matrix3Xd>(v.data.data(), 3, static_cast<Eigen::Index>(ne));
       if (name == "fiber" || name == "fibre") fibre = m;
@@ -236,6 +238,8 @@ Mesh read_mesh_xdmf(const std::filesystem::path& path) {
       const bool unit = std::abs(fibre.col(e).norm() - 1) < 1e-3 && std::abs(sheet.col(e).norm() - 1) < 1e-3 &&
                         std::abs(fibre.col(e).dot(sheet.col(e))) < 1e-3;
       if (!unit) throw InputError(where + ": fiber and sheet of cell " + std::to_string(e) + " are not orthonormal");
+      if ((normal.col(e) - fibre.col(e).cross(sheet.col(e))).norm() > 1e-3)
+        throw InputError(where + ": the normal of cell " + std::to_string(e) + " is not fiber x sheet");
     }
     mesh.fiber = fibre;
     mesh.sheet = sheet;

@@ -77,10 +77,10 @@ AnatomicalTagReport add_anatomical_tags(Mesh& mesh, const std::vector<CavitySpec
     double lowest = std::numeric_limits<double>::infinity(), radial = 0.0;
     for (const Index n : epi) {
       const Eigen::Vector3d d = mesh.nodes.col(n) - p;
-      const double s = d.dot(l), r = (d - s * l).norm();
-      if (s < lowest - 1e-9 || (s <= lowest + 1e-9 && r < radial)) {
+      const double s = d.dot(l), rad = (d - s * l).norm();
+      if (s < lowest - 1e-9 || (s <= lowest + 1e-9 && rad < radial)) {
         lowest = std::min(lowest, s);
-        radial = r;
+        radial = rad;
         apex = n;
       }
     }

@@ -73,7 +73,12 @@ Surface load_surface(SceneNode sel, const preprocess::Mesh& mesh, const std::str
   if (kinds != 1) throw InputError(sel.path() + ": give exactly one of cavity: NAME, tag: NAME, region: {...}");
   Surface surface;
   if (sel.has("region")) {
-    surface = boundary_surface(mesh, sel.region("region"), name);
+    const auto region = sel.region("region");
+    try {
+      surface = boundary_surface(mesh, region, name);
+    } catch (const InputError& e) {
+      throw InputError(sel.at("region") + ": " + e.what());
+    }
   } else {
     const bool tag = sel.has("tag");
     const std::string key = tag ? "tag" : "cavity";

@@ -160,22 +160,16 @@ void Circulation::end_step(double t, double h, double v, double p) {
 
 std::vector<std::pair<std::string, double>> Circulation::metrics() const {
   std::vector<std::pair<std::string, double>> m;
-  if (edv_ > 0) {
-    m.emplace_back("edv_m3", edv_);
-    m.emplace_back("edp_Pa", edp_);
-  }
-  if (esv_ > 0 && edv_ > 0) {
-    m.emplace_back("esv_m3", esv_);
-    m.emplace_back("esp_Pa", esp_);
-    m.emplace_back("stroke_volume_m3", edv_ - esv_);
-    m.emplace_back("ejection_fraction", (edv_ - esv_) / edv_);
-  }
-  m.emplace_back("peak_pressure_Pa", beats_.empty() ? peak_ : beats_.back().peak);  // of the last beat
   if (!beats_.empty()) {
-    for (auto& kv : beats_.back().metrics(set_.period)) {
-      const bool known = std::any_of(m.begin(), m.end(), [&](const auto& e) { return e.first == kv.first; });
-      if (!known) m.push_back(std::move(kv));
+    // Every beat value from the last completed beat (a run that ends in the next beat's
+    // contraction does not pair that beat's EDV with the previous ESV).
+    m = beats_.back().metrics(set_.period);
+  } else {
+    if (edv_ > 0) {
+      m.emplace_back("edv_m3", edv_);
+      m.emplace_back("edp_Pa", edp_);
     }
+    m.emplace_back("peak_pressure_Pa", peak_);
   }
   m.emplace_back("isovolumic_volume_drift", drift_);
   if (edv_first_ > 0 && completed_ > 0 && phase_ == CardiacPhase::Filling)
@@ -309,7 +303,11 @@ void Circulation::load_state(const StateArchive& archive) {
   peak_ = v[7];
   drift_ = v[8];
   beat_peak_ = v[9];
-  if (!earlier) {
+  if (earlier) {
+    // The running values of the beat under way are unknown: NaN keeps them (and the dP/dt, work,
+    // aortic and duration keys of that beat) out of the metrics until the next resets.
+    p_prev_ = pdv_ = filling_pdv_ = dpdt_max_ = dpdt_min_ = ao_max_ = ao_diastolic_ = t_mc_ = t_ao_ = NAN;
+  } else {
     p_prev_ = v[10];
     pdv_ = v[11];
     filling_pdv_ = v[12];

@@ -117,9 +117,9 @@ class Circulation {
 
   /// Valve events so far: (t in s, "mitral_closes" | "aortic_opens" | "aortic_closes" | "mitral_opens").
   [[nodiscard]] const std::vector<std::pair<double, std::string>>& events() const { return events_; }
-  /// Beat metrics (SI, keys as in summary.json): edv_m3, edp_Pa, esv_m3, esp_Pa, stroke_volume_m3,
-  /// ejection_fraction, peak_pressure_Pa (of the last completed beat; before one completes,
-  /// the largest pressure so far), the rest of BeatRecord::metrics of the last completed beat, isovolumic_volume_drift
+  /// Beat metrics (SI, keys as in summary.json): BeatRecord::metrics of the last completed beat
+  /// (before one completes: edv_m3 and edp_Pa once the mitral valve has closed, and
+  /// peak_pressure_Pa, the largest pressure so far), isovolumic_volume_drift
   /// (max |V/V_held - 1|, all beats), loop_closure (|V_end - EDV_first| / EDV_first once the cavity is filling again),
   /// beats, and after two completed beats beat_to_beat_change = max(|EDV_n/EDV_{n-1} - 1|, |ESV_n/ESV_{n-1} - 1|) of
   /// the last two (0 for a periodic state). Values of the LAST completed beat; keys whose event has not happened are
@@ -149,8 +149,8 @@ class Circulation {
   double edv_ = -1, edp_ = 0, esv_ = -1, esp_ = 0, edv_first_ = -1, peak_ = 0, drift_ = 0;
   double beat_peak_ = 0;  ///< peak pressure since the last mitral closure
   // Running values of the beat under way (BeatRecord): the last accepted pressure, int P dV since
-  // the last MC or AC (or the start) and over the relaxation and filling before the last MC, the dP/dt extrema, the aortic
-  // systolic and diastolic pressures, the MC and AO times.
+  // the last MC or AC (or the start) and over the relaxation and filling before the last MC, the dP/dt extrema, the
+  // aortic systolic and diastolic pressures, the MC and AO times.
   double p_prev_ = 0, pdv_ = 0, filling_pdv_ = 0, dpdt_max_ = -INFINITY, dpdt_min_ = INFINITY, ao_max_ = 0,
          ao_diastolic_ = 0, t_mc_ = 0, t_ao_ = 0;
   int completed_ = 0;

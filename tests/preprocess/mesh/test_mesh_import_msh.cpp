@@ -122,8 +122,8 @@ TEST(MeshImportMsh, Format22HexahedraWithGroups) {
   const std::set<Index> left(m.node_tags.at("left").begin(), m.node_tags.at("left").end());
   EXPECT_EQ(left, (std::set<Index>{0, 3, 4, 7}));
   for (const Index n : left) EXPECT_DOUBLE_EQ(m.nodes(0, n), 0.0);
-  ASSERT_EQ(m.node_tags.count("physical_20"), 1u);
-  EXPECT_EQ(m.node_tags.at("physical_20"), std::vector<Index>{0});
+  ASSERT_EQ(m.node_tags.count("physical_0_20"), 1u);
+  EXPECT_EQ(m.node_tags.at("physical_0_20"), std::vector<Index>{0});
   EXPECT_FALSE(m.has_fibres());
 }
 

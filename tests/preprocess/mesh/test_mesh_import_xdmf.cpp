@@ -79,6 +79,15 @@ TEST(MeshImportXdmf, InlineTetrahedraWithLabelsFibresAndFields) {
   ASSERT_EQ(m.cell_scalars.count("scar"), 1u);
   EXPECT_DOUBLE_EQ(m.cell_scalars.at("scar")[0], 0.25);
   EXPECT_EQ(m.cell_scalars.count("u"), 0u) << "node attributes are not cell fields";
+  // A tensor cell attribute (9 per cell) is not mesh data: skipped, not an error.
+  const std::string tensor = R"(      <Attribute Name="stress" AttributeType="Tensor" Center="Cell">
+        <DataItem DataType="Float" Dimensions="2 9" Format="XML">1 2 3 4 5 6 7 8 9 1 2 3 4 5 6 7 8 9</DataItem>
+      </Attribute>
+)";
+  const Mesh t = read_mesh_file(
+      write_file("tensor.xdmf", edit("      <Attribute Name=\"scar\"", tensor + "      <Attribute Name=\"scar\"")));
+  EXPECT_EQ(t.cell_scalars.count("stress"), 0u);
+  EXPECT_EQ(t.cell_scalars.size(), 1u);
 }
 
 TEST(MeshImportXdmf, ReadsTheFirstGridOfATimeSeries) {
@@ -123,4 +132,12 @@ TEST(MeshImportXdmf, RefusesWhatCannotBeRunNamingTheFile) {
                "Format 'Binary' is not read");
   expect_error("inverted", edit("0 1 2 3 1 4 2 3", "0 2 1 3 1 4 2 3"), "element 0 is inverted");
   expect_error("frame", edit(">1 0 0 1 0 0<", ">0 0 1 1 0 0<"), "not orthonormal");
+  expect_error("negative", edit("Dimensions=\"2 4\"", "Dimensions=\"-2 -4\""), "is not a valid size");
+  expect_error("overflow", edit("Dimensions=\"2 4\"", "Dimensions=\"4294967296 4294967296 8\""), "is not a valid size");
+  const std::string normal = R"(      <Attribute Name="normal" AttributeType="Vector" Center="Cell">
+        <DataItem DataType="Float" Dimensions="2 3" Format="XML">0 -1 0 0 -1 0</DataItem>
+      </Attribute>
+)";
+  expect_error("normal", edit("      <Attribute Name=\"scar\"", normal + "      <Attribute Name=\"scar\""),
+               "normal of cell 0 is not fiber x sheet");
 }
