@@ -34,6 +34,26 @@ void add_tag(Mesh& mesh, const std::string& name, std::vector<Index> nodes, Anat
 
 }  // namespace
 
+std::optional<LidAxis> lid_long_axis(const Mesh& mesh) {
+  std::vector<std::string> order;
+  if (mesh.cavities.count("lv") != 0) order.emplace_back("lv");
+  for (const auto& [name, cav] : mesh.cavities) order.push_back(name);
+  for (const std::string& name : order) {
+    Eigen::Vector3d area = Eigen::Vector3d::Zero(), centre = Eigen::Vector3d::Zero();
+    double weight = 0.0;
+    for (const auto& t : mesh.cavities.at(name).lid) {
+      const Eigen::Vector3d a = mesh.nodes.col(t[0]), b = mesh.nodes.col(t[1]), c = mesh.nodes.col(t[2]);
+      const Eigen::Vector3d at = 0.5 * (b - a).cross(c - a);
+      area += at;
+      weight += at.norm();
+      centre += at.norm() * (a + b + c) / 3.0;
+    }
+    if (!(area.norm() > 0.0) || !(weight > 0.0)) continue;
+    return LidAxis{centre / weight, -area.normalized(), name};
+  }
+  return std::nullopt;
+}
+
 AnatomicalTagReport add_anatomical_tags(Mesh& mesh, const std::vector<CavitySpec>& cavities,
                                         const std::vector<std::int32_t>& solid_labels) {
   AnatomicalTagReport r;
@@ -47,46 +67,29 @@ AnatomicalTagReport add_anatomical_tags(Mesh& mesh, const std::vector<CavitySpec
   }
   const std::vector<Index> epi = union_of_pairs(mesh, solid_labels, 0);
   add_tag(mesh, "epicardium", epi, r);
-  // The long axis from a lid ("lv" first): l = -A / |A| (A, the lid's vector area, points into the
-  // cavity, towards the apex), through the area-weighted lid centre.
-  std::vector<std::string> order;
-  if (mesh.cavities.count("lv") != 0) order.emplace_back("lv");
-  for (const auto& [name, cav] : mesh.cavities) order.push_back(name);
-  for (const std::string& name : order) {
-    const Cavity& cav = mesh.cavities.at(name);
-    Eigen::Vector3d area = Eigen::Vector3d::Zero(), centre = Eigen::Vector3d::Zero();
-    double weight = 0.0;
-    for (const auto& t : cav.lid) {
-      const Eigen::Vector3d a = mesh.nodes.col(t[0]), b = mesh.nodes.col(t[1]), c = mesh.nodes.col(t[2]);
-      const Eigen::Vector3d at = 0.5 * (b - a).cross(c - a);
-      area += at;
-      weight += at.norm();
-      centre += at.norm() * (a + b + c) / 3.0;
+  const std::optional<LidAxis> axis = lid_long_axis(mesh);
+  if (!axis) return r;
+  const Eigen::Vector3d l = axis->direction.array() + 0.0, p = axis->point;  // (+0: no "-0" in the text)
+  std::ostringstream os;
+  os.precision(17);
+  os << p.x() << ',' << p.y() << ',' << p.z() << ',' << l.x() << ',' << l.y() << ',' << l.z();
+  mesh.attributes["long_axis"] = os.str();
+  mesh.attributes["long_axis_source"] = "lid of cavity " + axis->cavity;
+  r.long_axis = true;
+  // The apex: the epicardial node farthest from the base along -l; of equally far nodes (a
+  // staircase cap at 1e-9 m), the nearest to the axis.
+  Index apex = -1;
+  double lowest = std::numeric_limits<double>::infinity(), radial = 0.0;
+  for (const Index n : epi) {
+    const Eigen::Vector3d d = mesh.nodes.col(n) - p;
+    const double s = d.dot(l), rad = (d - s * l).norm();
+    if (s < lowest - 1e-9 || (s <= lowest + 1e-9 && rad < radial)) {
+      lowest = std::min(lowest, s);
+      radial = rad;
+      apex = n;
     }
-    if (!(area.norm() > 0.0) || !(weight > 0.0)) continue;
-    const Eigen::Vector3d l = (-area.normalized()).array() + 0.0, p = centre / weight;  // (+0: no "-0")
-    std::ostringstream os;
-    os.precision(17);
-    os << p.x() << ',' << p.y() << ',' << p.z() << ',' << l.x() << ',' << l.y() << ',' << l.z();
-    mesh.attributes["long_axis"] = os.str();
-    mesh.attributes["long_axis_source"] = "lid of cavity " + name;
-    r.long_axis = true;
-    // The apex: the epicardial node farthest from the base along -l; of equally far nodes (a
-    // staircase cap at 1e-9 m), the nearest to the axis.
-    Index apex = -1;
-    double lowest = std::numeric_limits<double>::infinity(), radial = 0.0;
-    for (const Index n : epi) {
-      const Eigen::Vector3d d = mesh.nodes.col(n) - p;
-      const double s = d.dot(l), rad = (d - s * l).norm();
-      if (s < lowest - 1e-9 || (s <= lowest + 1e-9 && rad < radial)) {
-        lowest = std::min(lowest, s);
-        radial = rad;
-        apex = n;
-      }
-    }
-    if (apex >= 0) add_tag(mesh, "apex", {apex}, r);
-    break;
   }
+  if (apex >= 0) add_tag(mesh, "apex", {apex}, r);
   return r;
 }
 

@@ -13,6 +13,8 @@
 // lid of cavity "lv" (else the first cavity with a lid), normal to it, as
 // solver/geometry/long_axis.hpp estimates it. A tag name that the mesh already has (e.g. a plane
 // tag) is left as it is and reported.
+#include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +22,19 @@
 #include "preprocess/surfaces/cavities.hpp"
 
 namespace adamss::preprocess {
+
+/// A long axis from a cavity lid: the lid's vector area A points into the cavity, towards the
+/// apex, so the direction (apex to base) is l = -A / |A|, through the area-weighted lid centre.
+struct LidAxis {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();       ///< m
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();  ///< unit, apex to base
+  std::string cavity;                                    ///< the cavity whose lid gave it
+};
+
+/// The axis of the lid of cavity "lv", else of the first cavity (in name order) with a lid of
+/// non-zero area; nullopt when there is none. The one estimate behind the mesh attribute
+/// long_axis and the solver's run-time axis (solver/geometry/long_axis.hpp).
+[[nodiscard]] std::optional<LidAxis> lid_long_axis(const Mesh& mesh);
 
 struct AnatomicalTagReport {
   std::vector<std::string> added;    ///< tag names added

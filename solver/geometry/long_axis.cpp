@@ -3,40 +3,14 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
+#include "preprocess/surfaces/anatomical_tags.hpp"
+
 namespace adamss::solver {
 
-namespace {
-
-/// The axis from one cavity's lid, or nullopt when the lid is empty or has no net area.
-std::optional<LongAxis> axis_of_lid(const std::string& name, const preprocess::Cavity& cavity,
-                                    const Eigen::Matrix3Xd& nodes) {
-  Eigen::Vector3d area = Eigen::Vector3d::Zero(), centre = Eigen::Vector3d::Zero();
-  double weight = 0.0;
-  for (const auto& t : cavity.lid) {
-    const Eigen::Vector3d a = nodes.col(t[0]), b = nodes.col(t[1]), c = nodes.col(t[2]);
-    const Eigen::Vector3d at = 0.5 * (b - a).cross(c - a);
-    area += at;
-    weight += at.norm();
-    centre += at.norm() * (a + b + c) / 3.0;
-  }
-  if (!(area.norm() > 0.0) || !(weight > 0.0)) return std::nullopt;
-  LongAxis axis;
-  axis.direction = -area.normalized();
-  axis.point = centre / weight;
-  axis.source = "lid of cavity " + name;
-  return axis;
-}
-
-}  // namespace
-
 std::optional<LongAxis> estimate_long_axis(const preprocess::Mesh& mesh) {
-  if (const auto lv = mesh.cavities.find("lv"); lv != mesh.cavities.end()) {
-    if (auto axis = axis_of_lid(lv->first, lv->second, mesh.nodes)) return axis;
-  }
-  for (const auto& [name, cavity] : mesh.cavities) {
-    if (auto axis = axis_of_lid(name, cavity, mesh.nodes)) return axis;
-  }
-  return std::nullopt;
+  const std::optional<preprocess::LidAxis> lid = preprocess::lid_long_axis(mesh);
+  if (!lid) return std::nullopt;
+  return LongAxis{lid->point, lid->direction, "lid of cavity " + lid->cavity};
 }
 
 Eigen::Matrix3d cardiac_frame(const LongAxis& axis, const Eigen::Vector3d& x) {
@@ -56,17 +30,6 @@ Eigen::Matrix3d cardiac_frame(const LongAxis& axis, const Eigen::Vector3d& x) {
   q.col(1) = l;
   q.col(2) = r;
   return q;
-}
-
-Eigen::Matrix3Xd element_centroids(const preprocess::Mesh& mesh) {
-  const int k = preprocess::nodes_per_element(mesh.type);
-  Eigen::Matrix3Xd c = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(mesh.element_count()));
-  for (std::size_t e = 0; e < mesh.element_count(); ++e) {
-    const preprocess::Index* n = mesh.element(e);
-    for (int a = 0; a < k; ++a) c.col(static_cast<Eigen::Index>(e)) += mesh.nodes.col(n[a]);
-    c.col(static_cast<Eigen::Index>(e)) /= k;
-  }
-  return c;
 }
 
 }  // namespace adamss::solver

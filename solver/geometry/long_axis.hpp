@@ -34,13 +34,11 @@ struct LongAxis {
 };
 
 /// The axis from the lid of the cavity "lv" (else the first cavity with a lid), or nullopt when no
-/// cavity has a lid of non-zero area.
+/// cavity has a lid of non-zero area: preprocess::lid_long_axis, the estimate `adamss mesh` writes
+/// as the mesh attribute long_axis.
 [[nodiscard]] std::optional<LongAxis> estimate_long_axis(const preprocess::Mesh& mesh);
 
 /// Q = [e_c e_l e_r] at point x for `axis` (see above).
 [[nodiscard]] Eigen::Matrix3d cardiac_frame(const LongAxis& axis, const Eigen::Vector3d& x);
-
-/// The element centroids (m) of `mesh` at its reference nodes, 3 x elements.
-[[nodiscard]] Eigen::Matrix3Xd element_centroids(const preprocess::Mesh& mesh);
 
 }  // namespace adamss::solver
