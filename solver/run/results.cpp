@@ -15,6 +15,7 @@
 #include "common/durable.hpp"
 #include "common/error.hpp"
 #include "common/xml.hpp"
+#include "preprocess/fibres/fibre_field.hpp"
 #include "preprocess/mesh/element_faces.hpp"
 #include "solver/geometry/element_rules.hpp"
 
@@ -38,6 +39,19 @@ Eigen::Matrix3d element_map(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd
   j.setZero();
   for (Eigen::Index a = 0; a < 8; ++a) j += x.col(n[a]) * kG.row(a);
   return j;
+}
+
+/// Entry e of a 9 x E tensor array (row by row) as a 3 x 3 matrix, and back.
+Eigen::Matrix3d tensor_at(const Eigen::Matrix<double, 9, Eigen::Dynamic>& t, Eigen::Index e) {
+  Eigen::Matrix3d m;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) m(r, c) = t(3 * r + c, e);
+  return m;
+}
+
+void set_tensor(Eigen::Matrix<double, 9, Eigen::Dynamic>& t, Eigen::Index e, const Eigen::Matrix3d& m) {
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) t(3 * r + c, e) = m(r, c);
 }
 
 void put_u64(std::string& buf, std::uint64_t v) {
@@ -80,10 +94,9 @@ void add_strain_fields(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x, 
   const std::vector<Eigen::Matrix3d> F = element_deformation_gradients(mesh, x);
   Eigen::Matrix<double, 9, Eigen::Dynamic> strain(9, ne);
   for (Eigen::Index e = 0; e < ne; ++e) {
-    const Eigen::Matrix3d E = 0.5 * (F[static_cast<std::size_t>(e)].transpose() * F[static_cast<std::size_t>(e)] -
-                                     Eigen::Matrix3d::Identity());
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) strain(3 * r + c, e) = E(r, c);
+    set_tensor(strain, e,
+               0.5 * (F[static_cast<std::size_t>(e)].transpose() * F[static_cast<std::size_t>(e)] -
+                      Eigen::Matrix3d::Identity()));
   }
   a.cell_tensors["green_lagrange"] = strain;
   if (!mesh.has_fibres()) return;
@@ -94,12 +107,7 @@ void add_strain_fields(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x, 
     const Eigen::Matrix3d& Fe = F[static_cast<std::size_t>(e)];
     Eigen::Matrix3d Q;
     Q << mesh.fiber.col(e), mesh.sheet.col(e), mesh.normal.col(e);
-    Eigen::Matrix3d E;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) E(r, c) = strain(3 * r + c, e);
-    const Eigen::Matrix3d El = Q.transpose() * E * Q;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) local(3 * r + c, e) = El(r, c);
+    set_tensor(local, e, Q.transpose() * tensor_at(strain, e) * Q);
     f.col(e) = Fe * mesh.fiber.col(e);
     stretch[e] = f.col(e).norm();
     f.col(e) /= stretch[e];
@@ -132,18 +140,6 @@ Eigen::Matrix3d fibre_frame_of(const preprocess::Mesh& mesh, Eigen::Index e) {
   Eigen::Matrix3d b;
   b << f, sh, f.cross(sh);
   return b;
-}
-
-Eigen::Matrix3d tensor_at(const Eigen::Matrix<double, 9, Eigen::Dynamic>& t, Eigen::Index e) {
-  Eigen::Matrix3d m;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) m(r, c) = t(3 * r + c, e);
-  return m;
-}
-
-void set_tensor(Eigen::Matrix<double, 9, Eigen::Dynamic>& t, Eigen::Index e, const Eigen::Matrix3d& m) {
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) t(3 * r + c, e) = m(r, c);
 }
 
 }  // namespace
@@ -188,12 +184,11 @@ void add_cardiac_strain_fields(const preprocess::Mesh& mesh, const LongAxis& axi
   if (it == a.cell_tensors.end()) return;
   const Eigen::Matrix<double, 9, Eigen::Dynamic>& strain = it->second;
   const Eigen::Index ne = strain.cols();
-  const Eigen::Matrix3Xd centre = element_centroids(mesh);
   Eigen::Matrix<double, 9, Eigen::Dynamic> local(9, ne);
   Eigen::Matrix3Xd ec(3, ne), el(3, ne), er(3, ne);
   Eigen::VectorXd cc(ne), ll(ne), rr(ne);
   for (Eigen::Index e = 0; e < ne; ++e) {
-    const Eigen::Matrix3d Q = cardiac_frame(axis, centre.col(e));
+    const Eigen::Matrix3d Q = cardiac_frame(axis, preprocess::element_barycentre(mesh, static_cast<std::size_t>(e)));
     const Eigen::Matrix3d El = Q.transpose() * tensor_at(strain, e) * Q;
     set_tensor(local, e, El);
     ec.col(e) = Q.col(0);
