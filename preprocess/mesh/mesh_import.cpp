@@ -123,21 +123,8 @@ Mesh read_mesh_vtu(const std::filesystem::path& path) {
   Eigen::Matrix3Xd f = cell_vectors(cd, "fiber", cells, where);
   if (f.cols() == 0) f = cell_vectors(cd, "fibre", cells, where);
   if (f.cols() > 0) {
-    const Eigen::Matrix3Xd s = cell_vectors(cd, "sheet", cells, where);
-    if (s.cols() == 0) throw InputError(where + ": a fiber array needs a sheet array (3 components per cell)");
-    Eigen::Matrix3Xd n = cell_vectors(cd, "normal", cells, where);
-    if (n.cols() == 0) {
-      n.resize(3, cells);
-      for (vtkIdType e = 0; e < cells; ++e) n.col(e) = f.col(e).cross(s.col(e));
-    }
-    for (vtkIdType e = 0; e < cells; ++e) {
-      const bool unit = std::abs(f.col(e).norm() - 1) < 1e-3 && std::abs(s.col(e).norm() - 1) < 1e-3 &&
-                        std::abs(f.col(e).dot(s.col(e))) < 1e-3;
-      if (!unit) throw InputError(where + ": fiber and sheet of cell " + std::to_string(e) + " are not orthonormal");
-    }
-    mesh.fiber = f;
-    mesh.sheet = s;
-    mesh.normal = n;
+    set_imported_fibres(mesh, f, cell_vectors(cd, "sheet", cells, where), cell_vectors(cd, "normal", cells, where),
+                        where, "a fiber array needs a sheet array (3 components per cell)");
   }
   for (int i = 0; i < cd->GetNumberOfArrays(); ++i) {
     vtkDataArray* a = cd->GetArray(i);
@@ -151,6 +138,23 @@ Mesh read_mesh_vtu(const std::filesystem::path& path) {
   check_element_orientation(mesh, where, "VTK node order expected");
   mesh.attributes["source"] = path.string();
   return mesh;
+}
+
+void set_imported_fibres(Mesh& mesh, const Eigen::Matrix3Xd& fibre, const Eigen::Matrix3Xd& sheet,
+                         Eigen::Matrix3Xd normal, const std::string& where, const std::string& no_sheet) {
+  if (sheet.cols() == 0) throw InputError(where + ": " + no_sheet);
+  if (normal.cols() == 0) {
+    normal.resize(3, fibre.cols());
+    for (Eigen::Index e = 0; e < fibre.cols(); ++e) normal.col(e) = fibre.col(e).cross(sheet.col(e));
+  }
+  for (Eigen::Index e = 0; e < fibre.cols(); ++e) {
+    const bool unit = std::abs(fibre.col(e).norm() - 1) < 1e-3 && std::abs(sheet.col(e).norm() - 1) < 1e-3 &&
+                      std::abs(fibre.col(e).dot(sheet.col(e))) < 1e-3;
+    if (!unit) throw InputError(where + ": fiber and sheet of cell " + std::to_string(e) + " are not orthonormal");
+  }
+  mesh.fiber = fibre;
+  mesh.sheet = sheet;
+  mesh.normal = std::move(normal);
 }
 
 void check_element_orientation(const Mesh& mesh, const std::string& where, const std::string& hint) {

@@ -45,6 +45,12 @@ Mesh read_mesh_msh(const std::filesystem::path& path);
 /// label, a bad fibre frame, an inverted element.
 Mesh read_mesh_xdmf(const std::filesystem::path& path);
 
+/// The fibre frame read by an importer (3 x elements each; `normal` may be empty: fibre x sheet)
+/// checked and stored in `mesh`: InputError `where: no_sheet` without a sheet, or naming the first
+/// cell whose fibre and sheet are not orthonormal (within 1e-3). Shared by the .vtu and .xdmf readers.
+void set_imported_fibres(Mesh& mesh, const Eigen::Matrix3Xd& fibre, const Eigen::Matrix3Xd& sheet,
+                         Eigen::Matrix3Xd normal, const std::string& where, const std::string& no_sheet);
+
 /// InputError (`where`: the file, `hint` after the message) naming the first element whose volume
 /// measure at its centre is not positive (inverted, degenerate or in another node order).
 void check_element_orientation(const Mesh& mesh, const std::string& where, const std::string& hint);

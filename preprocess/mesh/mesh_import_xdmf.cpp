@@ -229,21 +229,12 @@ Mesh read_mesh_xdmf(const std::filesystem::path& path) {
     mesh.cell_scalars[name] = Eigen::Map<const Eigen::VectorXd>(v.data.data(), static_cast<Eigen::Index>(ne));
   }
   if (fibre.cols() > 0) {
-    if (sheet.cols() == 0) throw InputError(where + ": a fiber attribute needs a sheet attribute (3 per cell)");
-    if (normal.cols() == 0) {
-      normal.resize(3, fibre.cols());
-      for (Eigen::Index e = 0; e < fibre.cols(); ++e) normal.col(e) = fibre.col(e).cross(sheet.col(e));
-    }
-    for (Eigen::Index e = 0; e < fibre.cols(); ++e) {
-      const bool unit = std::abs(fibre.col(e).norm() - 1) < 1e-3 && std::abs(sheet.col(e).norm() - 1) < 1e-3 &&
-                        std::abs(fibre.col(e).dot(sheet.col(e))) < 1e-3;
-      if (!unit) throw InputError(where + ": fiber and sheet of cell " + std::to_string(e) + " are not orthonormal");
-      if ((normal.col(e) - fibre.col(e).cross(sheet.col(e))).norm() > 1e-3)
+    const bool given_normal = normal.cols() > 0;
+    set_imported_fibres(mesh, fibre, sheet, normal, where, "a fiber attribute needs a sheet attribute (3 per cell)");
+    for (Eigen::Index e = 0; given_normal && e < fibre.cols(); ++e) {
+      if ((mesh.normal.col(e) - fibre.col(e).cross(sheet.col(e))).norm() > 1e-3)
         throw InputError(where + ": the normal of cell " + std::to_string(e) + " is not fiber x sheet");
     }
-    mesh.fiber = fibre;
-    mesh.sheet = sheet;
-    mesh.normal = normal;
   }
   check_element_orientation(mesh, where, "VTK/XDMF node order expected");
   mesh.attributes["source"] = path.string();
