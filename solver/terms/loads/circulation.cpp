@@ -1,6 +1,7 @@
 #include "solver/terms/loads/circulation.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <sstream>
@@ -222,6 +223,24 @@ namespace {
 /// Valve event names in a fixed order: the checkpoint stores the index.
 const std::vector<std::string> kEventNames = {"mitral_closes", "aortic_opens", "aortic_closes", "mitral_opens"};
 
+/// A BeatRecord's values in checkpoint order ("beats"; the earlier layout held the first 5).
+constexpr std::array<double BeatRecord::*, BeatRecord::kFields> kBeatFields = {&BeatRecord::edv,
+                                                                               &BeatRecord::edp,
+                                                                               &BeatRecord::esv,
+                                                                               &BeatRecord::esp,
+                                                                               &BeatRecord::peak,
+                                                                               &BeatRecord::dpdt_max,
+                                                                               &BeatRecord::dpdt_min,
+                                                                               &BeatRecord::stroke_work,
+                                                                               &BeatRecord::aortic_systolic,
+                                                                               &BeatRecord::aortic_diastolic,
+                                                                               &BeatRecord::t_mc,
+                                                                               &BeatRecord::t_ao,
+                                                                               &BeatRecord::t_ac,
+                                                                               &BeatRecord::t_mo};
+constexpr std::size_t kEarlierBeatFields = 5;
+constexpr std::size_t kEarlierValues = 10;  ///< v_prev_ .. beat_peak_ of Circulation::state_values()
+
 /// The settings a checkpoint must agree with (name, value), in a fixed order.
 std::vector<std::pair<std::string, double>> settings_list(const CirculationSettings& s) {
   const WindkesselParameters& w = s.windkessel;
@@ -236,14 +255,24 @@ std::vector<std::pair<std::string, double>> settings_list(const CirculationSetti
 
 }  // namespace
 
+const std::array<double Circulation::*, 19>& Circulation::state_values() {
+  static constexpr std::array<double Circulation::*, 19> kValues = {
+      &Circulation::v_prev_,       &Circulation::v_held_,    &Circulation::edv_,       &Circulation::edp_,
+      &Circulation::esv_,          &Circulation::esp_,       &Circulation::edv_first_, &Circulation::peak_,
+      &Circulation::drift_,        &Circulation::beat_peak_, &Circulation::p_prev_,    &Circulation::pdv_,
+      &Circulation::filling_pdv_,  &Circulation::dpdt_max_,  &Circulation::dpdt_min_,  &Circulation::ao_max_,
+      &Circulation::ao_diastolic_, &Circulation::t_mc_,      &Circulation::t_ao_};
+  return kValues;
+}
+
 void Circulation::save_state(StateArchive& archive) const {
   std::vector<double> settings;
   for (const auto& kv : settings_list(set_)) settings.push_back(kv.second);
   archive.put("settings", settings);
   archive.put_ints("counters", {static_cast<std::int64_t>(phase_), beat_, completed_});
-  archive.put("values", std::vector<double>{v_prev_, v_held_, edv_, edp_, esv_, esp_, edv_first_, peak_, drift_,
-                                            beat_peak_, p_prev_, pdv_, filling_pdv_, dpdt_max_, dpdt_min_, ao_max_,
-                                            ao_diastolic_, t_mc_, t_ao_});
+  std::vector<double> values;
+  for (const auto m : state_values()) values.push_back(this->*m);
+  archive.put("values", values);
   StateArchive wk = archive.child("windkessel");
   wk_.save_state(wk);
   std::vector<double> et;
@@ -255,10 +284,8 @@ void Circulation::save_state(StateArchive& archive) const {
   archive.put("events/t", et);
   archive.put_ints("events/kind", ek);
   std::vector<double> beats;
-  for (const BeatRecord& b : beats_) {
-    beats.insert(beats.end(), {b.edv, b.edp, b.esv, b.esp, b.peak, b.dpdt_max, b.dpdt_min, b.stroke_work,
-                               b.aortic_systolic, b.aortic_diastolic, b.t_mc, b.t_ao, b.t_ac, b.t_mo});
-  }
+  for (const BeatRecord& b : beats_)
+    for (const auto m : kBeatFields) beats.push_back(b.*m);
   archive.put("beats", beats);
 }
 
@@ -285,39 +312,20 @@ void Circulation::load_state(const StateArchive& archive) {
   const auto& b = archive.doubles("beats");
   // 19 values and 14 per beat; a checkpoint of an earlier adamss has 10 and 5 (the beat metrics
   // added since start from the resumed step: no dP/dt, work or aortic extrema for the beat under way).
-  const bool earlier = v.size() == 10;
-  const std::size_t stride = earlier ? 5 : BeatRecord::kFields;
-  if (c.size() != 3 || c[0] < 0 || c[0] > 3 || c[1] < 0 || c[2] < 0 || (v.size() != 19 && !earlier) ||
-      et.size() != ek.size() || b.size() % stride != 0 || b.size() / stride != static_cast<std::size_t>(c[2]))
+  const bool earlier = v.size() == kEarlierValues;
+  const std::size_t stride = earlier ? kEarlierBeatFields : BeatRecord::kFields;
+  if (c.size() != 3 || c[0] < 0 || c[0] > 3 || c[1] < 0 || c[2] < 0 ||
+      (v.size() != state_values().size() && !earlier) || et.size() != ek.size() || b.size() % stride != 0 ||
+      b.size() / stride != static_cast<std::size_t>(c[2]))
     throw InputError(src + ": the circulation state is malformed (counters, values, events or beats)");
   phase_ = static_cast<CardiacPhase>(c[0]);
   beat_ = static_cast<int>(c[1]);
   completed_ = static_cast<int>(c[2]);
-  v_prev_ = v[0];
-  v_held_ = v[1];
-  edv_ = v[2];
-  edp_ = v[3];
-  esv_ = v[4];
-  esp_ = v[5];
-  edv_first_ = v[6];
-  peak_ = v[7];
-  drift_ = v[8];
-  beat_peak_ = v[9];
-  if (earlier) {
-    // The running values of the beat under way are unknown: NaN keeps them (and the dP/dt, work,
-    // aortic and duration keys of that beat) out of the metrics until the next resets.
-    p_prev_ = pdv_ = filling_pdv_ = dpdt_max_ = dpdt_min_ = ao_max_ = ao_diastolic_ = t_mc_ = t_ao_ = NAN;
-  } else {
-    p_prev_ = v[10];
-    pdv_ = v[11];
-    filling_pdv_ = v[12];
-    dpdt_max_ = v[13];
-    dpdt_min_ = v[14];
-    ao_max_ = v[15];
-    ao_diastolic_ = v[16];
-    t_mc_ = v[17];
-    t_ao_ = v[18];
-  }
+  // An earlier layout holds the first kEarlierValues: the running values of the beat under way are
+  // then unknown, and NaN keeps them (and the dP/dt, work, aortic and duration keys of that beat)
+  // out of the metrics until the next resets.
+  const auto& fields = state_values();
+  for (std::size_t k = 0; k < fields.size(); ++k) this->*fields[k] = k < v.size() ? v[k] : NAN;
   wk_.load_state(archive.child("windkessel"));
   events_.clear();
   for (std::size_t k = 0; k < et.size(); ++k) {
@@ -328,25 +336,8 @@ void Circulation::load_state(const StateArchive& archive) {
   beats_.clear();
   for (std::size_t k = 0; k < b.size(); k += stride) {
     BeatRecord r;
-    r.edv = b[k];
-    r.edp = b[k + 1];
-    r.esv = b[k + 2];
-    r.esp = b[k + 3];
-    r.peak = b[k + 4];
-    if (earlier) {
-      r.dpdt_max = r.stroke_work = r.aortic_systolic = r.aortic_diastolic = NAN;
-      r.t_mc = r.t_ao = r.t_ac = NAN;
-    } else {
-      r.dpdt_max = b[k + 5];
-      r.dpdt_min = b[k + 6];
-      r.stroke_work = b[k + 7];
-      r.aortic_systolic = b[k + 8];
-      r.aortic_diastolic = b[k + 9];
-      r.t_mc = b[k + 10];
-      r.t_ao = b[k + 11];
-      r.t_ac = b[k + 12];
-      r.t_mo = b[k + 13];
-    }
+    // An earlier layout's record lacks the later fields: NaN (left out of the metrics).
+    for (std::size_t f = 0; f < kBeatFields.size(); ++f) r.*kBeatFields[f] = f < stride ? b[k + f] : NAN;
     beats_.push_back(r);
   }
 }

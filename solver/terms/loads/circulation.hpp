@@ -25,6 +25,7 @@
 //   ejection     -> IVR       aortic valve closes: Q = -dV/h <= 0. V_held = V; ESV = V, ESP = P.
 //   IVR          -> filling   mitral valve opens: P <= P_at(t).
 // The contraction onset of beat n (n = 0, 1, ...) is onset + n period (period 0: one beat).
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <string>
@@ -140,6 +141,10 @@ class Circulation {
   void load_state(const StateArchive& archive);
 
  private:
+  /// The double members a checkpoint stores, in its order ("values"; an earlier layout held the
+  /// first 10).
+  static const std::array<double Circulation::*, 19>& state_values();
+
   CirculationSettings set_;
   Windkessel wk_;
   CardiacPhase phase_ = CardiacPhase::Filling;
