@@ -26,7 +26,7 @@ struct LinkEdge {
 std::vector<Index> boundary_face_nodes(const Mesh& mesh, const FaceRecord& r) {
   const Index* n = mesh.element(r.element);
   std::vector<Index> out;
-  if (mesh.type == ElementType::Tet4) {
+  if (is_tetrahedron(mesh.type)) {
     for (int i : kTetFaces[r.local]) out.push_back(n[i]);
   } else {
     for (int i : kHexFaces[r.local]) out.push_back(n[i]);

@@ -12,10 +12,12 @@
 // 3 x 8 by 8 x 3 product. Do not swap one for the other: the last bits differ.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <Eigen/LU>
 #include <cstddef>
 
 #include "preprocess/mesh/mesh.hpp"
 #include "preprocess/mesh/shape_functions.hpp"
+#include "preprocess/mesh/shape_functions_p2.hpp"
 
 namespace adamss::preprocess {
 
@@ -34,6 +36,17 @@ namespace adamss::preprocess {
   double v = 0.0;
   for (std::size_t q = 0; q < 8; ++q) v += (corners * grads[q]).determinant();
   return v / 8.0;
+}
+
+/// Exact volume of the quadratic tetrahedron (straight or curved) with node indices n[0..9]: the
+/// 5-point degree-3 rule over det(dx/dr), a cubic (preprocess/mesh/shape_functions_p2.hpp).
+[[nodiscard]] inline double tet10_volume(const Eigen::Matrix3Xd& x, const Index* n) {
+  static const auto kGrads = tet10_rule_gradients(tet10_volume_rule());
+  Eigen::Matrix<double, 3, 10> xe;
+  for (Eigen::Index a = 0; a < 10; ++a) xe.col(a) = x.col(n[a]);
+  double v = 0.0;
+  for (std::size_t q = 0; q < 5; ++q) v += tet10_volume_rule()[q].w * (xe * kGrads[q]).determinant();
+  return v;
 }
 
 /// Signed volume (m^3) of element e at the mesh's own nodes; positive for a correctly oriented

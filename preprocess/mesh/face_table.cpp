@@ -7,7 +7,7 @@
 namespace adamss::preprocess {
 
 std::vector<FaceRecord> sorted_face_records(const Mesh& mesh) {
-  const bool tet = mesh.type == ElementType::Tet4;
+  const bool tet = is_tetrahedron(mesh.type);
   const int faces_per = tet ? 4 : 6;
   std::vector<FaceRecord> faces;
   faces.reserve(mesh.element_count() * static_cast<std::size_t>(faces_per));

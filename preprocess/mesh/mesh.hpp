@@ -14,13 +14,41 @@ namespace adamss::preprocess {
 
 using Index = std::int32_t;
 
-enum class ElementType { Tet4, Hex8 };
+/// Tet10 (the quadratic tetrahedron, VTK_QUADRATIC_TETRA: corners 0..3, then the mid-edge nodes
+/// of kTetEdges) is made from a Tet4 mesh by preprocess/mesh/quadratic.hpp; the corner nodes keep
+/// their numbers and the mid-edge nodes come after them. Only the solver's FEM path takes it
+/// (fem_element, volume isotropic, pressure loads, boundary conditions, output); the other
+/// terms and the preprocessing refuse it by name.
+enum class ElementType { Tet4, Hex8, Tet10 };
 
 [[nodiscard]] constexpr int nodes_per_element(ElementType t) {
-  return t == ElementType::Tet4 ? 4 : 8;
+  switch (t) {
+    case ElementType::Tet4:
+      return 4;
+    case ElementType::Hex8:
+      return 8;
+    case ElementType::Tet10:
+      return 10;
+  }
+  return 0;
+}
+/// The element's corners (vertices): 4 for both tetrahedra, 8 for the hexahedron.
+[[nodiscard]] constexpr int corners_per_element(ElementType t) {
+  return t == ElementType::Hex8 ? 8 : 4;
+}
+[[nodiscard]] constexpr bool is_tetrahedron(ElementType t) {
+  return t != ElementType::Hex8;
 }
 [[nodiscard]] constexpr const char* element_type_name(ElementType t) {
-  return t == ElementType::Tet4 ? "tet4" : "hex8";
+  switch (t) {
+    case ElementType::Tet4:
+      return "tet4";
+    case ElementType::Hex8:
+      return "hex8";
+    case ElementType::Tet10:
+      return "tet10";
+  }
+  return "?";
 }
 
 /// A closed surface bounding a cavity (built by preprocess/surfaces/cavities.hpp). Every face and

@@ -599,7 +599,9 @@ ElementType read_element_type(const Ctx& ctx, hid_t elements) {
   const std::string type = read_string_attribute(ctx, elements, "type", "/elements/type");
   if (type == "tet4") return ElementType::Tet4;
   if (type == "hex8") return ElementType::Hex8;
-  ctx.fail("attribute /elements/type: unknown element type \"" + type + "\" (expected \"tet4\" or \"hex8\")");
+  if (type == "tet10") return ElementType::Tet10;
+  ctx.fail("attribute /elements/type: unknown element type \"" + type +
+           "\" (expected \"tet4\", \"hex8\" or \"tet10\")");
 }
 
 /// /elements/connectivity and /elements/label into mesh (type and nodes already read); returns the

@@ -140,7 +140,10 @@ vtkSmartPointer<vtkUnstructuredGrid> grid_geometry(const Mesh& mesh) {
   cells->SetData(offsets, conn);
   auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
   grid->SetPoints(points);
-  grid->SetCells(mesh.type == ElementType::Tet4 ? VTK_TETRA : VTK_HEXAHEDRON, cells);
+  grid->SetCells(mesh.type == ElementType::Tet4    ? VTK_TETRA
+                 : mesh.type == ElementType::Tet10 ? VTK_QUADRATIC_TETRA
+                                                   : VTK_HEXAHEDRON,
+                 cells);
   return grid;
 }
 

@@ -31,7 +31,10 @@ void write_mesh_xdmf(const std::filesystem::path& xdmf, const std::filesystem::p
   std::ostringstream o;
   o << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n"
     << "    <Grid Name=\"" << xml_escape(h5.stem().string()) << "\" GridType=\"Uniform\">\n"
-    << "      <Topology TopologyType=\"" << (mesh.type == ElementType::Tet4 ? "Tetrahedron" : "Hexahedron")
+    << "      <Topology TopologyType=\""
+    << (mesh.type == ElementType::Tet4    ? "Tetrahedron"
+        : mesh.type == ElementType::Tet10 ? "Tetrahedron_10"
+                                          : "Hexahedron")
     << "\" NumberOfElements=\"" << e << "\" NodesPerElement=\"" << k << "\">\n"
     << item(file, "/elements/connectivity", e, k, "Int", 4) << "      </Topology>\n"
     << "      <Geometry GeometryType=\"XYZ\">\n"

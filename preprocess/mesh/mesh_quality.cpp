@@ -64,8 +64,7 @@ double hex_min_dihedral(const Mesh& m, const Index* n) {
 }  // namespace
 
 double element_min_dihedral_deg(const Mesh& mesh, std::size_t e) {
-  return mesh.type == ElementType::Tet4 ? tet_min_dihedral(mesh, mesh.element(e))
-                                        : hex_min_dihedral(mesh, mesh.element(e));
+  return is_tetrahedron(mesh.type) ? tet_min_dihedral(mesh, mesh.element(e)) : hex_min_dihedral(mesh, mesh.element(e));
 }
 
 QualitySummary summarize_quality(const Mesh& mesh) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "common/error.hpp"
+#include "preprocess/mesh/quadratic.hpp"
 #include "preprocess/surfaces/cavities.hpp"
 
 namespace adamss::preprocess {
@@ -45,6 +46,9 @@ void check_options(const EllipsoidMeshOptions& o) {
   if (o.n_v < 3) throw InputError(w + "n_v (circumferential divisions) must be >= 3, got " + std::to_string(o.n_v));
   if (o.n_u < 2) throw InputError(w + "n_u (longitudinal divisions) must be >= 2, got " + std::to_string(o.n_u));
   if (o.n_t < 1) throw InputError(w + "n_t (transmural divisions) must be >= 1, got " + std::to_string(o.n_t));
+  if (o.order != 1 && o.order != 2) throw InputError(w + "order must be 1 or 2, got " + std::to_string(o.order));
+  if (o.order == 2 && !o.tetrahedra)
+    throw InputError(w + "order 2 (quadratic elements) needs topology tet: hexahedra stay linear");
   const auto nodes = static_cast<long long>(o.n_t + 1) * (1 + static_cast<long long>(o.n_u) * o.n_v);
   if (nodes * 6 > std::numeric_limits<Index>::max())
     throw InputError(w + "n_v x n_u x n_t is too large (" + std::to_string(nodes) + " nodes)");
@@ -210,6 +214,28 @@ Cavity lv_cavity(const EllipsoidMeshOptions& o, const NodeNumbering& node, const
 
 }  // namespace
 
+/// The order-2 placer (header): a mid-edge node at the mean index coordinates of its corners.
+MidEdgePlacer curved_mid_edge(const EllipsoidMeshOptions& o, const Shell& sh, const NodeNumbering& node) {
+  return [&o, sh, node](Index a, Index b) {
+    struct Ijk {
+      int k, i, j;
+    };
+    const auto index_of = [&](Index n) {
+      const int k = static_cast<int>(n / node.per_layer), r = static_cast<int>(n % node.per_layer);
+      return r == 0 ? Ijk{k, 0, -1} : Ijk{k, 1 + (r - 1) / node.nv, (r - 1) % node.nv};
+    };
+    Ijk p = index_of(a), q = index_of(b);
+    if (p.j < 0) p.j = q.j;
+    if (q.j < 0) q.j = p.j;
+    if (p.j < 0) p.j = q.j = 0;  // both apex nodes: on the axis whatever v
+    if (2 * std::abs(p.j - q.j) > node.nv) (p.j < q.j ? p.j : q.j) += node.nv;  // across the seam
+    const double t = 0.5 * (p.k + q.k) / o.n_t, frac = 0.5 * (p.i + q.i) / o.n_u;
+    Eigen::Vector3d x = sh.point(t, sh.u_at(t, frac), kPi * (p.j + q.j) / node.nv);
+    if (p.i == o.n_u && q.i == o.n_u) x.z() = o.base_z;
+    return x;
+  };
+}
+
 double truncated_ellipsoid_volume(double r_s, double r_l, double base_z) {
   return kPi * r_s * r_s * ((base_z + r_l) - (base_z * base_z * base_z + r_l * r_l * r_l) / (3.0 * r_l * r_l));
 }
@@ -228,6 +254,7 @@ Mesh make_land_ellipsoid(const EllipsoidMeshOptions& o) {
   mesh.cavities["lv"] = lv_cavity(o, node, mesh);
   mesh.attributes["source"] = "land ellipsoid (structured)";
   mesh.attributes["topology"] = o.tetrahedra ? "tet" : "hex";
+  if (o.order == 2) return make_quadratic(mesh, curved_mid_edge(o, sh, node));
   return mesh;
 }
 

@@ -36,6 +36,11 @@
 // e_u, e_v the unit tangents dx/du, dx/dv of the surface t = t_c; sheet = the unit normal of that
 // surface made orthogonal to f (Gram-Schmidt; it already is, up to rounding); normal = f x sheet.
 // mesh.attributes: "source" = "land ellipsoid (structured)", "topology" = "hex" | "tet".
+// Order 2 (tetrahedra only): the Tet10 mesh of preprocess/mesh/quadratic.hpp with every mid-edge
+// node on the map: at the mean of its corners' index coordinates (k, i, j) (j across the seam
+// unwrapped; the apex takes the other corner's j), i.e. t = k/n_t, u = u_at(t, i/n_u), v = 2 pi j/n_v.
+// Mid-edge nodes of the endocardium and epicardium lie on their ellipsoids, those of the base ring
+// on the base plane; attribute "order" = "2".
 //
 // Errors (adamss::InputError, one line naming the option): n_v < 3, n_u < 2, n_t < 1, a grid too
 // large for the 32-bit node index, radii not positive or epicardium not outside the endocardium,
@@ -52,6 +57,7 @@ struct EllipsoidMeshOptions {
   int n_u = 12;             ///< longitudinal elements, apex to base (>= 2)
   int n_t = 3;              ///< transmural elements (>= 1)
   bool tetrahedra = false;  ///< false: degenerate-apex hexahedra; true: 6 Kuhn tetrahedra per cell
+  int order = 1;            ///< 2: quadratic tetrahedra (tet10) on the curved map (needs tetrahedra)
   double endo_r_s = 7e-3;   ///< m
   double endo_r_l = 17e-3;  ///< m
   double epi_r_s = 10e-3;   ///< m

@@ -24,7 +24,7 @@ std::int32_t label_at(const LabelImage& image, const Eigen::Vector3d& x, std::in
 std::vector<BoundaryFace> boundary_faces_with_labels(const Mesh& mesh, const LabelImage& image) {
   const std::vector<FaceRecord> recs = sorted_face_records(mesh);
   const double d = 0.25 * image.grid.spacing().minCoeff();
-  const bool tet = mesh.type == ElementType::Tet4;
+  const bool tet = is_tetrahedron(mesh.type);
   std::vector<BoundaryFace> out;
   for (std::size_t k = 0; k < recs.size();) {
     std::size_t m = k + 1;

@@ -25,9 +25,13 @@ Eigen::VectorXd voronoi_masses(const preprocess::Mesh& mesh, const std::vector<d
     if (!(v > 0.0)) {
       throw InputError("element " + std::to_string(e) + " has non-positive volume " + std::to_string(v));
     }
-    const double share = density[e] * v / k;
+    const double me = density[e] * v;
     const preprocess::Index* nodes = mesh.element(e);
-    for (int a = 0; a < k; ++a) m[nodes[a]] += share;
+    if (mesh.type == preprocess::ElementType::Tet10) {
+      for (int a = 0; a < k; ++a) m[nodes[a]] += me * (a < 4 ? 1.0 / 36.0 : 4.0 / 27.0);
+      continue;
+    }
+    for (int a = 0; a < k; ++a) m[nodes[a]] += me / k;
   }
   return m;
 }

@@ -29,7 +29,15 @@ double kinetic_energy(const Eigen::VectorXd& mass, const Eigen::Matrix3Xd& v) {
 }
 
 double element_volume_at(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x, std::size_t e) {
-  return mesh.type == preprocess::ElementType::Tet4 ? tet_volume(x, mesh.element(e)) : hex_volume(x, mesh.element(e));
+  switch (mesh.type) {
+    case preprocess::ElementType::Tet4:
+      return tet_volume(x, mesh.element(e));
+    case preprocess::ElementType::Tet10:
+      return preprocess::tet10_volume(x, mesh.element(e));
+    case preprocess::ElementType::Hex8:
+      break;
+  }
+  return hex_volume(x, mesh.element(e));
 }
 
 double total_volume(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x) {
@@ -42,6 +50,9 @@ double total_volume(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x) {
 double element_signed_volume_check(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x, std::size_t e) {
   const Index* n = mesh.element(e);
   if (mesh.type == preprocess::ElementType::Tet4) return tet_volume(x, n);
+  // Tet10: the straight tetrahedron of its corners (the mid-edge nodes bend the faces; a tangled
+  // quadratic element is caught by the Gauss-point det F checks of its terms).
+  if (mesh.type == preprocess::ElementType::Tet10) return tet_volume(x, n);
   double vmin = std::numeric_limits<double>::infinity();
   for (std::size_t a = 0; a < 8; ++a) {
     // A corner with a collapsed edge (a degenerate hexahedron: a wedge or pyramid stored with

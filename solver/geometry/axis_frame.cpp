@@ -6,10 +6,10 @@
 #include <cmath>
 #include <string>
 
-#include "solver/core/element_subset.hpp"
 #include "common/error.hpp"
 #include "preprocess/mesh/element_faces.hpp"
 #include "preprocess/mesh/mesh_quality.hpp"
+#include "solver/core/element_subset.hpp"
 #include "solver/geometry/axis_frame_geometry.hpp"
 
 namespace adamss::solver {
@@ -238,6 +238,9 @@ void resize_all(AxisFrames& out, std::size_t n) {
 }  // namespace
 
 AxisFrames build_axis_frames(const preprocess::Mesh& mesh, const std::vector<std::size_t>* only) {
+  if (mesh.type == preprocess::ElementType::Tet10) {
+    throw InputError("axis frames are defined on linear elements; this mesh has quadratic tetrahedra (tet10)");
+  }
   if (!mesh.has_fibres()) {
     throw InputError("axis frames need fibre/sheet directions; mesh has none");
   }

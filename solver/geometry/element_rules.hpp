@@ -7,6 +7,7 @@
 // live, in preprocess/mesh/shape_functions.hpp (shared with the preprocessing); this header
 // names them in the solver namespace.
 #include "preprocess/mesh/shape_functions.hpp"
+#include "preprocess/mesh/shape_functions_p2.hpp"
 
 namespace adamss::solver {
 

@@ -9,6 +9,8 @@
 #include "preprocess/mesh/element_faces.hpp"
 #include "preprocess/mesh/face_table.hpp"
 #include "preprocess/mesh/open_edges.hpp"
+#include "preprocess/mesh/quadratic.hpp"
+#include "preprocess/mesh/shape_functions_p2.hpp"
 #include "solver/core/boundary.hpp"
 
 namespace adamss::solver {
@@ -93,6 +95,70 @@ double quad_flux(const Eigen::Vector3d& x0, const Eigen::Vector3d& x1, const Eig
   return x0.dot(area) + 0.25 * (x1 - x0).dot((x2 - x0).cross(x3 - x0));
 }
 
+/// Integral of x . n dA over the quadratic triangle y (3 x 6, positions relative to the origin).
+double tri6_flux(const Eigen::Matrix<double, 3, 6>& y) {
+  double flux = 0.0;
+  const auto& rule = preprocess::tri6_rule();
+  for (std::size_t q = 0; q < rule.size(); ++q) {
+    const Eigen::Matrix<double, 3, 6>& sh = preprocess::tri6_rule_shapes()[q];
+    const Eigen::Vector3d xq = y * sh.row(0).transpose(), xu = y * sh.row(1).transpose(),
+                          xv = y * sh.row(2).transpose();
+    flux += rule[q].w * xq.dot(xu.cross(xv));
+  }
+  return flux;
+}
+
+/// Area of the quadratic triangle y (3 x 6), by the same rule (exact up to the rule's error on |x_u x x_v|).
+double tri6_area(const Eigen::Matrix<double, 3, 6>& y) {
+  double area = 0.0;
+  const auto& rule = preprocess::tri6_rule();
+  for (std::size_t q = 0; q < rule.size(); ++q) {
+    const Eigen::Matrix<double, 3, 6>& sh = preprocess::tri6_rule_shapes()[q];
+    area +=
+        rule[q].w * Eigen::Vector3d(y * sh.row(1).transpose()).cross(Eigen::Vector3d(y * sh.row(2).transpose())).norm();
+  }
+  return area;
+}
+
+/// The mid-edge nodes of a quadratic surface's triangle edges, by sorted corner pair.
+class SurfaceMids {
+ public:
+  explicit SurfaceMids(const Surface& s) {
+    for (std::size_t j = 0; j < s.triangle_mids.size(); ++j) {
+      for (std::size_t k = 0; k < 3; ++k) {
+        const Index a = s.triangles[j][k], b = s.triangles[j][(k + 1) % 3];
+        mids_.emplace_back(std::pair<Index, Index>{std::min(a, b), std::max(a, b)}, s.triangle_mids[j][k]);
+      }
+    }
+    std::sort(mids_.begin(), mids_.end());
+  }
+  /// The mid-edge node of (a, b), or -1 when (a, b) is not a triangle edge.
+  [[nodiscard]] Index find(Index a, Index b) const {
+    const std::pair<Index, Index> key{std::min(a, b), std::max(a, b)};
+    const auto it = std::lower_bound(mids_.begin(), mids_.end(), std::make_pair(key, Index{-1}));
+    return it != mids_.end() && it->first == key ? it->second : -1;
+  }
+
+ private:
+  std::vector<std::pair<std::pair<Index, Index>, Index>> mids_;
+};
+
+/// The quadratic triangle over corners c0, c1, c2 (positions y0..y2, relative): mid-edge positions
+/// from the surface's mid nodes where the edge has one, else the straight midpoint.
+template <class P>
+Eigen::Matrix<double, 3, 6> quadratic_positions(const SurfaceMids& mids, const std::array<Index, 3>& c,
+                                                const std::array<Eigen::Vector3d, 3>& y, const P& p) {
+  Eigen::Matrix<double, 3, 6> out;
+  for (int k = 0; k < 3; ++k) {
+    out.col(k) = y[static_cast<std::size_t>(k)];
+    const auto k1 = static_cast<std::size_t>((k + 1) % 3);
+    const Index m =
+        c[static_cast<std::size_t>(k)] < 0 || c[k1] < 0 ? -1 : mids.find(c[static_cast<std::size_t>(k)], c[k1]);
+    out.col(3 + k) = m >= 0 ? Eigen::Vector3d(p(m)) : Eigen::Vector3d(0.5 * (y[static_cast<std::size_t>(k)] + y[k1]));
+  }
+  return out;
+}
+
 Index find_root(std::vector<Index>& parent, Index i) {
   while (parent[static_cast<std::size_t>(i)] != i) {
     parent[static_cast<std::size_t>(i)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
@@ -107,7 +173,8 @@ namespace {
 
 /// The boundary faces whose nodes all have inside[node] != 0, oriented out of the solid.
 Surface boundary_faces_within(const preprocess::Mesh& mesh, const std::vector<char>& inside, std::string name) {
-  const bool tet = mesh.type == preprocess::ElementType::Tet4;
+  const bool tet = preprocess::is_tetrahedron(mesh.type);
+  const bool tet10 = mesh.type == preprocess::ElementType::Tet10;
   const std::vector<preprocess::FaceRecord> faces = preprocess::sorted_face_records(mesh);
   auto in = [&](Index k) { return inside[static_cast<std::size_t>(k)] != 0; };
   Surface s;
@@ -120,7 +187,14 @@ Surface boundary_faces_within(const preprocess::Mesh& mesh, const std::vector<ch
       if (tet) {
         const auto& lf = preprocess::kTetFaces[faces[i].local];
         const std::array<Index, 3> f{n[lf[0]], n[lf[1]], n[lf[2]]};
-        if (std::all_of(f.begin(), f.end(), in)) s.triangles.push_back(f);
+        if (std::all_of(f.begin(), f.end(), in)) {
+          s.triangles.push_back(f);
+          if (tet10) {
+            s.triangle_mids.push_back({n[preprocess::tet10_edge_node(lf[0], lf[1])],
+                                       n[preprocess::tet10_edge_node(lf[1], lf[2])],
+                                       n[preprocess::tet10_edge_node(lf[2], lf[0])]});
+          }
+        }
       } else {
         const auto& lf = preprocess::kHexFaces[faces[i].local];
         const std::array<Index, 4> f{n[lf[0]], n[lf[1]], n[lf[2]], n[lf[3]]};
@@ -171,6 +245,20 @@ Surface cavity_surface(const preprocess::Mesh& mesh, const std::string& name) {
   s.quads = it->second.quads;
   s.lid = it->second.lid;
   if (s.face_count() == 0) throw InputError("cavity '" + name + "' has no wall faces");
+  if (mesh.type == preprocess::ElementType::Tet10) {
+    const preprocess::EdgeMidNodes mids(mesh);
+    for (const auto& t : s.triangles) {
+      std::array<Index, 3> m{};
+      for (std::size_t k = 0; k < 3; ++k) {
+        m[k] = mids.find(t[k], t[(k + 1) % 3]);
+        if (m[k] < 0) {
+          throw InputError("cavity '" + name + "': the wall edge (" + std::to_string(t[k]) + ", " +
+                           std::to_string(t[(k + 1) % 3]) + ") is not an edge of the quadratic mesh");
+        }
+      }
+      s.triangle_mids.push_back(m);
+    }
+  }
   validate_surface(s, mesh.node_count());
   return s;
 }
@@ -179,6 +267,26 @@ void validate_surface(const Surface& surface, std::size_t node_count) {
   check_faces(surface.triangles, "triangle", surface.name, node_count);
   check_faces(surface.quads, "quad", surface.name, node_count);
   check_faces(surface.lid, "lid triangle", surface.name, node_count);
+  if (surface.quadratic()) {
+    if (surface.triangle_mids.size() != surface.triangles.size()) {
+      throw InputError("surface '" + surface.name + "': " + std::to_string(surface.triangle_mids.size()) +
+                       " mid-edge triples for " + std::to_string(surface.triangles.size()) + " triangles");
+    }
+    if (!surface.quads.empty())
+      throw InputError("surface '" + surface.name + "': a quadratic surface has triangles only, not quads");
+    check_faces(surface.quadratic_triangles(), "quadratic triangle", surface.name, node_count);
+  }
+}
+
+std::vector<std::array<Index, 6>> Surface::quadratic_triangles() const {
+  std::vector<std::array<Index, 6>> out;
+  out.reserve(triangle_mids.size());
+  for (std::size_t j = 0; j < triangle_mids.size(); ++j) {
+    const auto& c = triangles[j];
+    const auto& m = triangle_mids[j];
+    out.push_back({c[0], c[1], c[2], m[0], m[1], m[2]});
+  }
+  return out;
 }
 
 std::size_t open_edge_count(const Surface& surface) {
@@ -205,9 +313,15 @@ double enclosed_volume(const Surface& surface, const Eigen::Matrix3Xd& x) {
   o /= static_cast<double>(count);
   const auto p = [&](Index n) -> Eigen::Vector3d { return x.col(n) - o; };
 
+  const bool quadratic = surface.quadratic();
+  const SurfaceMids mids(surface);  // empty for a linear surface
+  // A triangle's flux: straight, or quadratic with the surface's mid-edge nodes (header).
+  const auto flux_of = [&](const std::array<Index, 3>& c, const std::array<Eigen::Vector3d, 3>& y) {
+    return quadratic ? tri6_flux(quadratic_positions(mids, c, y, p)) : tri_flux(y[0], y[1], y[2]);
+  };
   double flux = 0.0;  // sum of int x . n_in dA
-  for (const auto& t : surface.triangles) flux += tri_flux(p(t[0]), p(t[1]), p(t[2]));
-  for (const auto& t : surface.lid) flux += tri_flux(p(t[0]), p(t[1]), p(t[2]));
+  for (const auto& t : surface.triangles) flux += flux_of(t, {p(t[0]), p(t[1]), p(t[2])});
+  for (const auto& t : surface.lid) flux += flux_of(t, {p(t[0]), p(t[1]), p(t[2])});
   for (const auto& q : surface.quads) flux += quad_flux(p(q[0]), p(q[1]), p(q[2]), p(q[3]));
 
   const std::vector<Edge> open = boundary_edges(surface);
@@ -241,7 +355,7 @@ double enclosed_volume(const Surface& surface, const Eigen::Matrix3Xd& x) {
       if (members[r] > 0) centroid[r] /= members[r];
     for (const Edge& e : open) {
       const auto r = static_cast<std::size_t>(find_root(parent, local(e.a)));
-      flux += tri_flux(centroid[r], p(e.b), p(e.a));  // fan triangle (c, b, a) closes a -> b
+      flux += flux_of({-1, e.b, e.a}, {centroid[r], p(e.b), p(e.a)});  // fan triangle (c, b, a) closes a -> b
     }
   }
   return -flux / 3.0;
@@ -250,8 +364,16 @@ double enclosed_volume(const Surface& surface, const Eigen::Matrix3Xd& x) {
 double surface_area(const Surface& surface, const Eigen::Matrix3Xd& x) {
   validate_surface(surface, static_cast<std::size_t>(x.cols()));
   double area = 0.0;
-  for (const auto& t : surface.triangles)
-    area += 0.5 * (x.col(t[1]) - x.col(t[0])).cross(x.col(t[2]) - x.col(t[0])).norm();
+  if (surface.quadratic()) {
+    for (const auto& t : surface.quadratic_triangles()) {
+      Eigen::Matrix<double, 3, 6> y;
+      for (int a = 0; a < 6; ++a) y.col(a) = x.col(t[static_cast<std::size_t>(a)]);
+      area += tri6_area(y);
+    }
+  } else {
+    for (const auto& t : surface.triangles)
+      area += 0.5 * (x.col(t[1]) - x.col(t[0])).cross(x.col(t[2]) - x.col(t[0])).norm();
+  }
   for (const auto& q : surface.quads) area += 0.5 * (x.col(q[2]) - x.col(q[0])).cross(x.col(q[3]) - x.col(q[1])).norm();
   return area;
 }

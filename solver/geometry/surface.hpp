@@ -26,6 +26,13 @@
 // Positions are taken relative to the mean of the surface's nodes (better rounding;
 // the result is translation invariant for a closed surface).
 //
+// Quadratic surfaces (the boundary of a tet10 mesh): each triangle is the curved 6-node triangle
+// x(u, v) = sum_b N_b x_b, and int x . n dA = sum_q w_q x(q) . (x_u x x_v)(q) with Dunavant's
+// degree-4 rule (preprocess/mesh/shape_functions_p2.hpp), exact for the degree-4 integrand. A lid
+// or fan triangle is quadratic too: an edge that is an edge of the surface's triangles takes that
+// triangle's mid-edge node (the curved rim), any other edge is straight. The enclosed volume is
+// then exact and its gradient is the consistent pressure load.
+//
 // Open surfaces. If directed boundary edges remain after adding the lid (an edge whose
 // two orientations do not cancel), each connected set of boundary edges (a "loop",
 // found by connectivity, so non-manifold pinch vertices are handled) is closed by a fan
@@ -50,8 +57,14 @@ struct Surface {
   std::vector<std::array<Index, 3>> triangles;  ///< loaded triangles, normal into the cavity
   std::vector<std::array<Index, 4>> quads;      ///< loaded quads, normal into the cavity
   std::vector<std::array<Index, 3>> lid;        ///< closing triangles, no load, normal into the cavity
+  /// Quadratic surfaces (tet10 meshes): per triangle the mid-edge nodes of its edges (0,1), (1,2),
+  /// (2,0); empty for linear faces. The triangles keep their corners (topology, lids, open edges).
+  std::vector<std::array<Index, 3>> triangle_mids;
 
   [[nodiscard]] std::size_t face_count() const { return triangles.size() + quads.size(); }
+  [[nodiscard]] bool quadratic() const { return !triangle_mids.empty(); }
+  /// The 6-node triangles (corners, then mid-edge nodes) of a quadratic surface.
+  [[nodiscard]] std::vector<std::array<Index, 6>> quadratic_triangles() const;
 };
 
 /// The mesh's boundary faces (faces of exactly one element) whose nodes ALL lie in

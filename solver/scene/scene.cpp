@@ -28,7 +28,7 @@ double shortest_edge(const preprocess::Mesh& mesh) {
   using preprocess::kHexEdges;
   using preprocess::kTetEdges;
   double l = std::numeric_limits<double>::infinity();
-  const bool tet = mesh.type == preprocess::ElementType::Tet4;
+  const bool tet = preprocess::is_tetrahedron(mesh.type);
   for (std::size_t e = 0; e < mesh.element_count(); ++e) {
     const preprocess::Index* n = mesh.element(e);
     const int ne = tet ? 6 : 12;
@@ -39,7 +39,8 @@ double shortest_edge(const preprocess::Mesh& mesh) {
       l = std::min(l, (mesh.nodes.col(n[a]) - mesh.nodes.col(n[b])).norm());
     }
   }
-  return l;
+  // Quadratic tetrahedra: the node spacing is half the corner edge (the mid-edge nodes).
+  return mesh.type == preprocess::ElementType::Tet10 ? 0.5 * l : l;
 }
 
 std::vector<Index> select(SceneNode sel, const Model& model, const fs::path& base) {

@@ -11,6 +11,7 @@
 #include "common/error.hpp"
 #include "preprocess/mesh/mesh_import.hpp"
 #include "preprocess/mesh/mesh_io.hpp"
+#include "preprocess/mesh/quadratic.hpp"
 #include "preprocess/meshers/box_mesh.hpp"
 #include "preprocess/meshers/ellipsoid_mesh.hpp"
 #include "preprocess/pipeline/mesh_pipeline.hpp"
@@ -61,6 +62,14 @@ preprocess::Mesh box_mesh(SceneNode& node, std::string& source) {
   return mesh;
 }
 
+/// The optional `order: 1 | 2` of a mesh (2: quadratic tetrahedra, preprocess/mesh/quadratic.hpp).
+int mesh_order(SceneNode& node) {
+  const long long order = node.integer("order", 1);
+  if (order != 1 && order != 2)
+    throw InputError(node.at("order") + ": the element order must be 1 (linear) or 2 (quadratic tetrahedra)");
+  return static_cast<int>(order);
+}
+
 /// mesh: {ellipsoid: land, divisions: [n_v, n_u, n_t], topology: hex|tet, endo: [r_s, r_l],
 /// epi: [r_s, r_l], base_z: z, helix_endo: a, helix_epi: a}: the structured truncated ellipsoid
 /// (preprocess/meshers/ellipsoid_mesh.hpp), built in memory (no cache: it takes milliseconds).
@@ -79,6 +88,7 @@ preprocess::Mesh ellipsoid_mesh(SceneNode& node, std::string& source) {
     eo.n_t = static_cast<int>(d[2]);
   }
   eo.tetrahedra = node.choice("topology", {"hex", "tet"}, "hex") == "tet";
+  eo.order = mesh_order(node);
   auto radii = [&](const char* key, double& r_s, double& r_l) {
     if (!node.has(key)) return;
     const std::vector<double> r = node.quantities(key, Dimension::Length);
@@ -243,6 +253,16 @@ preprocess::Mesh load_scene_mesh(SceneNode node, const fs::path& base, const Sce
     mesh = phantom_mesh(node, opt, source);
   }
   uniform_fibre_frame(node, mesh);
+  // order 2: the ellipsoid recipe places its mid-edge nodes on the curved map itself; every other
+  // mesh of linear tetrahedra gets straight mid-edge nodes after its fibres and tags are set.
+  if (!has_ellipsoid && mesh_order(node) == 2) {
+    if (mesh.type != preprocess::ElementType::Tet4) {
+      throw InputError(node.at("order") + ": order 2 needs a mesh of linear tetrahedra, this one has " +
+                       preprocess::element_type_name(mesh.type) + " elements");
+    }
+    mesh = preprocess::make_quadratic(mesh);
+    source += ", raised to quadratic tetrahedra (tet10)";
+  }
   node.finish();
   return mesh;
 }

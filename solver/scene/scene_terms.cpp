@@ -353,6 +353,13 @@ void build_material_term(const std::string& type, SceneNode& node, MaterialConte
     throw InputError(node.path() + ": unknown force term '" + type + "'" + did_you_mean(type, material_term_types()) +
                      " (known: " + list + ")");
   }
+  // Quadratic tetrahedra carry the FEM path only (preprocess/mesh/quadratic.hpp): the spring and
+  // axis-frame terms are defined on linear elements.
+  if (ctx.mesh.type == preprocess::ElementType::Tet10 && type != "fem_element" && type != "volume") {
+    throw InputError(node.path() + ": force term '" + type +
+                     "' is not available on quadratic tetrahedra (tet10); they take fem_element and volume "
+                     "(distribution isotropic)");
+  }
   try {
     it->second(node, ctx);
   } catch (const InputError& e) {

@@ -31,26 +31,6 @@ Eigen::Matrix3d cofactor(const Eigen::Matrix3d& f) {
   return c;
 }
 
-/// Adds c det(X Gamma) to J, its gradient to dJ and (when hess) its Hessian.
-template <int K>
-void add_determinant_term(double c, const Eigen::Matrix<double, K, 3>& gamma, const Mat3N<K>& x, double& J,
-                          Mat3N<K>& dJ, MatJ<K>* hess) {
-  const Eigen::Matrix3d F = x * gamma;
-  const Eigen::Matrix3d cof = cofactor(F);
-  J += c * F.col(0).dot(cof.col(0));  // det F = F_0 . (F_1 x F_2)
-  dJ.noalias() += c * cof * gamma.transpose();
-  if (hess) {
-    for (int a = 0; a < K; ++a) {
-      const Eigen::Vector3d ga = gamma.row(a).transpose();
-      for (int b = a + 1; b < K; ++b) {
-        const Eigen::Matrix3d h = -c * skew(F * ga.cross(Eigen::Vector3d(gamma.row(b).transpose())));
-        hess->template block<3, 3>(3 * a, 3 * b) += h;
-        hess->template block<3, 3>(3 * b, 3 * a) += h.transpose();
-      }
-    }
-  }
-}
-
 /// The hexahedron's volume Hessian in closed form. With F_g = x Gamma_g at the 8 Gauss points
 /// (weight 1/8 each), the block (a, b) of d^2 V / dx^2 is
 ///   H_ab = -(1/8) sum_g [F_g (gamma_ga x gamma_gb)]_x = -[x w_ab]_x,
@@ -96,6 +76,12 @@ void add_volume(double scale, const Mat3N<K>& x, double& J, Mat3N<K>& dJ, MatJ<K
   if constexpr (K == 4) {
     static const Eigen::Matrix<double, 4, 3> kTetGamma = tet_shape_gradients();
     add_determinant_term<4>(scale / 6.0, kTetGamma, x, J, dJ, hess);
+  } else if constexpr (K == 10) {
+    // The quadratic tetrahedron: the 5-point degree-3 rule, exact for its cubic det(dx/dr)
+    // (preprocess/mesh/shape_functions_p2.hpp); J = V / V0 is then the P2-P0 mean dilatation.
+    static const auto kGrads = preprocess::tet10_rule_gradients(preprocess::tet10_volume_rule());
+    for (std::size_t q = 0; q < kGrads.size(); ++q)
+      add_determinant_term<10>(scale * preprocess::tet10_volume_rule()[q].w, kGrads[q], x, J, dJ, hess);
   } else {
     for (const auto& g : hex_gauss_gradients()) add_determinant_term<8>(scale / 8.0, g, x, J, dJ, nullptr);
     if (hess) add_hex_volume_hessian(scale, x, *hess);
@@ -109,6 +95,32 @@ std::string fmt(double v) {
 }
 
 }  // namespace
+
+template <int K>
+void add_determinant_term(double c, const Eigen::Matrix<double, K, 3>& gamma, const Mat3N<K>& x, double& J,
+                          Mat3N<K>& dJ, MatJ<K>* hess) {
+  const Eigen::Matrix3d F = x * gamma;
+  const Eigen::Matrix3d cof = cofactor(F);
+  J += c * F.col(0).dot(cof.col(0));  // det F = F_0 . (F_1 x F_2)
+  dJ.noalias() += c * cof * gamma.transpose();
+  if (hess) {
+    for (int a = 0; a < K; ++a) {
+      const Eigen::Vector3d ga = gamma.row(a).transpose();
+      for (int b = a + 1; b < K; ++b) {
+        const Eigen::Matrix3d h = -c * skew(F * ga.cross(Eigen::Vector3d(gamma.row(b).transpose())));
+        hess->template block<3, 3>(3 * a, 3 * b) += h;
+        hess->template block<3, 3>(3 * b, 3 * a) += h.transpose();
+      }
+    }
+  }
+}
+
+template void add_determinant_term<4>(double, const Eigen::Matrix<double, 4, 3>&, const Mat3N<4>&, double&, Mat3N<4>&,
+                                      MatJ<4>*);
+template void add_determinant_term<8>(double, const Eigen::Matrix<double, 8, 3>&, const Mat3N<8>&, double&, Mat3N<8>&,
+                                      MatJ<8>*);
+template void add_determinant_term<10>(double, const Eigen::Matrix<double, 10, 3>&, const Mat3N<10>&, double&,
+                                       Mat3N<10>&, MatJ<10>*);
 
 /// The values that define the course; r must be finite and > 0 at all of them.
 void check_volume_ratio(const TimeCourse& r, const std::string& who) {
@@ -173,10 +185,13 @@ void element_volume_derivatives(const Mat3N<K>& x, double& v, Mat3N<K>& dv, MatJ
 
 template void element_volume_derivatives<4>(const Mat3N<4>&, double&, Mat3N<4>&, MatJ<4>&);
 template void element_volume_derivatives<8>(const Mat3N<8>&, double&, Mat3N<8>&, MatJ<8>&);
+template void element_volume_derivatives<10>(const Mat3N<10>&, double&, Mat3N<10>&, MatJ<10>&);
 template double element_volume_of<4>(const Mat3N<4>&);
 template double element_volume_of<8>(const Mat3N<8>&);
+template double element_volume_of<10>(const Mat3N<10>&);
 template Mat3N<4> element_volume_gradient<4>(const Mat3N<4>&);
 template Mat3N<8> element_volume_gradient<8>(const Mat3N<8>&);
+template Mat3N<10> element_volume_gradient<10>(const Mat3N<10>&);
 
 template <int K>
 void VolumeKernel<K>::evaluate(std::size_t i, const Mat3N<K>& x, double& J, Mat3N<K>& dJ, MatJ<K>* hess) const {
@@ -253,18 +268,26 @@ void VolumeKernel<K>::add_cell_fields(const StateView& s, std::size_t element_co
 
 template struct VolumeKernel<4>;
 template struct VolumeKernel<8>;
+template struct VolumeKernel<10>;
 
 template <int K>
 VolumeKernel<K> make_volume_kernel(const preprocess::Mesh& mesh, const AxisFrames* frames, const VolumeParams& params,
                                    const std::vector<std::size_t>* element_subset) {
   check_volume_penalty(params.p, "volume_preservation");
   check_volume_ratio(params.ratio, "volume_preservation");
-  const preprocess::ElementType want = K == 4 ? preprocess::ElementType::Tet4 : preprocess::ElementType::Hex8;
+  const preprocess::ElementType want = K == 4
+                                           ? preprocess::ElementType::Tet4
+                                           : (K == 10 ? preprocess::ElementType::Tet10 : preprocess::ElementType::Hex8);
   if (mesh.type != want) {
     throw InputError("volume_preservation: mesh element type " + std::string(preprocess::element_type_name(mesh.type)) +
                      " does not match a " + std::to_string(K) + "-node kernel");
   }
   const bool aniso = params.distribution == VolumeDistribution::Anisotropic;
+  if (K == 10 && aniso) {
+    throw InputError(
+        "volume_preservation: quadratic tetrahedra (tet10) take distribution isotropic (the P2-P0 mean dilatation); "
+        "the anisotropic distribution needs the axis frames of linear elements");
+  }
   if (aniso && !frames) {
     throw InputError(
         "volume_preservation: the anisotropic distribution needs axis frames (fibres); none given (use "
@@ -294,16 +317,17 @@ VolumeKernel<K> make_volume_kernel(const preprocess::Mesh& mesh, const AxisFrame
     kern.mesh_element.push_back(e);
     kern.volume0.push_back(v0);
   };
-  if (aniso) {
-    const auto& grads = frames->template nodal_gradient<K>();
-    for (const std::size_t k : select_frame_entries("volume_preservation", mesh, *frames, K, element_subset)) {
-      push(frames->element[k], frames->volume0[k]);
-      kern.gradient.push_back(grads[k]);
+  if constexpr (K != 10) {
+    if (aniso) {
+      const auto& grads = frames->template nodal_gradient<K>();
+      for (const std::size_t k : select_frame_entries("volume_preservation", mesh, *frames, K, element_subset)) {
+        push(frames->element[k], frames->volume0[k]);
+        kern.gradient.push_back(grads[k]);
+      }
+      return kern;
     }
-  } else {
-    for (const std::size_t e : selected)
-      push(e, element_volume_of<K>(element_positions<K>(mesh.nodes, mesh.element(e))));
   }
+  for (const std::size_t e : selected) push(e, element_volume_of<K>(element_positions<K>(mesh.nodes, mesh.element(e))));
   return kern;
 }
 
@@ -311,6 +335,8 @@ template VolumeKernel<4> make_volume_kernel<4>(const preprocess::Mesh&, const Ax
                                                const std::vector<std::size_t>*);
 template VolumeKernel<8> make_volume_kernel<8>(const preprocess::Mesh&, const AxisFrames*, const VolumeParams&,
                                                const std::vector<std::size_t>*);
+template VolumeKernel<10> make_volume_kernel<10>(const preprocess::Mesh&, const AxisFrames*, const VolumeParams&,
+                                                 const std::vector<std::size_t>*);
 
 std::unique_ptr<ForceTerm> make_volume_term(const preprocess::Mesh& mesh, const AxisFrames* frames,
                                             const VolumeParams& params,
@@ -318,6 +344,10 @@ std::unique_ptr<ForceTerm> make_volume_term(const preprocess::Mesh& mesh, const 
   if (mesh.type == preprocess::ElementType::Tet4) {
     return std::make_unique<StencilTerm<VolumeKernel<4>, 4>>(
         make_volume_kernel<4>(mesh, frames, params, element_subset));
+  }
+  if (mesh.type == preprocess::ElementType::Tet10) {
+    return std::make_unique<StencilTerm<VolumeKernel<10>, 10>>(
+        make_volume_kernel<10>(mesh, frames, params, element_subset));
   }
   return std::make_unique<StencilTerm<VolumeKernel<8>, 8>>(make_volume_kernel<8>(mesh, frames, params, element_subset));
 }

@@ -48,7 +48,11 @@
 //   J(X) = sum_q c_q det(X Gamma_q),   Gamma_q K x 3 with rows gamma_{q,a}
 //   anisotropic: one term, c = 1, Gamma = G (1/m);
 //   isotropic:   tet: one term, c = 1/(6 V0), Gamma = [-1 -1 -1; I3] (dimensionless);
-//                hex: eight Gauss points, c = 1/(8 V0), Gamma_q = dN_a/dxi at point q.
+//                hex: eight Gauss points, c = 1/(8 V0), Gamma_q = dN_a/dxi at point q;
+//                tet10 (isotropic only): the five points of the degree-3 rule, c = w_q / V0,
+//                Gamma_q = dN/dr of the quadratic tetrahedron; exact for its cubic det, so
+//                J = V / V0 is the element's mean dilatation (the P2-P0 element with the
+//                uncoupled law of fem_element).
 //
 // Derivatives (per term, F = X Gamma, dropping q):
 //   dJ/dx_a = c cof(F) gamma_a.
@@ -112,9 +116,15 @@ template <int K>
 template <int K>
 void element_volume_derivatives(const Mat3N<K>& x, double& v, Mat3N<K>& dv, MatJ<K>& hess);
 
+/// Adds c det(X Gamma) to J, c cof(X Gamma) Gamma^T to dJ (3 x K) and, when hess is non-null,
+/// c d^2 det / dx^2 (the blocks -c [F (gamma_a x gamma_b)]_x derived above) to *hess.
+template <int K>
+void add_determinant_term(double c, const Eigen::Matrix<double, K, 3>& gamma, const Mat3N<K>& x, double& J,
+                          Mat3N<K>& dJ, MatJ<K>* hess);
+
 template <int K>
 struct VolumeKernel {
-  static_assert(K == 4 || K == 8, "K must be 4 (tet) or 8 (hex)");
+  static_assert(K == 4 || K == 8 || K == 10, "K must be 4 (tet), 8 (hex) or 10 (tet10)");
   static constexpr bool kHasEnergy = true;
   static constexpr bool kHasJacobian = true;
 
@@ -152,6 +162,7 @@ struct VolumeKernel {
 
 extern template struct VolumeKernel<4>;
 extern template struct VolumeKernel<8>;
+extern template struct VolumeKernel<10>;
 
 /// Builds the kernel for the elements in `element_subset` (mesh element indices; all
 /// elements when null). Anisotropic: one item per frames entry whose element is

@@ -46,7 +46,7 @@ GradientLawKernel<K> make_gauss_point_kernel(const preprocess::Mesh& mesh,
   if (!law) throw InputError(label + ": no constitutive law given");
   if (preprocess::nodes_per_element(mesh.type) != K)
     throw InputError(label + ": mesh element type does not match the kernel");
-  constexpr int kPoints = K == 8 ? 8 : 1;
+  constexpr int kPoints = K == 8 ? 8 : (K == 10 ? 4 : 1);
   GradientLawKernel<K> kern;
   kern.law = law;
   kern.label = label;
@@ -70,6 +70,10 @@ GradientLawKernel<K> make_gauss_point_kernel(const preprocess::Mesh& mesh,
       if constexpr (K == 8) {
         gamma = hex_gauss_gradients()[static_cast<std::size_t>(q)];
         w = kHexGaussWeight;
+      } else if constexpr (K == 10) {
+        static const auto kGrads = preprocess::tet10_rule_gradients(preprocess::tet10_law_rule());
+        gamma = kGrads[static_cast<std::size_t>(q)];
+        w = preprocess::tet10_law_rule()[static_cast<std::size_t>(q)].w;
       } else {
         gamma = tet_shape_gradients();
         w = kTetWeight;
@@ -95,6 +99,9 @@ template GradientLawKernel<4> make_gauss_point_kernel<4>(const preprocess::Mesh&
 template GradientLawKernel<8> make_gauss_point_kernel<8>(const preprocess::Mesh&,
                                                          const std::shared_ptr<const materials::Law>&,
                                                          const std::vector<std::size_t>*, const std::string&);
+template GradientLawKernel<10> make_gauss_point_kernel<10>(const preprocess::Mesh&,
+                                                           const std::shared_ptr<const materials::Law>&,
+                                                           const std::vector<std::size_t>*, const std::string&);
 
 std::unique_ptr<ForceTerm> make_gauss_point_term(const preprocess::Mesh& mesh,
                                                  const std::shared_ptr<const materials::Law>& law,
@@ -103,6 +110,10 @@ std::unique_ptr<ForceTerm> make_gauss_point_term(const preprocess::Mesh& mesh,
   if (mesh.type == preprocess::ElementType::Tet4) {
     return std::make_unique<StencilTerm<GradientLawKernel<4>, 4>>(
         make_gauss_point_kernel<4>(mesh, law, element_subset, label));
+  }
+  if (mesh.type == preprocess::ElementType::Tet10) {
+    return std::make_unique<StencilTerm<GradientLawKernel<10>, 10>>(
+        make_gauss_point_kernel<10>(mesh, law, element_subset, label));
   }
   return std::make_unique<StencilTerm<GradientLawKernel<8>, 8>>(
       make_gauss_point_kernel<8>(mesh, law, element_subset, label));

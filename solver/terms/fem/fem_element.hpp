@@ -1,7 +1,9 @@
 #pragma once
 // Gauss-point (finite-element) evaluation of a constitutive law on the mesh's own
-// interpolation: the total-Lagrangian linear tetrahedron (one point) and trilinear
-// hexahedron (full 2x2x2 quadrature). Two uses:
+// interpolation: the total-Lagrangian linear tetrahedron (one point), trilinear
+// hexahedron (full 2x2x2 quadrature) and quadratic tetrahedron (tet10, the 4-point degree-2
+// rule of preprocess/mesh/shape_functions_p2.hpp; with `volume: {distribution: isotropic}` and
+// an uncoupled law it is the P2-P0 mean-dilatation element, issue 23). Two uses:
 //   * the FEM reference element (scene term `fem_element`) that the spring models are
 //     measured against;
 //   * `virtual_hexahedron: {quadrature: gauss}` on hexahedral meshes. The thesis's virtual

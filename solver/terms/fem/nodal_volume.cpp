@@ -10,6 +10,7 @@
 #include "solver/core/stencil_term.hpp"
 #include "solver/geometry/axis_frame.hpp"
 #include "solver/terms/adamss/volume_preservation.hpp"
+#include "solver/terms/fem/nodal_volume_p2.hpp"
 
 namespace adamss::solver {
 namespace {
@@ -239,6 +240,7 @@ std::unique_ptr<ForceTerm> make_nodal_volume_term(const preprocess::Mesh& mesh, 
   const std::vector<std::size_t> selected = selected_elements(mesh, element_subset, kTerm);
   if (selected.empty()) throw InputError(std::string(kTerm) + ": no elements selected");
   if (mesh.type == preprocess::ElementType::Tet4) return std::make_unique<NodalVolumeTerm<4>>(mesh, params, selected);
+  if (mesh.type == preprocess::ElementType::Tet10) return make_quadratic_nodal_volume_term(mesh, params, selected);
   return std::make_unique<NodalVolumeTerm<8>>(mesh, params, selected);
 }
 

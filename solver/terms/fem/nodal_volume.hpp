@@ -38,9 +38,9 @@ struct NodalVolumeParams {
 };
 
 /// The nodal volume term over the elements in `element_subset` (all when null) of a tetrahedral or
-/// hexahedral mesh. Throws adamss::InputError for p <= 0 or not finite, a bad ratio course (as the
-/// element volume term), an out-of-range subset element, an element with reference volume <= 0, or
-/// an empty selection.
+/// hexahedral mesh (quadratic tetrahedra: the P1 corner projection of nodal_volume_p2.hpp). Throws adamss::InputError
+/// for p <= 0 or not finite, a bad ratio course (as the element volume term), an out-of-range subset element, an
+/// element with reference volume <= 0, or an empty selection.
 [[nodiscard]] std::unique_ptr<ForceTerm> make_nodal_volume_term(
     const preprocess::Mesh& mesh, const NodalVolumeParams& params,
     const std::vector<std::size_t>* element_subset = nullptr);

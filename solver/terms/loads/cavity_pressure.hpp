@@ -29,6 +29,14 @@
 // a parallelogram (e.g. voxel faces under any affine map); a warped quad's consistent
 // load int N_i n dA differs from it by O(warp) -- the net force per face is the same.
 // This follows the thesis; a consistent-load variant would be a separate option.
+//
+// Quadratic triangles (the faces of tet10 meshes, Surface::triangle_mids): the consistent load
+//   f_a = -P int N_a n_in dA = -P sum_q w_q N_a(q) (x_u x x_v)(q)
+// over the curved face x(u, v) = sum_b N_b(u, v) x_b (preprocess/mesh/shape_functions_p2.hpp,
+// Dunavant's degree-4 rule: exact, the integrand has degree 2 + 2). Perturbing x_b by d changes
+// x_u x x_v by N_b,u d x x_v + x_u x N_b,v d = (N_b,v [x_u]_x - N_b,u [x_v]_x) d, so
+//   d f_a / d x_b = -P sum_q w_q N_a (N_b,v [x_u]_x - N_b,u [x_v]_x).
+// For a closed quadratic surface f = P dV/dx with V the exact enclosed volume of enclosed_volume.
 #include <Eigen/Geometry>
 #include <array>
 #include <memory>
@@ -36,8 +44,8 @@
 #include <vector>
 
 #include "solver/core/stencil_term.hpp"
-#include "solver/geometry/surface.hpp"
 #include "solver/core/time_course.hpp"
+#include "solver/geometry/surface.hpp"
 
 namespace adamss::solver {
 
@@ -88,11 +96,31 @@ struct CavityPressureKernel {
   }
 };
 
-/// The term of one surface: eq. 2.119 on its triangles and quads (two StencilTerms).
+/// The consistent pressure load on quadratic triangles (header comment), 6 nodes per face in VTK
+/// order (corners, then the mid-edge nodes of (0,1), (1,2), (2,0)).
+struct QuadraticPressureKernel {
+  static constexpr bool kHasEnergy = false;
+  static constexpr bool kHasJacobian = true;
+
+  std::string surface_name;
+  std::vector<std::array<Index, 6>> faces;  ///< normal into the cavity
+  TimeCourse pressure;                      ///< P(t), Pa
+
+  [[nodiscard]] std::string name() const { return "cavity_pressure:" + surface_name; }
+  [[nodiscard]] std::size_t size() const { return faces.size(); }
+  [[nodiscard]] std::array<Index, 6> stencil(std::size_t i) const { return faces[i]; }
+
+  void forces(std::size_t i, const Mat3N<6>& x, const Mat3N<6>& v, double t, Mat3N<6>& f) const;
+  void jacobian(std::size_t i, const Mat3N<6>& x, const Mat3N<6>& v, double t, MatJ<6>& dfdx, MatJ<6>& dfdv) const;
+};
+
+/// The term of one surface: eq. 2.119 on its triangles and quads, the consistent load on its
+/// quadratic triangles (three StencilTerms).
 class CavityPressureTerm final : public ForceTerm {
  public:
-  CavityPressureTerm(CavityPressureKernel<3> triangles, CavityPressureKernel<4> quads)
-      : tri_(std::move(triangles)), quad_(std::move(quads)) {}
+  CavityPressureTerm(CavityPressureKernel<3> triangles, CavityPressureKernel<4> quads,
+                     QuadraticPressureKernel quadratic = {})
+      : tri_(std::move(triangles)), quad_(std::move(quads)), tri6_(std::move(quadratic)) {}
 
   [[nodiscard]] std::string name() const override { return tri_.name(); }
   [[nodiscard]] bool has_energy() const override { return false; }
@@ -101,19 +129,23 @@ class CavityPressureTerm final : public ForceTerm {
   void add_forces(const StateView& s, Eigen::Matrix3Xd& f) const override {
     tri_.add_forces(s, f);
     quad_.add_forces(s, f);
+    tri6_.add_forces(s, f);
   }
   void add_jacobian(const StateView& s, JacobianSink& sink) const override {
     tri_.add_jacobian(s, sink);
     quad_.add_jacobian(s, sink);
+    tri6_.add_jacobian(s, sink);
   }
   [[nodiscard]] std::string describe() const override;
 
   [[nodiscard]] const CavityPressureKernel<3>& triangle_kernel() const { return tri_.kernel(); }
   [[nodiscard]] const CavityPressureKernel<4>& quad_kernel() const { return quad_.kernel(); }
+  [[nodiscard]] const QuadraticPressureKernel& quadratic_kernel() const { return tri6_.kernel(); }
 
  private:
   StencilTerm<CavityPressureKernel<3>, 3> tri_;
   StencilTerm<CavityPressureKernel<4>, 4> quad_;
+  StencilTerm<QuadraticPressureKernel, 6> tri6_;
 };
 
 /// The eq. 2.119 term on the loaded faces of `surface` (the lid is not loaded) with

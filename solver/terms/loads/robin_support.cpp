@@ -61,6 +61,11 @@ std::unique_ptr<ForceTerm> make_robin_support_term(const Surface& surface, const
   if (!std::isfinite(stiffness) || !std::isfinite(damping) || stiffness < 0.0 || damping < 0.0)
     throw InputError(what + ": stiffness and damping must be finite and >= 0");
   if (stiffness == 0.0 && damping == 0.0) throw InputError(what + ": give a stiffness or a damping > 0");
+  if (surface.quadratic()) {
+    throw InputError(what +
+                     ": a Robin support on the quadratic faces of tet10 elements is not available yet (the "
+                     "nodal areas of curved 6-node triangles); use linear tetrahedra or fix the nodes instead");
+  }
   std::map<Index, Eigen::Vector4d> acc;  // sum of vector areas / n, and of areas / n, per node
   for (const auto& f : surface.triangles) add_face<3>(f, x_ref, acc);
   for (const auto& f : surface.quads) add_face<4>(f, x_ref, acc);

@@ -449,7 +449,7 @@ TEST_F(MeshIo, UnknownElementTypeIsRejected) {
   const fs::path p = good_file();
   {
     const RawFile f(p);
-    f.replace_string_attribute("/elements", "type", "tet10");
+    f.replace_string_attribute("/elements", "type", "wedge6");
   }
   expect_contains(input_error_of([&] { read_mesh_h5(p); }),
                   {"mesh.h5", "/elements/type", "unknown element type", "tet10"});

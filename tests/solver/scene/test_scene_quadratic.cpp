@@ -1,0 +1,76 @@
+// `mesh: {order: 2}` (issue 23): a scene raises its linear tetrahedra to tet10 (the ellipsoid
+// recipe on its curved map, any other mesh with straight mid-edge nodes); the model carries the
+// quadratic elements with HRZ-lumped masses, tagged and region selections reach the mid-edge nodes,
+// pressure surfaces are quadratic, and the terms without a quadratic form are refused by name.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "common/error.hpp"
+#include "scene_fixtures.hpp"
+#include "solver/scene/scene.hpp"
+
+using namespace adamss;
+
+namespace {
+
+const std::string kScene = R"(
+name: q
+mesh: {box: [4 mm, 1 mm, 1 mm], divisions: [4, 1, 1], topology: tet6m, order: ORDER, fibre: [1, 0, 0], sheet: [0, 1, 0]}
+materials:
+  - name: m
+    labels: [1]
+    density: 1000 kg/m^3
+    terms:
+      - TERM
+      - volume: {p: 100 kPa, distribution: nodal}
+loads:
+  pressure:
+    - name: bottom
+      surface: {region: {plane: {point: [0, 0, 0], normal: [0, 0, 1], tolerance: 0.001 mm}}}
+      pressure: 1 Pa
+boundary:
+  - select: {region: {plane: {point: [0, 0, 0], normal: [1, 0, 0], tolerance: 0.001 mm}}}
+    fix: xyz
+integrator: {type: static, dt: 1 s}
+run: {t_end: 1 s}
+)";
+
+std::string scene(const std::string& order, const std::string& term) {
+  return test::replaced(test::replaced(kScene, "ORDER", order), "TERM", term);
+}
+
+}  // namespace
+
+TEST(SceneQuadratic, RaisesTheMeshAndLumpsTheMass) {
+  const auto lin = test::load_scene(scene("1", "fem_element: {law: neo_hookean, parameters: {E: 10 kPa, nu: 0.3}}"));
+  const auto q = test::load_scene(scene("2", "fem_element: {law: neo_hookean, parameters: {E: 10 kPa, nu: 0.3}}"));
+  ASSERT_EQ(q.model.mesh->type, preprocess::ElementType::Tet10);
+  EXPECT_EQ(q.model.mesh->element_count(), lin.model.mesh->element_count());
+  // 5 x 2 x 2 corners and one mid node per edge of the 24 tetrahedra.
+  EXPECT_EQ(lin.model.mesh->node_count(), 20U);
+  EXPECT_GT(q.model.mesh->node_count(), 2 * lin.model.mesh->node_count());
+  // The same total mass (4 mm^3 of 1000 kg/m^3), but most of it on the mid-edge nodes (HRZ).
+  EXPECT_NEAR(q.model.mass.sum(), 4e-6, 1e-18);
+  EXPECT_NEAR(lin.model.mass.sum(), 4e-6, 1e-18);
+  double corner_mass = 0.0;
+  for (Eigen::Index i = 0; i < 20; ++i) corner_mass += q.model.mass[i];
+  EXPECT_NEAR(corner_mass, 4e-6 * 4.0 / 36.0, 1e-18);  // each element gives 1/36 to each corner
+  // The clamped face x = 0 holds its 4 corners and the 5 mid nodes of its edges.
+  ASSERT_EQ(q.model.boundary_groups.size(), 1U);
+  EXPECT_EQ(q.model.boundary_groups[0].nodes.size(), 9U);
+  EXPECT_EQ(lin.model.boundary_groups[0].nodes.size(), 4U);
+}
+
+TEST(SceneQuadratic, RefusesTermsWithoutAQuadraticFormAndBadOrders) {
+  const std::string springs = "axial_springs: {k: [10 N/m, 10 N/m, 10 N/m]}";
+  const std::string e = test::scene_error(scene("2", springs));
+  EXPECT_NE(e.find("axial_springs"), std::string::npos) << e;
+  EXPECT_NE(e.find("tet10"), std::string::npos) << e;
+  const std::string law = "fem_element: {law: neo_hookean, parameters: {E: 10 kPa, nu: 0.3}}";
+  EXPECT_NE(test::scene_error(scene("3", law)).find("order must be 1"), std::string::npos);
+  std::string hex = scene("2", law);
+  hex = test::replaced(hex, "topology: tet6m", "topology: hex");
+  EXPECT_NE(test::scene_error(hex).find("needs a mesh of linear tetrahedra"), std::string::npos)
+      << test::scene_error(hex);
+}
