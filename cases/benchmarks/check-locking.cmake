@@ -3,7 +3,8 @@
 # changes by at most TOL (relative) from the stiffest run. A locking element stiffens as p grows,
 # so its result keeps moving; a locking-free one converges to the incompressible limit.
 #   cmake -DADAMSS=... -DSCENE=... -DOUT=... -DCACHE=... -DPVALUES=500,5000,50000
-#         -DVALUE="probes,tip,2" -DTOL=0.003 -P check-locking.cmake
+#         -DVALUE="probes,tip,2" -DTOL=0.003 [-DREF=4.17e-3 -DREF_TOL=0.005] -P check-locking.cmake
+# With REF, the stiffest run's value must also lie within REF_TOL (relative) of the reference.
 # Every value is printed, pass or fail.
 string(REPLACE "," ";" PVALUES "${PVALUES}")
 file(READ ${SCENE} text)
@@ -48,5 +49,13 @@ foreach(v IN LISTS values)
 endforeach()
 if(failures)
   message(FATAL_ERROR "${name} locks:${failures}")
+endif()
+if(DEFINED REF AND NOT REF STREQUAL "")
+  execute_process(COMMAND awk "BEGIN{d=(${ref})-(${REF}); if (d<0) d=-d; r=(${REF}); if (r<0) r=-r; exit (d <= ${REF_TOL}*r) ? 0 : 1}"
+                  RESULT_VARIABLE off)
+  if(off)
+    message(FATAL_ERROR "${name}: ${VALUE} = ${ref} is not within ${REF_TOL} (relative) of the reference ${REF}")
+  endif()
+  message(STATUS "${name}: ${VALUE} = ${ref} within ${REF_TOL} (relative) of the reference ${REF}")
 endif()
 message(STATUS "${name}: ${VALUE} within ${TOL} (relative) over p = ${PVALUES} kPa")
