@@ -6,6 +6,7 @@
 
 #include "common/error.hpp"
 #include "common/suggest.hpp"
+#include "preprocess/mesh/quadratic.hpp"
 
 namespace adamss::solver {
 
@@ -157,6 +158,17 @@ std::vector<Index> select_cavity_rim(const preprocess::Mesh& mesh, const std::st
   std::vector<Index> out;
   for (const auto& t : it->second.lid) out.insert(out.end(), t.begin(), t.end());
   if (out.empty()) throw InputError(what + ": cavity '" + cavity + "' has no openings (no lid), so it has no rim");
+  // Quadratic tetrahedra: the mid-edge node of every lid edge that is a mesh edge (the rim's edges)
+  // belongs to the rim too.
+  if (mesh.type == preprocess::ElementType::Tet10) {
+    const preprocess::EdgeMidNodes mids(mesh);
+    for (const auto& t : it->second.lid) {
+      for (std::size_t k = 0; k < 3; ++k) {
+        const Index m = mids.find(t[k], t[(k + 1) % 3]);
+        if (m >= 0) out.push_back(m);
+      }
+    }
+  }
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;

@@ -88,7 +88,8 @@ std::vector<Index> select_nodes(const Eigen::Matrix3Xd& x_ref, const Region& reg
 std::vector<Index> select_nodes_by_tag(const preprocess::Mesh& mesh, const std::string& tag, const std::string& what);
 /// The rim of a cavity's openings: the nodes of the lid triangles of mesh cavity `cavity`, i.e. the
 /// wall nodes around each valve or base opening (preprocess/surfaces/cavities.hpp: lid triangles
-/// use only wall-loop nodes). Sorted. InputError naming `what` for an unknown cavity (listing the
+/// use only wall-loop nodes); on quadratic tetrahedra also the mid-edge nodes of the lid edges that
+/// are mesh edges. Sorted. InputError naming `what` for an unknown cavity (listing the
 /// mesh's cavities) or a cavity without openings.
 std::vector<Index> select_cavity_rim(const preprocess::Mesh& mesh, const std::string& cavity, const std::string& what);
 /// Node indices (0-based) read from a text file: integers separated by white space or commas,

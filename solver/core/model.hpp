@@ -88,7 +88,8 @@ struct Model {
 /// volume (x1-x0).((x2-x0)x(x3-x0))/6; for a hexahedron the smallest of the eight corner
 /// parallelepipeds det(x_nx - x_a, x_ny - x_a, x_nz - x_a), oriented so that it equals the volume of a
 /// parallelepiped element (any corner turning inside out makes it <= 0). Corners with a collapsed
-/// edge (repeated node indices of a degenerate hexahedron) are skipped; 0 if every corner is.
+/// edge (repeated node indices of a degenerate hexahedron) are skipped; 0 if every corner is. For a
+/// quadratic tetrahedron: the least det(dx/dr) / 6 over its 4 law and 5 volume quadrature points.
 [[nodiscard]] double element_signed_volume_check(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x,
                                                  std::size_t e);
 

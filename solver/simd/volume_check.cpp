@@ -138,12 +138,13 @@ bool within_copy(const double* __restrict x, const double* __restrict x0, const 
 }  // namespace
 
 SignedVolumeScreen::SignedVolumeScreen(const preprocess::Mesh& mesh, const std::vector<double>& threshold)
-    : hex_(mesh.type == preprocess::ElementType::Hex8) {
+    : hex_(mesh.type == preprocess::ElementType::Hex8), exact_only_(mesh.type == preprocess::ElementType::Tet10) {
   if (threshold.size() != mesh.element_count())
     throw std::invalid_argument("SignedVolumeScreen: one threshold per element expected");
   for (const double v : threshold)
     if (std::isnan(v)) throw std::invalid_argument("SignedVolumeScreen: NaN threshold");
   const auto nodes = static_cast<std::int64_t>(mesh.node_count());
+  if (exact_only_) return;
   if (hex_) {
     hex_layout_ = make_run_layout<8>(stencils<8>(mesh), nodes, 2);
     threshold_ = slot_thresholds(hex_layout_, threshold);
@@ -173,6 +174,7 @@ bool SignedVolumeScreen::any_flagged(const Eigen::Matrix3Xd& x) const {
 
 bool SignedVolumeScreen::any_flagged(const Eigen::Matrix3Xd& x, double& slack) const {
   slack = 0.0;
+  if (exact_only_) return true;
   const std::int64_t n = x.cols();
   pos_.resize(static_cast<std::size_t>(3 * n));
   aos_to_soa(x.data(), n, 0, n, pos_.data());

@@ -45,6 +45,9 @@ class SignedVolumeScreen {
 
  private:
   bool hex_ = true;
+  /// Quadratic tetrahedra: their check value is a minimum over Gauss points of det(dx/dr), which the
+  /// corner screen cannot bound, so every call flags and the exact check always runs.
+  bool exact_only_ = false;
   RunLayout<8> hex_layout_;
   RunLayout<4> tet_layout_;
   std::vector<unsigned> corner_mask_;  // per hex pattern: bit a set = corner a spans a volume

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "solver/core/element_subset.hpp"
 #include "common/error.hpp"
 #include "preprocess/mesh/element_faces.hpp"
+#include "solver/core/element_subset.hpp"
 
 namespace adamss::solver {
 
@@ -38,6 +38,8 @@ void EdgeSpringKernel::jacobian(std::size_t i, const Mat3N<2>& x, const Mat3N<2>
 
 std::vector<std::array<Index, 2>> mesh_edges(const preprocess::Mesh& mesh, bool face_diagonals, bool cell_diagonals,
                                              const std::vector<std::size_t>* element_subset) {
+  if (mesh.type == preprocess::ElementType::Tet10)
+    throw InputError("mesh_edges: springs are defined on linear elements, not quadratic tetrahedra (tet10)");
   std::vector<std::array<Index, 2>> out;
   const bool tet = mesh.type == preprocess::ElementType::Tet4;
   auto push = [&out](Index a, Index b) {

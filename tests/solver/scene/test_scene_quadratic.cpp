@@ -74,3 +74,28 @@ TEST(SceneQuadratic, RefusesTermsWithoutAQuadraticFormAndBadOrders) {
   EXPECT_NE(test::scene_error(hex).find("needs a mesh of linear tetrahedra"), std::string::npos)
       << test::scene_error(hex);
 }
+
+TEST(SceneQuadratic, CavityRimHoldsTheMidNodesOfTheRimEdges) {
+  const std::string text = R"(
+name: rim
+mesh: {ellipsoid: land, divisions: [12, 6, 1], topology: tet, order: ORDER}
+materials:
+  - name: m
+    labels: [1]
+    density: 1000 kg/m^3
+    terms:
+      - fem_element: {law: neo_hookean, parameters: {E: 10 kPa, nu: 0.3}}
+boundary:
+  - select: {cavity_rim: lv}
+    fix: xyz
+integrator: {type: static, dt: 1 s}
+run: {t_end: 1 s}
+)";
+  const auto lin = test::load_scene(test::replaced(text, "ORDER", "1"));
+  const auto q = test::load_scene(test::replaced(text, "ORDER", "2"));
+  // The endocardial base ring: 12 corners, and on tet10 the 12 mid nodes of its edges, all on the
+  // base plane z = 5 mm.
+  ASSERT_EQ(lin.model.boundary_groups.at(0).nodes.size(), 12U);
+  ASSERT_EQ(q.model.boundary_groups.at(0).nodes.size(), 24U);
+  for (const auto n : q.model.boundary_groups[0].nodes) EXPECT_NEAR(q.model.x_ref(2, n), 5e-3, 1e-15);
+}

@@ -1,7 +1,8 @@
 // The quadratic tetrahedron in the solver (issue 23): fem_element on tet10 (4-point rule), the
 // P2-P0 mean-dilatation volume term (volume: {distribution: isotropic}, 5-point exact volume) and
 // the consistent pressure load on 6-node triangles. Derivative harness for each, the patch test,
-// exact volumes of curved elements, and f = P dV/dx on a closed curved surface.
+// exact volumes of curved elements, f = P dV/dx on a closed curved surface, and the run loop's
+// inversion check on a folded element.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -17,10 +18,12 @@
 #include "preprocess/meshers/box_mesh.hpp"
 #include "solver/core/model.hpp"
 #include "solver/geometry/surface.hpp"
+#include "solver/simd/volume_check.hpp"
 #include "solver/terms/adamss/volume_preservation.hpp"
 #include "solver/terms/fem/fem_element.hpp"
 #include "solver/terms/fem/nodal_volume.hpp"
 #include "solver/terms/loads/cavity_pressure.hpp"
+#include "solver/terms/springs/edge_springs.hpp"
 #include "support/fibre_fixtures.hpp"
 
 using namespace adamss;
@@ -219,4 +222,24 @@ TEST(Tet10, NodalP1VolumeTermPassesTheHarnessAndSumsToTheTotalVolume) {
       }
     }
   }
+}
+
+TEST(Tet10, InversionCheckSeesAMidNodePushedThroughAFace) {
+  // The corners' tetrahedron stays positive while a mid-edge node beyond its edge's far corner
+  // folds the element (x(s) = 11 s - 10 s^2 along the edge): the run loop's check must see it,
+  // and the vectorised screen must defer to it.
+  const auto mesh = straight_tet10();
+  Eigen::Matrix3Xd x = mesh.nodes;
+  const preprocess::Index* n = mesh.element(0);
+  x.col(n[4]) = x.col(n[0]) + 3.0 * (x.col(n[1]) - x.col(n[0]));
+  EXPECT_GT(preprocess::tet_volume(x, n), 0.0);
+  EXPECT_LE(solver::element_signed_volume_check(mesh, x, 0), 0.0);
+  const double v0 = solver::element_signed_volume_check(mesh, mesh.nodes, 0);
+  EXPECT_NEAR(v0, preprocess::tet_volume(mesh.nodes, n), 1e-12 * v0);  // straight: det is constant
+  const std::vector<double> threshold(mesh.element_count(), 0.0);
+  const solver::SignedVolumeScreen screen(mesh, threshold);
+  double slack = 1.0;
+  EXPECT_TRUE(screen.any_flagged(mesh.nodes, slack));
+  EXPECT_EQ(slack, 0.0);
+  EXPECT_THROW((void)solver::mesh_edges(mesh, false, false, nullptr), InputError);
 }
