@@ -13,7 +13,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <Eigen/LU>
+#include <algorithm>
 #include <cstddef>
+#include <limits>
 
 #include "preprocess/mesh/mesh.hpp"
 #include "preprocess/mesh/shape_functions.hpp"
@@ -47,6 +49,20 @@ namespace adamss::preprocess {
   double v = 0.0;
   for (std::size_t q = 0; q < 5; ++q) v += tet10_volume_rule()[q].w * (xe * kGrads[q]).determinant();
   return v;
+}
+
+/// The least det(dx/dr) of the tet10 n[0..9] over the points of its law rule (4) and volume rule
+/// (5): the points its terms evaluate, so <= 0 means the mid-edge nodes fold the element somewhere
+/// a term would see it, even when the corners' tetrahedron is positive.
+[[nodiscard]] inline double tet10_min_jacobian(const Eigen::Matrix3Xd& x, const Index* n) {
+  static const auto kLaw = tet10_rule_gradients(tet10_law_rule());
+  static const auto kVol = tet10_rule_gradients(tet10_volume_rule());
+  Eigen::Matrix<double, 3, 10> xe;
+  for (Eigen::Index a = 0; a < 10; ++a) xe.col(a) = x.col(n[a]);
+  double least = std::numeric_limits<double>::infinity();
+  for (const auto& g : kLaw) least = std::min(least, (xe * g).determinant());
+  for (const auto& g : kVol) least = std::min(least, (xe * g).determinant());
+  return least;
 }
 
 /// Signed volume (m^3) of element e at the mesh's own nodes; positive for a correctly oriented

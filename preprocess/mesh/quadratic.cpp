@@ -1,11 +1,11 @@
 #include "preprocess/mesh/quadratic.hpp"
 
-#include <Eigen/LU>
 #include <algorithm>
 #include <sstream>
 #include <string>
 
 #include "common/error.hpp"
+#include "preprocess/mesh/element_volume.hpp"
 #include "preprocess/mesh/face_table.hpp"
 #include "preprocess/mesh/shape_functions_p2.hpp"
 
@@ -39,15 +39,8 @@ std::vector<std::uint64_t> boundary_edge_keys(const Mesh& mesh) {
 }
 
 void check_elements(const Mesh& q) {
-  const auto& rule = tet10_law_rule();
-  static const auto kGrads = tet10_rule_gradients(rule);
-  static const auto kVolGrads = tet10_rule_gradients(tet10_volume_rule());
   for (std::size_t e = 0; e < q.element_count(); ++e) {
-    Eigen::Matrix<double, 3, 10> x;
-    for (int a = 0; a < 10; ++a) x.col(a) = q.nodes.col(q.element(e)[a]);
-    double worst = 1.0;
-    for (const auto& g : kGrads) worst = std::min(worst, (x * g).determinant());
-    for (const auto& g : kVolGrads) worst = std::min(worst, (x * g).determinant());
+    const double worst = tet10_min_jacobian(q.nodes, q.element(e));
     if (!(worst > 0.0)) {
       std::ostringstream os;
       os << "make_quadratic: tet10 element " << e << " is tangled by its mid-edge nodes (det dx/dr = " << worst
@@ -130,6 +123,18 @@ EdgeMidNodes::EdgeMidNodes(const Mesh& tet10) {
   for (std::size_t e = 0; e < tet10.element_count(); ++e) {
     const Index* n = tet10.element(e);
     for (std::size_t k = 0; k < 6; ++k) edges_.emplace_back(edge_key(n[kTetEdges[k][0]], n[kTetEdges[k][1]]), n[4 + k]);
+  }
+  std::sort(edges_.begin(), edges_.end());
+  edges_.erase(std::unique(edges_.begin(), edges_.end()), edges_.end());
+}
+
+EdgeMidNodes::EdgeMidNodes(const std::vector<std::array<Index, 3>>& triangles,
+                           const std::vector<std::array<Index, 3>>& mids) {
+  edges_.reserve(3 * mids.size());
+  for (std::size_t j = 0; j < mids.size(); ++j) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      edges_.emplace_back(edge_key(triangles[j][k], triangles[j][(k + 1) % 3]), mids[j][k]);
+    }
   }
   std::sort(edges_.begin(), edges_.end());
   edges_.erase(std::unique(edges_.begin(), edges_.end()), edges_.end());

@@ -12,6 +12,7 @@
 // Placement: by default the straight midpoint; a placer (e.g. the ellipsoid recipe's map) may put
 // the node on the curved geometry.
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -28,10 +29,13 @@ using MidEdgePlacer = std::function<Eigen::Vector3d(Index a, Index b)>;
 /// quadrature point (naming the element).
 [[nodiscard]] Mesh make_quadratic(const Mesh& linear, const MidEdgePlacer& place = {});
 
-/// Mid-edge node lookup of a Tet10 mesh: the node on the edge between corners a and b.
+/// Mid-edge node lookup: the node on the edge between corners a and b, of a Tet10 mesh's elements
+/// or of a quadratic surface's triangles.
 class EdgeMidNodes {
  public:
   explicit EdgeMidNodes(const Mesh& tet10);
+  /// From triangles (corners) and, per triangle, the mid nodes of its edges (0,1), (1,2), (2,0).
+  EdgeMidNodes(const std::vector<std::array<Index, 3>>& triangles, const std::vector<std::array<Index, 3>>& mids);
   /// The mid-edge node of edge (a, b), either order; -1 if (a, b) is not an element edge.
   [[nodiscard]] Index find(Index a, Index b) const;
 

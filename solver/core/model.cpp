@@ -22,18 +22,6 @@ using preprocess::kHexNeighbour;
 using preprocess::hex_volume;
 using preprocess::tet_volume;
 
-/// min over the law (4) and volume (5) points of det(X Gamma_q) / 6 for the tet10 n[0..9].
-double tet10_min_jacobian_volume(const Eigen::Matrix3Xd& x, const Index* n) {
-  static const auto kLaw = preprocess::tet10_rule_gradients(preprocess::tet10_law_rule());
-  static const auto kVol = preprocess::tet10_rule_gradients(preprocess::tet10_volume_rule());
-  Eigen::Matrix<double, 3, 10> xe;
-  for (Eigen::Index a = 0; a < 10; ++a) xe.col(a) = x.col(n[a]);
-  double least = std::numeric_limits<double>::infinity();
-  for (const auto& g : kLaw) least = std::min(least, (xe * g).determinant());
-  for (const auto& g : kVol) least = std::min(least, (xe * g).determinant());
-  return least / 6.0;
-}
-
 }  // namespace
 
 double kinetic_energy(const Eigen::VectorXd& mass, const Eigen::Matrix3Xd& v) {
@@ -65,7 +53,7 @@ double element_signed_volume_check(const preprocess::Mesh& mesh, const Eigen::Ma
   // Tet10: the least of det(dx/dr) / 6 over the points of its law and volume rules (the terms'
   // own evaluation points), so a mid-edge node pushed through a face is caught although the
   // corners' tetrahedron stays positive.
-  if (mesh.type == preprocess::ElementType::Tet10) return tet10_min_jacobian_volume(x, n);
+  if (mesh.type == preprocess::ElementType::Tet10) return preprocess::tet10_min_jacobian(x, n) / 6.0;
   double vmin = std::numeric_limits<double>::infinity();
   for (std::size_t a = 0; a < 8; ++a) {
     // A corner with a collapsed edge (a degenerate hexahedron: a wedge or pyramid stored with

@@ -120,33 +120,10 @@ double tri6_area(const Eigen::Matrix<double, 3, 6>& y) {
   return area;
 }
 
-/// The mid-edge nodes of a quadratic surface's triangle edges, by sorted corner pair.
-class SurfaceMids {
- public:
-  explicit SurfaceMids(const Surface& s) {
-    for (std::size_t j = 0; j < s.triangle_mids.size(); ++j) {
-      for (std::size_t k = 0; k < 3; ++k) {
-        const Index a = s.triangles[j][k], b = s.triangles[j][(k + 1) % 3];
-        mids_.emplace_back(std::pair<Index, Index>{std::min(a, b), std::max(a, b)}, s.triangle_mids[j][k]);
-      }
-    }
-    std::sort(mids_.begin(), mids_.end());
-  }
-  /// The mid-edge node of (a, b), or -1 when (a, b) is not a triangle edge.
-  [[nodiscard]] Index find(Index a, Index b) const {
-    const std::pair<Index, Index> key{std::min(a, b), std::max(a, b)};
-    const auto it = std::lower_bound(mids_.begin(), mids_.end(), std::make_pair(key, Index{-1}));
-    return it != mids_.end() && it->first == key ? it->second : -1;
-  }
-
- private:
-  std::vector<std::pair<std::pair<Index, Index>, Index>> mids_;
-};
-
 /// The quadratic triangle over corners c0, c1, c2 (positions y0..y2, relative): mid-edge positions
 /// from the surface's mid nodes where the edge has one, else the straight midpoint.
 template <class P>
-Eigen::Matrix<double, 3, 6> quadratic_positions(const SurfaceMids& mids, const std::array<Index, 3>& c,
+Eigen::Matrix<double, 3, 6> quadratic_positions(const preprocess::EdgeMidNodes& mids, const std::array<Index, 3>& c,
                                                 const std::array<Eigen::Vector3d, 3>& y, const P& p) {
   Eigen::Matrix<double, 3, 6> out;
   for (int k = 0; k < 3; ++k) {
@@ -314,7 +291,7 @@ double enclosed_volume(const Surface& surface, const Eigen::Matrix3Xd& x) {
   const auto p = [&](Index n) -> Eigen::Vector3d { return x.col(n) - o; };
 
   const bool quadratic = surface.quadratic();
-  const SurfaceMids mids(surface);  // empty for a linear surface
+  const preprocess::EdgeMidNodes mids(surface.triangles, surface.triangle_mids);  // empty for a linear surface
   // A triangle's flux: straight, or quadratic with the surface's mid-edge nodes (header).
   const auto flux_of = [&](const std::array<Index, 3>& c, const std::array<Eigen::Vector3d, 3>& y) {
     return quadratic ? tri6_flux(quadratic_positions(mids, c, y, p)) : tri_flux(y[0], y[1], y[2]);

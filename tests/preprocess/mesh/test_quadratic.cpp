@@ -160,8 +160,11 @@ TEST(EllipsoidOrder2, MidNodesLieOnTheCurvedWallsAndTheVolumeConverges) {
     ++endo_mids;
     EXPECT_NEAR(on(q.nodes.col(n), 7e-3, 17e-3), 0.0, 1e-12) << "endo mid node " << n;
   }
-  for (const Index n : q.node_tags.at("epi"))
-    if (static_cast<std::size_t>(n) >= n0) EXPECT_NEAR(on(q.nodes.col(n), 10e-3, 20e-3), 0.0, 1e-12);
+  for (const Index n : q.node_tags.at("epi")) {
+    if (static_cast<std::size_t>(n) >= n0) {
+      EXPECT_NEAR(on(q.nodes.col(n), 10e-3, 20e-3), 0.0, 1e-12);
+    }
+  }
   for (const Index n : q.node_tags.at("base")) {
     if (static_cast<std::size_t>(n) < n0) continue;
     ++base_mids;
