@@ -115,6 +115,10 @@ nlohmann::json summary_json(const solver::LoadedScene& sc, const solver::RunOutc
   j["rejected_steps"] = out.rejected_steps;
   j["newton_iterations"] = out.newton_iterations;
   j["linear_iterations"] = out.linear_iterations;
+  if (out.augmentations > 0) {
+    j["augmented_lagrangian"] = {{"updates", out.augmentations},
+                                 {"max_volume_ratio_violation", out.max_constraint_violation}};
+  }
   // Resident memory (MB; null = not sampled, e.g. a run shorter than a quarter of t_end).
   const auto mb = [](double v) { return v >= 0.0 ? nlohmann::json(v) : nlohmann::json(nullptr); };
   j["resident_memory_MB"] = {{"start", mb(out.resident_mb.start)},

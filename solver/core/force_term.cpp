@@ -34,6 +34,13 @@ std::vector<CavityConstraintTerm*> cavity_constraints(const std::vector<std::uni
   return out;
 }
 
+std::vector<ForceTerm*> augmented_terms(const std::vector<std::unique_ptr<ForceTerm>>& terms) {
+  std::vector<ForceTerm*> out;
+  for (const auto& t : terms)
+    if (t->augmented_lagrangian().enabled) out.push_back(t.get());
+  return out;
+}
+
 double total_energy(const std::vector<std::unique_ptr<ForceTerm>>& terms, const StateView& s) {
   double e = 0.0;
   for (const auto& t : terms)

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "preprocess/mesh/mesh.hpp"
+#include "solver/core/augmented_lagrangian.hpp"
 #include "solver/core/state_archive.hpp"
 
 namespace adamss::solver {
@@ -90,7 +91,21 @@ class ForceTerm {
   /// The cavity volume constraint this term is, or nullptr (every other term, the default). The
   /// integrators find the constraints' pressure unknowns through it (cavity_constraints below).
   [[nodiscard]] virtual CavityConstraintTerm* cavity_constraint() { return nullptr; }
+  /// Augmented Lagrangian (solver/core/augmented_lagrangian.hpp): the settings of a volume term
+  /// that carries multipliers; enabled == false (the default) for every other term.
+  [[nodiscard]] virtual AugmentedLagrangian augmented_lagrangian() const { return {}; }
+  /// max_i |J_i - r(t)| over a volume term's constraints at s (dimensionless), multipliers or
+  /// not; 0 for the terms without volume constraints (the default).
+  [[nodiscard]] virtual double constraint_violation(const StateView& /*s*/) const { return 0.0; }
+  /// One Uzawa update at the converged state s: lambda_i += U'(J_i; r(t)).
+  virtual void update_multipliers(const StateView& /*s*/) {}
+  /// The multipliers (Pa), to restore them when a step is retried; empty without any.
+  [[nodiscard]] virtual std::vector<double> multipliers() const { return {}; }
+  virtual void set_multipliers(const std::vector<double>& /*lambda*/) {}
 };
+
+/// The terms among `terms` whose augmented Lagrangian is enabled, in term order.
+[[nodiscard]] std::vector<ForceTerm*> augmented_terms(const std::vector<std::unique_ptr<ForceTerm>>& terms);
 
 /// Throws adamss::InputError naming every term without a Jacobian, for `solver_name`
 /// (e.g. "backward Euler"), which needs them all.

@@ -25,6 +25,7 @@
 //                                                            // that state, for checkpoints
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <exception>
 #include <stdexcept>
 #include <string>
@@ -75,6 +76,41 @@ class StencilTerm final : public ForceTerm {
       kernel_.add_cell_tensors(s, element_count, fields);
   }
   [[nodiscard]] std::string describe() const override { return std::to_string(kernel_.size()) + " items"; }
+
+  // Augmented Lagrangian (solver/core/augmented_lagrangian.hpp), for a kernel with a
+  // `VolumeMultipliers multipliers` member and gap(i, x, t) = J_i - r, penalty_slope(i, x, t) = U'(J_i; r).
+  [[nodiscard]] AugmentedLagrangian augmented_lagrangian() const override {
+    if constexpr (requires { kernel_.multipliers.settings; }) return kernel_.multipliers.settings;
+    return {};
+  }
+  [[nodiscard]] double constraint_violation(const StateView& s) const override {
+    double worst = 0.0;
+    if constexpr (requires { kernel_.multipliers.settings; }) {
+      Mat3N<N> x, v;
+      for (std::size_t i = 0; i < kernel_.size(); ++i) {
+        gather(s, kernel_.stencil(i), x, v);
+        worst = std::max(worst, std::abs(kernel_.gap(i, x, s.t)));
+      }
+    }
+    return worst;
+  }
+  void update_multipliers(const StateView& s) override {
+    if constexpr (requires { kernel_.multipliers.settings; }) {
+      if (kernel_.multipliers.lambda.empty()) return;
+      Mat3N<N> x, v;
+      for (std::size_t i = 0; i < kernel_.size(); ++i) {
+        gather(s, kernel_.stencil(i), x, v);
+        kernel_.multipliers.lambda[i] += kernel_.penalty_slope(i, x, s.t);
+      }
+    }
+  }
+  [[nodiscard]] std::vector<double> multipliers() const override {
+    if constexpr (requires { kernel_.multipliers.settings; }) return kernel_.multipliers.lambda;
+    return {};
+  }
+  void set_multipliers(const std::vector<double>& lambda) override {
+    if constexpr (requires { kernel_.multipliers.settings; }) kernel_.multipliers.lambda = lambda;
+  }
 
   [[nodiscard]] double energy(const StateView& s) const override {
     if constexpr (Kernel::kHasEnergy) {

@@ -15,6 +15,8 @@ void visit_fields(Loop& loop, const Visit& visit) {
   visit("rejected_steps", loop.rejected_steps);
   visit("newton_iterations", loop.newton_iterations);
   visit("linear_iterations", loop.linear_iterations);
+  visit("augmentations", loop.augmentations);
+  visit("max_constraint_violation", loop.max_constraint_violation);
   visit("dt_min_used", loop.dt_min_used);
   visit("dt_max_used", loop.dt_max_used);
   visit("ke_exceeded", loop.ke_exceeded);
@@ -35,6 +37,8 @@ void visit_fields(Loop& loop, const Visit& visit) {
   visit("last_report/rejected", loop.last_report.rejected);
   visit("last_report/newton_iterations", loop.last_report.newton_iterations);
   visit("last_report/linear_iterations", loop.last_report.linear_iterations);
+  visit("last_report/augmentations", loop.last_report.augmentations);
+  visit("last_report/constraint_violation", loop.last_report.constraint_violation);
   visit("wall_seconds", loop.wall_seconds);
 }
 

@@ -17,11 +17,13 @@ namespace adamss::solver {
 
 struct RunLoopState {
   // What the run has done so far (RunOutcome reports these at the end).
-  std::size_t steps = 0;                                         ///< accepted steps
-  std::size_t force_evaluations = 0;                             ///< summed StepReport::evaluations
-  std::size_t rejected_steps = 0;                                ///< summed StepReport::rejected
-  std::size_t newton_iterations = 0;                             ///< summed over accepted steps (implicit/static)
-  std::size_t linear_iterations = 0;                             ///< summed over accepted steps (implicit/static)
+  std::size_t steps = 0;                  ///< accepted steps
+  std::size_t force_evaluations = 0;      ///< summed StepReport::evaluations
+  std::size_t rejected_steps = 0;         ///< summed StepReport::rejected
+  std::size_t newton_iterations = 0;      ///< summed over accepted steps (implicit/static)
+  std::size_t linear_iterations = 0;      ///< summed over accepted steps (implicit/static)
+  std::size_t augmentations = 0;          ///< augmented-Lagrangian updates, summed over accepted steps (static)
+  double max_constraint_violation = 0.0;  ///< largest StepReport::constraint_violation of an accepted step
   double dt_min_used = std::numeric_limits<double>::infinity();  ///< s; infinity before the first step
   double dt_max_used = 0.0;                                      ///< s
   bool ke_exceeded = false;  ///< the kinetic energy has reached run.ke_threshold at least once

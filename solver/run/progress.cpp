@@ -23,6 +23,7 @@ std::string progress_text(const ProgressSnapshot& p) {
   std::string line = format("t = %.6g s (%5.1f %%)  step %zu  dt %.3g s", p.t, 100.0 * frac, p.steps, p.dt);
   if (p.kinetic_energy) line += format("  KE %.3g J", *p.kinetic_energy);
   if (p.newton_iterations > 0) line += format("  Newton %d, KSP %d", p.newton_iterations, p.linear_iterations);
+  if (p.augmentations > 0) line += format("  AL %d |J-r| %.1e", p.augmentations, p.constraint_violation);
   for (const auto& c : p.cavities) {
     line += "  " + c.name;
     if (!c.phase.empty()) line += " " + c.phase;

@@ -16,6 +16,8 @@ struct ProgressSnapshot {
   double dt = 0.0;                       ///< s, the last accepted step
   std::optional<double> kinetic_energy;  ///< J; only for dynamic integrators (static: none)
   int newton_iterations = 0;             ///< of the last step (implicit and static)
+  int augmentations = 0;                 ///< augmented-Lagrangian updates of the last step
+  double constraint_violation = 0.0;     ///< its max |J - r| after them
   int linear_iterations = 0;             ///< of the last step
   struct Cavity {
     std::string name;

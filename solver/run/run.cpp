@@ -187,6 +187,8 @@ void RunLoop::count(const StepReport& rep) {
   loop_.rejected_steps += static_cast<std::size_t>(rep.rejected);
   loop_.newton_iterations += static_cast<std::size_t>(rep.newton_iterations);
   loop_.linear_iterations += static_cast<std::size_t>(rep.linear_iterations);
+  loop_.augmentations += static_cast<std::size_t>(rep.augmentations);
+  loop_.max_constraint_violation = std::max(loop_.max_constraint_violation, rep.constraint_violation);
   loop_.dt_min_used = std::min(loop_.dt_min_used, rep.dt);
   loop_.dt_max_used = std::max(loop_.dt_max_used, rep.dt);
   if (integ_->adaptive()) loop_.dt = rep.next_dt;
@@ -269,6 +271,8 @@ ProgressSnapshot RunLoop::snapshot(const State& s, double ke) {
   if (dynamic_) p.kinetic_energy = ke;
   p.newton_iterations = loop_.last_report.newton_iterations;
   p.linear_iterations = loop_.last_report.linear_iterations;
+  p.augmentations = loop_.last_report.augmentations;
+  p.constraint_violation = loop_.last_report.constraint_violation;
   for (const auto& c : model_.cavities) p.cavities.push_back({c->name(), c->phase(), c->pressure(s.t), c->volume(s.x)});
   p.wall_seconds = wall();
   p.resident_mb = resident_mb();
@@ -336,6 +340,8 @@ RunOutcome RunLoop::finish(State& s) {
   out.rejected_steps = loop_.rejected_steps;
   out.newton_iterations = loop_.newton_iterations;
   out.linear_iterations = loop_.linear_iterations;
+  out.augmentations = loop_.augmentations;
+  out.max_constraint_violation = loop_.max_constraint_violation;
   out.dt_min_used = std::isfinite(loop_.dt_min_used) ? loop_.dt_min_used : 0.0;
   out.dt_max_used = loop_.dt_max_used;
   out.t = s.t;

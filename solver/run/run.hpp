@@ -72,8 +72,10 @@ struct RunOutcome {
   double wall_seconds = 0.0;
   std::size_t force_evaluations = 0;
   std::size_t rejected_steps = 0;
-  std::size_t newton_iterations = 0;  ///< implicit/static, summed over accepted steps
-  std::size_t linear_iterations = 0;  ///< implicit/static, summed over accepted steps
+  std::size_t newton_iterations = 0;      ///< implicit/static, summed over accepted steps
+  std::size_t augmentations = 0;          ///< static: augmented-Lagrangian multiplier updates, summed
+  double max_constraint_violation = 0.0;  ///< static with multipliers: the largest max |J - r| accepted
+  std::size_t linear_iterations = 0;      ///< implicit/static, summed over accepted steps
   double dt_min_used = 0.0, dt_max_used = 0.0;
   std::optional<std::size_t> bad_element;  ///< element that inverted/flattened
   State final_state;                       ///< the last good state

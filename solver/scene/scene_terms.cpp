@@ -164,10 +164,18 @@ void build_volume(SceneNode& node, MaterialContext& ctx) {
   p.form = form == "quadratic" ? VolumePenaltyForm::Quadratic
                                : (form == "log" ? VolumePenaltyForm::Log : VolumePenaltyForm::SimoTaylor);
   const std::string dist = node.choice("distribution", {"anisotropic", "isotropic", "nodal"}, "anisotropic");
+  // augmented_lagrangian: {tolerance, max_updates} (solver/core/augmented_lagrangian.hpp)
+  if (std::optional<SceneNode> al = node.optional_map("augmented_lagrangian")) {
+    p.augmented.enabled = true;
+    p.augmented.tolerance = al->positive("tolerance", Dimension::Dimensionless, p.augmented.tolerance);
+    p.augmented.max_updates = static_cast<int>(al->integer("max_updates", p.augmented.max_updates));
+    al->finish();
+    check_augmented_lagrangian(p.augmented, node.at("augmented_lagrangian"));
+  }
   node.finish();
   ctx.bulk_modulus += 2.0 * p.p;  // every form has bulk modulus 2 p
   if (dist == "nodal") {
-    ctx.model.terms.push_back(make_nodal_volume_term(ctx.mesh, {{p.form, p.p}, p.ratio}, &ctx.elements));
+    ctx.model.terms.push_back(make_nodal_volume_term(ctx.mesh, {{p.form, p.p}, p.ratio, p.augmented}, &ctx.elements));
     return;
   }
   p.distribution = dist == "anisotropic" ? VolumeDistribution::Anisotropic : VolumeDistribution::Isotropic;

@@ -35,6 +35,11 @@ ImplicitIntegrator::ImplicitIntegrator(System& system, Kind kind, const Implicit
   if (integrator_info(kind_).is_explicit) throw std::logic_error("ImplicitIntegrator: " + label + " is explicit");
   require_jacobians(sys_.model().terms, label);
   constraints_ = cavity_constraints(sys_.model().terms);
+  augmented_ = augmented_terms(sys_.model().terms);
+  if (kind_ != Kind::Static && !augmented_.empty()) {
+    throw InputError(label + " cannot update the augmented-Lagrangian multipliers of " + augmented_.front()->name() +
+                     " (they are updated between the solves of a load step); use the integrator type static");
+  }
   if (kind_ == Kind::BackwardEuler && !constraints_.empty()) {
     throw InputError(label + " (the linearised one-solve step) cannot hold a cavity volume (" +
                      constraints_.front()->name() + "); use the integrator type backward_euler_newton or static");
@@ -72,10 +77,12 @@ StepReport ImplicitIntegrator::step(State& s, double dt) {
     // Newton schemes: a step that converged in at most 4 iterations grows the next one by 1.5,
     // one that needed 10 or more halves it (quadratic convergence from a good predictor takes
     // 2-4 iterations; 10 means the step left the region where Newton converges fast).
+    // The augmented-Lagrangian re-solves at fixed load do not count: they say nothing about the step.
+    const int load_iterations = rep.newton_iterations - resolve_iterations_;
     const bool easy =
-        kind_ == Kind::BackwardEuler ? rep.linear_iterations <= set_.ksp_max_it / 4 : rep.newton_iterations <= 4;
+        kind_ == Kind::BackwardEuler ? rep.linear_iterations <= set_.ksp_max_it / 4 : load_iterations <= 4;
     if (easy && rep.rejected == 0) next = std::min(1.5 * h, set_.dt_max);
-    if (kind_ != Kind::BackwardEuler && rep.newton_iterations >= 10) next = std::max(0.5 * h, set_.dt_min);
+    if (kind_ != Kind::BackwardEuler && load_iterations >= 10) next = std::max(0.5 * h, set_.dt_min);
   }
   rep.next_dt = next;
   return rep;
@@ -86,21 +93,36 @@ bool ImplicitIntegrator::attempt(State& s, double h, StepReport& rep) {
   record_ = NewtonRecord{};
   last_linear_ = 0;
   linear_->reset_iterations();
+  const double t0 = s.t;
   x0_ = s.x;
   v0_ = s.v;
+  resolve_iterations_ = 0;
+  // What a failed attempt must put back besides the state: the multipliers of the cavities and
+  // of the augmented terms (the bordered solve restores the former only on its own failure).
+  std::vector<double> cavity_p;
+  for (const CavityConstraintTerm* c : constraints_) cavity_p.push_back(c->multiplier());
+  std::vector<std::vector<double>> lambda;
+  for (const ForceTerm* t : augmented_) lambda.push_back(t->multipliers());
   bool ok = false;
   if (kind_ == Kind::Static) {
     ok = constraints_.empty() ? static_step(s, h, rep) : static_bordered_step(s, h, rep);
+    if (ok && !augmented_.empty()) ok = augment(s, h, rep);
   } else {
     ok = backward_euler_step(s, h, rep);
   }
-  if (!ok) return false;
   s.t = t1;
-  if (!s.x.allFinite() || !s.v.allFinite()) {
+  if (!ok || !s.x.allFinite() || !s.v.allFinite()) {
     s.x = x0_;
     s.v = v0_;
-    s.t = t1 - h;
+    s.t = t0;
+    for (std::size_t k = 0; k < constraints_.size(); ++k) constraints_[k]->set_multiplier(cavity_p[k]);
+    for (std::size_t k = 0; k < augmented_.size(); ++k) augmented_[k]->set_multipliers(lambda[k]);
     return false;
+  }
+  if (kind_ == Kind::Static && constraints_.empty()) {
+    prev_x_ = x0_;  // the static predictor: this converged load step's start and length
+    prev_h_ = h;
+    have_prev_ = true;
   }
   last_linear_ = linear_->iterations();
   rep.newton_iterations = record_.iterations;
@@ -121,11 +143,46 @@ bool ImplicitIntegrator::static_step(State& s, double h, StepReport& rep) {
   for (const Eigen::Index d : linear_->fixed_dofs()) dpres.data()[d] = pres.x.data()[d] - cur.x.data()[d];
   StaticEquations eq(sys_, *linear_, t1, rep.evaluations);
   if (!damped_newton(eq, *linear_, cur.x, std::move(dpres), set_, record_)) return false;
-  prev_x_ = s.x;
-  prev_h_ = h;
-  have_prev_ = true;
   s = cur;
   return true;
+}
+
+bool ImplicitIntegrator::augment(State& s, double h, StepReport& rep) {
+  std::vector<int> updates(augmented_.size(), 0);
+  for (;;) {
+    const StateView view{s.x, s.v, s.t};
+    bool updated = false;
+    rep.constraint_violation = 0.0;
+    for (std::size_t k = 0; k < augmented_.size(); ++k) {
+      const double g = augmented_[k]->constraint_violation(view);
+      rep.constraint_violation = std::max(rep.constraint_violation, g);
+      const AugmentedLagrangian al = augmented_[k]->augmented_lagrangian();
+      if (g > al.tolerance && updates[k] < al.max_updates) {
+        augmented_[k]->update_multipliers(view);
+        ++updates[k];
+        updated = true;
+      }
+    }
+    if (!updated) return true;
+    ++rep.augmentations;
+    if (!resolve(s, h, rep)) return false;
+  }
+}
+
+bool ImplicitIntegrator::resolve(State& s, double h, StepReport& rep) {
+  StaticEquations eq(sys_, *linear_, s.t, rep.evaluations);
+  NewtonRecord again;  // its own record: the relative tolerance refers to this solve's first residual
+  bool ok = false;
+  if (constraints_.empty()) {
+    ok = damped_newton(eq, *linear_, s.x, Eigen::Matrix3Xd::Zero(3, s.x.cols()), set_, again);
+  } else {
+    CavityBorder border(constraints_, s.t, h);
+    ok = bordered_newton(eq, *linear_, border, s.x, set_, 1e-300, again);
+  }
+  record_.iterations += again.iterations;
+  resolve_iterations_ += again.iterations;
+  record_.residuals.insert(record_.residuals.end(), again.residuals.begin(), again.residuals.end());
+  return ok;
 }
 
 bool ImplicitIntegrator::static_bordered_step(State& s, double h, StepReport& rep) {

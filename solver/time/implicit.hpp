@@ -103,15 +103,24 @@ class ImplicitIntegrator : public Integrator {
   bool static_step(State& s, double h, StepReport& rep);
   bool static_bordered_step(State& s, double h, StepReport& rep);
   bool backward_euler_step(State& s, double h, StepReport& rep);
+  /// The augmented-Lagrangian loop of a static step (solver/core/augmented_lagrangian.hpp): at the
+  /// converged state s (time t1, step h) updates the multipliers of every term whose max |J - r|
+  /// exceeds its tolerance and solves again from s, until all are within tolerance or each has made
+  /// max_updates updates. Reports the updates and the last violation in rep. False if a re-solve fails.
+  bool augment(State& s, double h, StepReport& rep);
+  /// Newton at fixed load from s (time t1 = s.t, step h), its iterations added to record_.
+  bool resolve(State& s, double h, StepReport& rep);
 
   System& sys_;
   Kind kind_;
   ImplicitSettings set_;
   std::vector<CavityConstraintTerm*> constraints_;  ///< cavity constraints (bordered Newton)
+  std::vector<ForceTerm*> augmented_;               ///< terms with augmented-Lagrangian multipliers
   std::unique_ptr<JacobianSolver> linear_;
   NewtonRecord record_;
   int last_linear_ = 0;
-  Eigen::Matrix3Xd x0_, v0_;  // the state at the start of the attempt
+  int resolve_iterations_ = 0;  ///< Newton iterations of the augmented-Lagrangian re-solves of the attempt
+  Eigen::Matrix3Xd x0_, v0_;    // the state at the start of the attempt
   // Static predictor: the state before the last converged load step and its length.
   Eigen::Matrix3Xd prev_x_;
   double prev_h_ = 0.0;

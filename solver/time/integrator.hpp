@@ -59,13 +59,15 @@ class System {
 
 /// What one call of Integrator::step did.
 struct StepReport {
-  double dt = 0.0;            ///< step actually taken (s)
-  double next_dt = 0.0;       ///< step the integrator proposes next (s)
-  int evaluations = 0;        ///< force evaluations used, including rejected attempts
-  int rejected = 0;           ///< attempts rejected (ABM3 halvings)
-  double error = 0.0;         ///< ABM3 predictor-corrector difference (m), 0 otherwise
-  int newton_iterations = 0;  ///< implicit/static: Newton iterations of the accepted attempt
-  int linear_iterations = 0;  ///< implicit/static: Krylov iterations of the accepted attempt
+  double dt = 0.0;                    ///< step actually taken (s)
+  double next_dt = 0.0;               ///< step the integrator proposes next (s)
+  int evaluations = 0;                ///< force evaluations used, including rejected attempts
+  int rejected = 0;                   ///< attempts rejected (ABM3 halvings)
+  double error = 0.0;                 ///< ABM3 predictor-corrector difference (m), 0 otherwise
+  int newton_iterations = 0;          ///< implicit/static: Newton iterations of the accepted attempt
+  int linear_iterations = 0;          ///< implicit/static: Krylov iterations of the accepted attempt
+  int augmentations = 0;              ///< static: augmented-Lagrangian multiplier updates of the accepted attempt
+  double constraint_violation = 0.0;  ///< static with multipliers: max |J - r| after the last update
 };
 
 class Integrator {
@@ -101,7 +103,7 @@ struct ImplicitSettings;
 enum class IntegratorType { ForwardEuler, SymplecticEuler, Abm3, BackwardEuler, BackwardEulerNewton, Static };
 
 struct IntegratorInfo {
-  const char* name;          ///< the scene's spelling
+  const char* name;  ///< the scene's spelling
   IntegratorType type;
   bool is_explicit;          ///< no Jacobian: cannot hold a cavity volume constraint
   bool stable_step_limited;  ///< a fixed explicit step: dt must stay below h_c = L/c (eq. 2.150)

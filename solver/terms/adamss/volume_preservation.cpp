@@ -214,10 +214,10 @@ double VolumeKernel<K>::volume_ratio(std::size_t i, const Mat3N<K>& x) const {
 
 template <int K>
 double VolumeKernel<K>::energy(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& /*v*/, double t) const {
-  if (form != VolumePenaltyForm::Quadratic)
-    return volume0[i] * VolumePenalty{form, p}.value(volume_ratio(i, x), ratio(t));
-  const double d = volume_ratio(i, x) - ratio(t);
-  return p * volume0[i] * d * d;
+  const double J = volume_ratio(i, x), r = ratio(t);
+  const double al = multipliers[i] * (J - r);  // augmented Lagrangian, 0 for the plain penalty
+  if (form != VolumePenaltyForm::Quadratic) return volume0[i] * (VolumePenalty{form, p}.value(J, r) + al);
+  return volume0[i] * (p * (J - r) * (J - r) + al);
 }
 
 template <int K>
@@ -226,10 +226,10 @@ void VolumeKernel<K>::forces(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& /
   Mat3N<K> dJ;
   evaluate(i, x, J, dJ, nullptr);
   if (form != VolumePenaltyForm::Quadratic) {
-    f.noalias() -= (volume0[i] * VolumePenalty{form, p}.slope(J, ratio(t))) * dJ;
+    f.noalias() -= (volume0[i] * (VolumePenalty{form, p}.slope(J, ratio(t)) + multipliers[i])) * dJ;
     return;
   }
-  f.noalias() -= (2.0 * p * volume0[i] * (J - ratio(t))) * dJ;
+  f.noalias() -= (volume0[i] * (2.0 * p * (J - ratio(t)) + multipliers[i])) * dJ;
 }
 
 template <int K>
@@ -244,12 +244,12 @@ void VolumeKernel<K>::jacobian(std::size_t i, const Mat3N<K>& x, const Mat3N<K>&
     const VolumePenalty u{form, p};
     const double r = ratio(t);
     dfdx.noalias() -= (volume0[i] * u.curvature(J, r)) * (g * g.transpose());
-    dfdx.noalias() -= (volume0[i] * u.slope(J, r)) * hess;
+    dfdx.noalias() -= (volume0[i] * (u.slope(J, r) + multipliers[i])) * hess;
     return;
   }
   const double c = -2.0 * p * volume0[i];
   dfdx.noalias() += c * (g * g.transpose());
-  dfdx.noalias() += (c * (J - ratio(t))) * hess;
+  dfdx.noalias() += (c * (J - ratio(t)) - volume0[i] * multipliers[i]) * hess;
 }
 
 template <int K>
@@ -262,7 +262,7 @@ void VolumeKernel<K>::add_cell_fields(const StateView& s, std::size_t element_co
   const double r = ratio(s.t);
   for (std::size_t i = 0; i < elements.size(); ++i) {
     const Mat3N<K> x = element_positions<K>(s.x, elements[i].data());
-    q[static_cast<Eigen::Index>(mesh_element[i])] += u.slope(volume_ratio(i, x), r);
+    q[static_cast<Eigen::Index>(mesh_element[i])] += u.slope(volume_ratio(i, x), r) + multipliers[i];
   }
 }
 
@@ -305,6 +305,8 @@ VolumeKernel<K> make_volume_kernel(const preprocess::Mesh& mesh, const AxisFrame
   kern.p = params.p;
   kern.form = params.form;
   kern.ratio = params.ratio;
+  check_augmented_lagrangian(params.augmented, "volume_preservation");
+  kern.multipliers.settings = params.augmented;
   auto push = [&](std::size_t e, double v0) {
     if (!std::isfinite(v0) || !(v0 > 0.0)) {
       throw InputError("volume_preservation: element " + std::to_string(e) + " has reference volume " + fmt(v0) +
@@ -324,10 +326,12 @@ VolumeKernel<K> make_volume_kernel(const preprocess::Mesh& mesh, const AxisFrame
         push(frames->element[k], frames->volume0[k]);
         kern.gradient.push_back(grads[k]);
       }
+      kern.multipliers.resize(kern.size());
       return kern;
     }
   }
   for (const std::size_t e : selected) push(e, element_volume_of<K>(element_positions<K>(mesh.nodes, mesh.element(e))));
+  kern.multipliers.resize(kern.size());
   return kern;
 }
 

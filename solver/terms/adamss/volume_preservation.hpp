@@ -76,6 +76,7 @@
 #include <vector>
 
 #include "preprocess/mesh/mesh.hpp"
+#include "solver/core/augmented_lagrangian.hpp"
 #include "solver/core/stencil_term.hpp"
 #include "solver/core/time_course.hpp"
 #include "solver/geometry/axis_frame.hpp"
@@ -102,6 +103,7 @@ struct VolumeParams {
   VolumePenaltyForm form = VolumePenaltyForm::Quadratic;  ///< U(J; r), solver/terms/fem/volume_penalty.hpp
   TimeCourse ratio = TimeCourse::constant(1.0);           ///< r(t) = V_target / V0 (dimensionless), > 0
   VolumeDistribution distribution = VolumeDistribution::Anisotropic;
+  AugmentedLagrangian augmented;  ///< multipliers on J = r (solver/core/augmented_lagrangian.hpp); off by default
 };
 
 /// Exact signed volume (m^3) of a tetrahedron (K = 4) or trilinear hexahedron (K = 8)
@@ -136,6 +138,8 @@ struct VolumeKernel {
   std::vector<std::size_t> mesh_element;                  ///< mesh element index of each item (messages)
   std::vector<double> volume0;                            ///< V0 (m^3)
   std::vector<Eigen::Matrix<double, K, 3>> gradient;      ///< anisotropic only: G (1/m), F = X G
+  /// Augmented Lagrangian: lambda_i (Pa) per item when enabled; the energy gains V0 lambda_i (J - r).
+  VolumeMultipliers multipliers;
 
   [[nodiscard]] std::string name() const { return "volume_preservation"; }
   [[nodiscard]] std::size_t size() const { return elements.size(); }
@@ -148,12 +152,20 @@ struct VolumeKernel {
   void forces(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& v, double t, Mat3N<K>& f) const;
   void jacobian(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& v, double t, MatJ<K>& dfdx, MatJ<K>& dfdv) const;
   /// Adds the term's hydrostatic Cauchy stress to `fields["volumetric_stress"]` (Pa, positive in
-  /// tension) for the frames: sigma_vol = U'(J; r) I. Derivation: with W = U(J), P = dW/dF =
-  /// U'(J) J F^-T, so sigma = P F^T / J = U'(J) I (anisotropic J = det(X G) exactly; isotropic
-  /// J = V / V0, the element mean of det F). The result writer adds it to stress_cauchy and
-  /// J U' C^-1 to stress_pk2 (solver/run/results.hpp).
+  /// tension) for the frames: sigma_vol = (U'(J; r) + lambda) I (lambda the multiplier, 0 without augmentation).
+  /// Derivation: with W = U(J), P = dW/dF = U'(J) J F^-T, so sigma = P F^T / J = U'(J) I (anisotropic J = det(X G)
+  /// exactly; isotropic J = V / V0, the element mean of det F). The result writer adds it to stress_cauchy and J U'
+  /// C^-1 to stress_pk2 (solver/run/results.hpp).
   void add_cell_fields(const StateView& s, std::size_t element_count,
                        std::map<std::string, Eigen::VectorXd>& fields) const;
+  /// J_i - r(t), the constraint of item i.
+  [[nodiscard]] double gap(std::size_t i, const Mat3N<K>& x, double t) const { return volume_ratio(i, x) - ratio(t); }
+  /// U'(J_i; r(t)) (Pa), the Uzawa increment of lambda_i.
+  [[nodiscard]] double penalty_slope(std::size_t i, const Mat3N<K>& x, double t) const {
+    return VolumePenalty{form, p}.slope(volume_ratio(i, x), ratio(t));
+  }
+  void save_state(StateArchive& archive) const { multipliers.save(archive); }
+  void load_state(const StateArchive& archive) { multipliers.load(archive, "volume_preservation"); }
 
  private:
   /// J, dJ/dx (3 x K) and, when hess is non-null, adds d^2J/dx^2 (3K x 3K) to *hess.

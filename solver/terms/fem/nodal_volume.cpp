@@ -37,6 +37,13 @@ class NodalVolumeTerm final : public ForceTerm {
   void add_forces(const StateView& s, Eigen::Matrix3Xd& f) const override;
   void add_jacobian(const StateView& s, JacobianSink& sink) const override;
   void add_couplings(std::vector<std::vector<Index>>& adj) const override;
+  [[nodiscard]] AugmentedLagrangian augmented_lagrangian() const override { return mult_.settings; }
+  [[nodiscard]] double constraint_violation(const StateView& s) const override;
+  void update_multipliers(const StateView& s) override;
+  [[nodiscard]] std::vector<double> multipliers() const override { return mult_.lambda; }
+  void set_multipliers(const std::vector<double>& lambda) override { mult_.lambda = lambda; }
+  void save_state(StateArchive& archive) const override { mult_.save(archive); }
+  void load_state(const StateArchive& archive) override { mult_.load(archive, kTerm); }
   /// `volumetric_stress` (Pa, positive in tension) per element: c_e = sum_{n in e} U'_n / K, the
   /// hydrostatic Cauchy stress that the element's forces -c_e dV_e/dx carry (the result writer
   /// adds it to the stress tensors; solver/run/results.hpp).
@@ -46,11 +53,14 @@ class NodalVolumeTerm final : public ForceTerm {
  private:
   /// Current nodal volume ratios J_n = V_n / V0_n.
   [[nodiscard]] std::vector<double> ratios(const Eigen::Matrix3Xd& x) const;
+  /// U'(J_n; r) + lambda_n per node at x, time t (Pa).
+  [[nodiscard]] std::vector<double> slopes(const Eigen::Matrix3Xd& x, double t) const;
   /// Node patches (elements around each node and their nodes' places in the patch).
   void build_patches();
 
   VolumePenalty penalty_;
   TimeCourse ratio_;
+  VolumeMultipliers mult_;                      ///< lambda_n per local node (augmented Lagrangian)
   std::vector<std::array<Index, K>> elements_;  ///< global node indices
   std::vector<std::array<int, K>> local_;       ///< local node indices of each element
   std::vector<std::size_t> mesh_element_;       ///< mesh element index of each element
@@ -69,6 +79,7 @@ template <int K>
 NodalVolumeTerm<K>::NodalVolumeTerm(const preprocess::Mesh& mesh, const NodalVolumeParams& params,
                                     const std::vector<std::size_t>& selected)
     : penalty_(params.penalty), ratio_(params.ratio) {
+  mult_.settings = params.augmented;
   std::vector<int> local_of(mesh.node_count(), -1);
   for (const std::size_t e : selected) {
     std::array<Index, K> g{};
@@ -95,6 +106,7 @@ NodalVolumeTerm<K>::NodalVolumeTerm(const preprocess::Mesh& mesh, const NodalVol
     local_.push_back(l);
     mesh_element_.push_back(e);
   }
+  mult_.resize(nodes_.size());
   build_patches();
 }
 
@@ -142,19 +154,43 @@ std::vector<double> NodalVolumeTerm<K>::ratios(const Eigen::Matrix3Xd& x) const 
 }
 
 template <int K>
+std::vector<double> NodalVolumeTerm<K>::slopes(const Eigen::Matrix3Xd& x, double t) const {
+  std::vector<double> jn = ratios(x);
+  const double r = ratio_(t);
+  for (std::size_t n = 0; n < jn.size(); ++n) jn[n] = penalty_.slope(jn[n], r) + mult_[n];
+  return jn;
+}
+
+template <int K>
 double NodalVolumeTerm<K>::energy(const StateView& s) const {
   std::vector<double> jn = ratios(s.x);
   const double r = ratio_(s.t);
   double e = 0.0;
-  for (std::size_t n = 0; n < nodes_.size(); ++n) e += volume0_[n] * penalty_.value(jn[n], r);
+  for (std::size_t n = 0; n < nodes_.size(); ++n)
+    e += volume0_[n] * (penalty_.value(jn[n], r) + mult_[n] * (jn[n] - r));
   return e;
 }
 
 template <int K>
-void NodalVolumeTerm<K>::add_forces(const StateView& s, Eigen::Matrix3Xd& f) const {
-  std::vector<double> jn = ratios(s.x);
+double NodalVolumeTerm<K>::constraint_violation(const StateView& s) const {
+  const std::vector<double> jn = ratios(s.x);
   const double r = ratio_(s.t);
-  for (double& j : jn) j = penalty_.slope(j, r);  // now U'_n
+  double worst = 0.0;
+  for (const double j : jn) worst = std::max(worst, std::abs(j - r));
+  return worst;
+}
+
+template <int K>
+void NodalVolumeTerm<K>::update_multipliers(const StateView& s) {
+  if (mult_.lambda.empty()) return;
+  const std::vector<double> jn = ratios(s.x);
+  const double r = ratio_(s.t);
+  for (std::size_t n = 0; n < jn.size(); ++n) mult_.lambda[n] += penalty_.slope(jn[n], r);
+}
+
+template <int K>
+void NodalVolumeTerm<K>::add_forces(const StateView& s, Eigen::Matrix3Xd& f) const {
+  const std::vector<double> jn = slopes(s.x, s.t);  // U'_n + lambda_n
   for (std::size_t e = 0; e < elements_.size(); ++e) {
     double c = 0.0;  // c_e = sum_{n in e} U'_n / K
     for (const int n : local_[e]) c += jn[static_cast<std::size_t>(n)] / K;
@@ -173,7 +209,10 @@ void NodalVolumeTerm<K>::add_jacobian(const StateView& s, JacobianSink& sink) co
   MatJ<K> hess;
   for (std::size_t e = 0; e < elements_.size(); ++e) {
     double c = 0.0, v = 0.0;
-    for (const int n : local_[e]) c += penalty_.slope(jn[static_cast<std::size_t>(n)], r) / K;
+    for (const int n : local_[e]) {
+      const auto un = static_cast<std::size_t>(n);
+      c += (penalty_.slope(jn[un], r) + mult_[un]) / K;
+    }
     element_volume_derivatives<K>(element_positions<K>(s.x, elements_[e].data()), v, dv[e], hess);
     for (int a = 0; a < K; ++a) {
       for (int b = 0; b < K; ++b) {
@@ -210,9 +249,7 @@ void NodalVolumeTerm<K>::add_cell_fields(const StateView& s, std::size_t element
   Eigen::VectorXd& q = fields["volumetric_stress"];
   const auto n = static_cast<Eigen::Index>(element_count);
   if (q.size() != n) q = Eigen::VectorXd::Zero(n);
-  std::vector<double> jn = ratios(s.x);
-  const double r = ratio_(s.t);
-  for (double& j : jn) j = penalty_.slope(j, r);  // now U'_n
+  const std::vector<double> jn = slopes(s.x, s.t);  // U'_n + lambda_n
   for (std::size_t e = 0; e < elements_.size(); ++e) {
     double c = 0.0;
     for (const int m : local_[e]) c += jn[static_cast<std::size_t>(m)] / K;
@@ -237,6 +274,7 @@ std::unique_ptr<ForceTerm> make_nodal_volume_term(const preprocess::Mesh& mesh, 
                                                   const std::vector<std::size_t>* element_subset) {
   check_volume_penalty(params.penalty.p, kTerm);
   check_volume_ratio(params.ratio, kTerm);
+  check_augmented_lagrangian(params.augmented, kTerm);
   const std::vector<std::size_t> selected = selected_elements(mesh, element_subset, kTerm);
   if (selected.empty()) throw InputError(std::string(kTerm) + ": no elements selected");
   if (mesh.type == preprocess::ElementType::Tet4) return std::make_unique<NodalVolumeTerm<4>>(mesh, params, selected);

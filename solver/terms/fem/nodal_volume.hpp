@@ -13,6 +13,8 @@
 // exact current element volume (preprocess::element_volume) and V0_e the reference one:
 //   V_n  = sum_{e ∋ n} V_e / K,   V0_n = sum_{e ∋ n} V0_e / K,   J_n = V_n / V0_n
 //   energy = sum_n V0_n U(J_n; r(t))       U of solver/terms/fem/volume_penalty.hpp (J)
+// With the augmented Lagrangian (solver/core/augmented_lagrangian.hpp) each node also carries a
+// multiplier lambda_n: energy += V0_n lambda_n (J_n - r), i.e. U'_n below reads U'(J_n) + lambda_n.
 // Forces (U'_n = U'(J_n), dJ_n/dx = (1/V0_n) sum_{e ∋ n} dV_e/dx / K):
 //   f = -sum_n U'_n sum_{e ∋ n} dV_e/dx / K = -sum_e c_e dV_e/dx,   c_e = sum_{n ∈ e} U'_n / K
 // so forces cost two element loops. Jacobian (H_e = d^2 V_e / dx^2, element stencil):
@@ -26,6 +28,7 @@
 #include <vector>
 
 #include "preprocess/mesh/mesh.hpp"
+#include "solver/core/augmented_lagrangian.hpp"
 #include "solver/core/force_term.hpp"
 #include "solver/core/time_course.hpp"
 #include "solver/terms/fem/volume_penalty.hpp"
@@ -35,6 +38,7 @@ namespace adamss::solver {
 struct NodalVolumeParams {
   VolumePenalty penalty;                         ///< U(J; r) and p (Pa), p > 0
   TimeCourse ratio = TimeCourse::constant(1.0);  ///< r(t) = V_target / V0 (dimensionless), > 0
+  AugmentedLagrangian augmented;                 ///< multipliers on J_n = r (solver/core/augmented_lagrangian.hpp)
 };
 
 /// The nodal volume term over the elements in `element_subset` (all when null) of a tetrahedral or

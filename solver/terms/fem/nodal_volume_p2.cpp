@@ -68,18 +68,28 @@ class QuadraticNodalVolumeTerm final : public ForceTerm {
   void add_forces(const StateView& s, Eigen::Matrix3Xd& f) const override;
   void add_jacobian(const StateView& s, JacobianSink& sink) const override;
   void add_couplings(std::vector<std::vector<Index>>& adj) const override;
+  [[nodiscard]] AugmentedLagrangian augmented_lagrangian() const override { return mult_.settings; }
+  [[nodiscard]] double constraint_violation(const StateView& s) const override;
+  void update_multipliers(const StateView& s) override;
+  [[nodiscard]] std::vector<double> multipliers() const override { return mult_.lambda; }
+  void set_multipliers(const std::vector<double>& lambda) override { mult_.lambda = lambda; }
+  void save_state(StateArchive& archive) const override { mult_.save(archive); }
+  void load_state(const StateArchive& archive) override { mult_.load(archive, kTerm); }
   /// `volumetric_stress` per element: the mean of p_e over the element, sum_c U'_c v_ec / V_e.
   void add_cell_fields(const StateView& s, std::size_t element_count,
                        std::map<std::string, Eigen::VectorXd>& fields) const override;
 
  private:
   [[nodiscard]] std::vector<double> ratios(const Eigen::Matrix3Xd& x) const;
+  /// U'(J_c; r) + lambda_c per corner node at x, time t (Pa).
+  [[nodiscard]] std::vector<double> slopes(const Eigen::Matrix3Xd& x, double t) const;
   [[nodiscard]] Mat3N<10> positions(const Eigen::Matrix3Xd& x, std::size_t e) const {
     return element_positions<10>(x, elements_[e].data());
   }
 
   VolumePenalty penalty_;
   TimeCourse ratio_;
+  VolumeMultipliers mult_;                       ///< lambda_c per pressure node (augmented Lagrangian)
   std::vector<std::array<Index, 10>> elements_;  ///< global node indices
   std::vector<std::array<int, 4>> corner_;       ///< local corner (pressure node) index of corners 0..3
   std::vector<std::size_t> mesh_element_;
@@ -93,6 +103,7 @@ class QuadraticNodalVolumeTerm final : public ForceTerm {
 QuadraticNodalVolumeTerm::QuadraticNodalVolumeTerm(const preprocess::Mesh& mesh, const NodalVolumeParams& params,
                                                    const std::vector<std::size_t>& selected)
     : penalty_(params.penalty), ratio_(params.ratio) {
+  mult_.settings = params.augmented;
   std::vector<int> local_of(mesh.node_count(), -1);
   for (const std::size_t e : selected) {
     std::array<Index, 10> g{};
@@ -121,6 +132,7 @@ QuadraticNodalVolumeTerm::QuadraticNodalVolumeTerm(const preprocess::Mesh& mesh,
     mesh_element_.push_back(e);
   }
   const std::size_t nc = corner_node_.size();
+  mult_.resize(nc);
   around_start_.assign(nc + 1, 0);
   for (const auto& l : corner_)
     for (const int c : l) ++around_start_[static_cast<std::size_t>(c) + 1];
@@ -155,14 +167,34 @@ double QuadraticNodalVolumeTerm::energy(const StateView& s) const {
   const std::vector<double> jc = ratios(s.x);
   const double r = ratio_(s.t);
   double e = 0.0;
-  for (std::size_t c = 0; c < jc.size(); ++c) e += volume0_[c] * penalty_.value(jc[c], r);
+  for (std::size_t c = 0; c < jc.size(); ++c) e += volume0_[c] * (penalty_.value(jc[c], r) + mult_[c] * (jc[c] - r));
   return e;
 }
 
-void QuadraticNodalVolumeTerm::add_forces(const StateView& s, Eigen::Matrix3Xd& f) const {
-  std::vector<double> slope = ratios(s.x);
+std::vector<double> QuadraticNodalVolumeTerm::slopes(const Eigen::Matrix3Xd& x, double t) const {
+  std::vector<double> jc = ratios(x);
+  const double r = ratio_(t);
+  for (std::size_t c = 0; c < jc.size(); ++c) jc[c] = penalty_.slope(jc[c], r) + mult_[c];
+  return jc;
+}
+
+double QuadraticNodalVolumeTerm::constraint_violation(const StateView& s) const {
+  const std::vector<double> jc = ratios(s.x);
   const double r = ratio_(s.t);
-  for (double& j : slope) j = penalty_.slope(j, r);  // U'_c
+  double worst = 0.0;
+  for (const double j : jc) worst = std::max(worst, std::abs(j - r));
+  return worst;
+}
+
+void QuadraticNodalVolumeTerm::update_multipliers(const StateView& s) {
+  if (mult_.lambda.empty()) return;
+  const std::vector<double> jc = ratios(s.x);
+  const double r = ratio_(s.t);
+  for (std::size_t c = 0; c < jc.size(); ++c) mult_.lambda[c] += penalty_.slope(jc[c], r);
+}
+
+void QuadraticNodalVolumeTerm::add_forces(const StateView& s, Eigen::Matrix3Xd& f) const {
+  const std::vector<double> slope = slopes(s.x, s.t);  // U'_c + lambda_c
   for (std::size_t e = 0; e < elements_.size(); ++e) {
     const Mat3N<10> x = positions(s.x, e);
     Mat3N<10> g = Mat3N<10>::Zero();
@@ -191,8 +223,10 @@ void QuadraticNodalVolumeTerm::add_jacobian(const StateView& s, JacobianSink& si
     double unused = 0.0;
     for (std::size_t q = 0; q < kQ; ++q) {
       double pq = 0.0;
-      for (std::size_t c = 0; c < 4; ++c)
-        pq += rule().wl[q][c] * penalty_.slope(jc[static_cast<std::size_t>(corner_[e][c])], r);
+      for (std::size_t c = 0; c < 4; ++c) {
+        const auto lc = static_cast<std::size_t>(corner_[e][c]);
+        pq += rule().wl[q][c] * (penalty_.slope(jc[lc], r) + mult_[lc]);
+      }
       add_determinant_term<10>(pq, rule().gamma[q], x, unused, unused_g, &hess);
     }
     for (std::size_t a = 0; a < 10; ++a) {
@@ -241,14 +275,13 @@ void QuadraticNodalVolumeTerm::add_cell_fields(const StateView& s, std::size_t e
   Eigen::VectorXd& out = fields["volumetric_stress"];
   const auto n = static_cast<Eigen::Index>(element_count);
   if (out.size() != n) out = Eigen::VectorXd::Zero(n);
-  const std::vector<double> jc = ratios(s.x);
-  const double r = ratio_(s.t);
+  const std::vector<double> slope = slopes(s.x, s.t);  // U'_c + lambda_c
   std::array<double, 4> v{};
   for (std::size_t e = 0; e < elements_.size(); ++e) {
     corner_volumes(positions(s.x, e), v, nullptr);
     double num = 0.0, den = 0.0;
     for (std::size_t c = 0; c < 4; ++c) {
-      num += penalty_.slope(jc[static_cast<std::size_t>(corner_[e][c])], r) * v[c];
+      num += slope[static_cast<std::size_t>(corner_[e][c])] * v[c];
       den += v[c];
     }
     out[static_cast<Eigen::Index>(mesh_element_[e])] += num / den;

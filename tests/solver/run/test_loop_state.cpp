@@ -30,6 +30,8 @@ RunLoopState sample() {
   l.rejected_steps = 9;
   l.newton_iterations = 321;
   l.linear_iterations = 4321;
+  l.augmentations = 55;
+  l.max_constraint_violation = 1.0 / 31.0 * 1e-6;
   l.dt_min_used = 1.0 / 3.0 * 1e-6;
   l.dt_max_used = 2.0 / 7.0 * 1e-4;
   l.ke_exceeded = true;
@@ -50,6 +52,8 @@ RunLoopState sample() {
   l.last_report.rejected = 2;
   l.last_report.newton_iterations = 7;
   l.last_report.linear_iterations = 70;
+  l.last_report.augmentations = 3;
+  l.last_report.constraint_violation = 1.0 / 37.0 * 1e-7;
   l.wall_seconds = 12.5;
   return l;
 }
@@ -60,6 +64,8 @@ void expect_same(const RunLoopState& a, const RunLoopState& b) {
   EXPECT_EQ(a.rejected_steps, b.rejected_steps);
   EXPECT_EQ(a.newton_iterations, b.newton_iterations);
   EXPECT_EQ(a.linear_iterations, b.linear_iterations);
+  EXPECT_EQ(a.augmentations, b.augmentations);
+  EXPECT_EQ(a.max_constraint_violation, b.max_constraint_violation);
   // EXPECT_EQ on doubles: bit for bit, not approximately.
   EXPECT_EQ(a.dt_min_used, b.dt_min_used);
   EXPECT_EQ(a.dt_max_used, b.dt_max_used);
@@ -81,6 +87,8 @@ void expect_same(const RunLoopState& a, const RunLoopState& b) {
   EXPECT_EQ(a.last_report.rejected, b.last_report.rejected);
   EXPECT_EQ(a.last_report.newton_iterations, b.last_report.newton_iterations);
   EXPECT_EQ(a.last_report.linear_iterations, b.last_report.linear_iterations);
+  EXPECT_EQ(a.last_report.augmentations, b.last_report.augmentations);
+  EXPECT_EQ(a.last_report.constraint_violation, b.last_report.constraint_violation);
   EXPECT_EQ(a.wall_seconds, b.wall_seconds);
 }
 
@@ -112,9 +120,9 @@ TEST(RunLoopState, EveryFieldIsStoredByNameAndAMissingOneIsRefusedByName) {
   StateArchive run = full.child("run");
   solver::save_loop_state(sample(), run);
   const auto keys = run.keys();
-  // 5 counters, 2 dt extrema, the kinetic-energy flag, next dt, 5 output times, good x/v/t/step,
-  // 7 report values, wall seconds: one dataset each, and no positional arrays.
-  EXPECT_EQ(keys.size(), 26u);
+  // 6 counters, 2 dt extrema, the largest volume violation, the kinetic-energy flag, next dt, 5
+  // output times, good x/v/t/step, 9 report values, wall seconds: one dataset each, no positional arrays.
+  EXPECT_EQ(keys.size(), 30u);
   for (const char* name : {"steps", "next_dt", "next_checkpoint_t", "good/step", "last_report/rejected"})
     EXPECT_NE(std::find(keys.begin(), keys.end(), name), keys.end()) << name;
   for (const auto& key : keys) {

@@ -56,6 +56,31 @@ TEST(Scene, IsotropicVolumeAloneBuildsNoAxisFrames) {
   EXPECT_EQ(sc.model.terms[0]->name(), "volume_preservation");
 }
 
+TEST(Scene, VolumeTakesAnAugmentedLagrangian) {
+  const std::string vhex = "- virtual_hexahedron: {law: svk, parameters: {E: 10 kPa, nu: 0.3}}";
+  const std::string statik = "integrator: {type: static, dt: 0.25 ms}";
+  const std::string al =
+      "- volume: {p: 1 kPa, distribution: nodal, augmented_lagrangian: {tolerance: 1e-7, max_updates: 9}}";
+  const auto sc =
+      test::load_scene(replaced(replaced(kBase, vhex, al), "integrator: {type: symplectic_euler, dt: 10 us}", statik));
+  ASSERT_EQ(sc.model.terms.size(), 1u);
+  const solver::AugmentedLagrangian got = sc.model.terms[0]->augmented_lagrangian();
+  EXPECT_TRUE(got.enabled);
+  EXPECT_DOUBLE_EQ(got.tolerance, 1e-7);
+  EXPECT_EQ(got.max_updates, 9);
+  // Defaults with an empty mapping; element-wise distributions take it too.
+  const auto def = test::load_scene(
+      replaced(replaced(kBase, vhex, "- volume: {p: 1 kPa, distribution: isotropic, augmented_lagrangian: {}}"),
+               "integrator: {type: symplectic_euler, dt: 10 us}", statik));
+  EXPECT_DOUBLE_EQ(def.model.terms[0]->augmented_lagrangian().tolerance, 1e-6);
+  EXPECT_EQ(def.model.terms[0]->augmented_lagrangian().max_updates, 50);
+  // Errors name the key; the explicit integrator is refused when the run is set up (make_integrator).
+  const std::string unknown = test::scene_error(replaced(kBase, vhex, replaced(al, "max_updates", "max_update")));
+  EXPECT_NE(unknown.find("augmented_lagrangian.max_update: unknown key"), std::string::npos) << unknown;
+  const std::string tol = test::scene_error(replaced(kBase, vhex, replaced(al, "1e-7", "0.5")));
+  EXPECT_NE(tol.find("augmented_lagrangian: augmented_lagrangian tolerance"), std::string::npos) << tol;
+}
+
 TEST(Scene, UnknownKeysAreNamedWithTheirPath) {
   EXPECT_NE(test::scene_error(replaced(kBase, "run: {t_end: 1 ms}", "run: {t_end: 1 ms, tend: 2}"))
                 .find("run.tend: unknown key"),

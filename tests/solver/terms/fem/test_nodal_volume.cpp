@@ -31,7 +31,7 @@ preprocess::Mesh box(const std::string& topo) {
 }
 
 solver::NodalVolumeParams params(VolumePenaltyForm form, double r = 1.0) {
-  return {{form, 5e3}, solver::TimeCourse::constant(r)};
+  return {{form, 5e3}, solver::TimeCourse::constant(r), {}};
 }
 
 }  // namespace
@@ -139,8 +139,8 @@ TEST(NodalVolume, OneElementEqualsTheElementTerm) {
 
 TEST(NodalVolume, RefusesBadInput) {
   const preprocess::Mesh mesh = box("tet6m");
-  EXPECT_THROW((void)solver::make_nodal_volume_term(mesh, {{VolumePenaltyForm::Quadratic, 0.0}, {}}), InputError);
-  EXPECT_THROW((void)solver::make_nodal_volume_term(mesh, {{VolumePenaltyForm::Quadratic, NAN}, {}}), InputError);
+  EXPECT_THROW((void)solver::make_nodal_volume_term(mesh, {{VolumePenaltyForm::Quadratic, 0.0}, {}, {}}), InputError);
+  EXPECT_THROW((void)solver::make_nodal_volume_term(mesh, {{VolumePenaltyForm::Quadratic, NAN}, {}, {}}), InputError);
   EXPECT_THROW((void)solver::make_nodal_volume_term(mesh, params(VolumePenaltyForm::Log, -1.0)), InputError);
   const std::vector<std::size_t> none;
   EXPECT_THROW((void)solver::make_nodal_volume_term(mesh, params(VolumePenaltyForm::Log), &none), InputError);

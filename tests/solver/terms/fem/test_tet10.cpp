@@ -201,7 +201,7 @@ TEST(Tet10, NodalP1VolumeTermPassesTheHarnessAndSumsToTheTotalVolume) {
   const double v_total = total_tet10_volume(mesh, mesh.nodes);
   for (const auto form :
        {solver::VolumePenaltyForm::Quadratic, solver::VolumePenaltyForm::Log, solver::VolumePenaltyForm::SimoTaylor}) {
-    const solver::NodalVolumeParams p{{form, 5e4}, solver::TimeCourse::constant(1.0)};
+    const solver::NodalVolumeParams p{{form, 5e4}, solver::TimeCourse::constant(1.0), {}};
     const auto term = solver::make_nodal_volume_term(mesh, p);
     const Eigen::Matrix3Xd x = test::perturbed(mesh.nodes, 0.5e-3, 0.03, 9);
     test::check_force_term(*term, x, Eigen::Matrix3Xd::Zero(3, x.cols()), 0.5e-3);
