@@ -21,6 +21,7 @@
 #include "solver/terms/adamss/virtual_hex.hpp"
 #include "solver/terms/adamss/volume_preservation.hpp"
 #include "solver/terms/adamss/volume_springs.hpp"
+#include "solver/terms/fem/active_stress_gauss.hpp"
 #include "solver/terms/fem/fem_element.hpp"
 #include "solver/terms/fem/nodal_volume.hpp"
 #include "solver/terms/springs/hybmss.hpp"
@@ -145,12 +146,23 @@ void build_active_tension(SceneNode& node, MaterialContext& ctx) {
     const double speed = d->positive("speed", Dimension::Velocity);
     const double offset = d->positive("offset", Dimension::Time, 0.0, true);
     d->finish();
-    const AxisFrames& fr = ctx.frames();
-    p.delay.resize(fr.size());
-    for (std::size_t k = 0; k < fr.size(); ++k)
-      p.delay[k] = offset + (preprocess::element_barycentre(ctx.mesh, fr.element[k]) - origin).norm() / speed;
+    const auto delay_of = [&](std::size_t e) {
+      return offset + (preprocess::element_barycentre(ctx.mesh, e) - origin).norm() / speed;
+    };
+    if (ctx.mesh.type == preprocess::ElementType::Tet10) {  // per mesh element, at the Gauss points
+      p.delay.assign(ctx.mesh.element_count(), 0.0);
+      for (const std::size_t e : ctx.elements) p.delay[e] = delay_of(e);
+    } else {  // per axis-frame entry
+      const AxisFrames& fr = ctx.frames();
+      p.delay.resize(fr.size());
+      for (std::size_t k = 0; k < fr.size(); ++k) p.delay[k] = delay_of(fr.element[k]);
+    }
   }
   node.finish();
+  if (ctx.mesh.type == preprocess::ElementType::Tet10) {
+    ctx.model.terms.push_back(make_gauss_active_stress_term(ctx.mesh, p, &ctx.elements));
+    return;
+  }
   ctx.model.terms.push_back(make_active_tension_term(ctx.mesh, ctx.frames(), p, &ctx.elements));
 }
 
@@ -363,10 +375,11 @@ void build_material_term(const std::string& type, SceneNode& node, MaterialConte
   }
   // Quadratic tetrahedra carry the FEM path only (preprocess/mesh/quadratic.hpp): the spring and
   // axis-frame terms are defined on linear elements.
-  if (ctx.mesh.type == preprocess::ElementType::Tet10 && type != "fem_element" && type != "volume") {
+  if (ctx.mesh.type == preprocess::ElementType::Tet10 && type != "fem_element" && type != "volume" &&
+      type != "active_tension") {
     throw InputError(node.path() + ": force term '" + type +
-                     "' is not available on quadratic tetrahedra (tet10); they take fem_element and volume "
-                     "(distribution isotropic)");
+                     "' is not available on quadratic tetrahedra (tet10); they take fem_element, volume "
+                     "(distribution isotropic or nodal) and active_tension (form stress)");
   }
   try {
     it->second(node, ctx);

@@ -66,6 +66,15 @@ Eigen::Vector3d fractions(const ActiveTensionParams& params) {
 
 }  // namespace
 
+ActivationSchedule make_activation_schedule(const ActiveTensionParams& params,
+                                            const std::vector<std::size_t>& element_of_item) {
+  return make_schedule(params, element_of_item);
+}
+
+Eigen::Vector3d active_fractions(const ActiveTensionParams& params) {
+  return fractions(params);
+}
+
 void validate_time_course(const TimeCourse& course, const std::string& what) {
   switch (course.kind) {
     case TimeCourse::Kind::Constant:
@@ -203,6 +212,7 @@ void ActiveAxisKernel<K, kCurrentArea>::jacobian(std::size_t i, const Mat3N<K>& 
 
 template struct ActiveStressKernel<4>;
 template struct ActiveStressKernel<8>;
+template struct ActiveStressKernel<10>;
 template struct ActiveAxisKernel<4, true>;
 template struct ActiveAxisKernel<8, true>;
 template struct ActiveAxisKernel<4, false>;

@@ -69,9 +69,9 @@
 #include <vector>
 
 #include "preprocess/mesh/mesh.hpp"
-#include "solver/geometry/axis_frame.hpp"
 #include "solver/core/stencil_term.hpp"
 #include "solver/core/time_course.hpp"
+#include "solver/geometry/axis_frame.hpp"
 
 namespace adamss::solver {
 
@@ -102,7 +102,7 @@ struct ActivationSchedule {
 /// Form::Stress on K-node elements.
 template <int K>
 struct ActiveStressKernel {
-  static_assert(K == 4 || K == 8, "K must be 4 (tet) or 8 (hex)");
+  static_assert(K == 4 || K == 8 || K == 10, "K must be 4 (tet), 8 (hex) or 10 (tet10, one item per Gauss point)");
   static constexpr bool kHasEnergy = true;
   static constexpr bool kHasJacobian = true;
 
@@ -167,6 +167,7 @@ struct ActiveAxisKernel {
 
 extern template struct ActiveStressKernel<4>;
 extern template struct ActiveStressKernel<8>;
+extern template struct ActiveStressKernel<10>;
 extern template struct ActiveAxisKernel<4, true>;
 extern template struct ActiveAxisKernel<8, true>;
 extern template struct ActiveAxisKernel<4, false>;
@@ -176,6 +177,14 @@ extern template struct ActiveAxisKernel<8, false>;
 /// uses is not finite, a table is empty/mismatched/not increasing, or a twitch has
 /// rise or decay <= 0.
 void validate_time_course(const TimeCourse& course, const std::string& what);
+
+/// The activation T_e(t) of items whose mesh elements are `element_of_item`, with params.delay
+/// per item (empty: none). InputError for a bad course or a delay that is not finite and >= 0
+/// (naming the item and its element) or of another length.
+[[nodiscard]] ActivationSchedule make_activation_schedule(const ActiveTensionParams& params,
+                                                          const std::vector<std::size_t>& element_of_item);
+/// r = (1, c_s, c_n); InputError for a fraction that is not finite and >= 0.
+[[nodiscard]] Eigen::Vector3d active_fractions(const ActiveTensionParams& params);
 
 template <int K>
 [[nodiscard]] ActiveStressKernel<K> make_active_stress_kernel(const preprocess::Mesh& mesh, const AxisFrames& frames,

@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 #include "common/error.hpp"
 #include "solver/core/element_subset.hpp"
@@ -40,19 +41,15 @@ Eigen::Matrix3d element_frame(const preprocess::Mesh& mesh, std::size_t e, const
 }  // namespace
 
 template <int K>
-GradientLawKernel<K> make_gauss_point_kernel(const preprocess::Mesh& mesh,
-                                             const std::shared_ptr<const materials::Law>& law,
-                                             const std::vector<std::size_t>* element_subset, const std::string& label) {
-  if (!law) throw InputError(label + ": no constitutive law given");
+GaussPoints<K> make_gauss_points(const preprocess::Mesh& mesh, const std::vector<std::size_t>* element_subset,
+                                 const std::string& label) {
   if (preprocess::nodes_per_element(mesh.type) != K)
     throw InputError(label + ": mesh element type does not match the kernel");
   constexpr int kPoints = K == 8 ? 8 : (K == 10 ? 4 : 1);
-  GradientLawKernel<K> kern;
-  kern.law = law;
-  kern.label = label;
-  kern.points = kPoints;
+  GaussPoints<K> gp;
+  gp.points = kPoints;
   const std::vector<std::size_t> elements = selected_elements(mesh, element_subset, label);
-  kern.elements.reserve(elements.size());
+  gp.elements.reserve(elements.size());
   for (const std::size_t e : elements) {
     const Index* n = mesh.element(e);
     std::array<Index, K> st{};
@@ -62,8 +59,8 @@ GradientLawKernel<K> make_gauss_point_kernel(const preprocess::Mesh& mesh,
       x0.col(a) = mesh.nodes.col(n[a]);
     }
     const Eigen::Matrix3d b = element_frame(mesh, e, label);
-    kern.elements.push_back(st);
-    kern.element_index.push_back(e);
+    gp.elements.push_back(st);
+    gp.element_index.push_back(e);
     for (int q = 0; q < kPoints; ++q) {
       Eigen::Matrix<double, K, 3> gamma;
       double w = 0.0;
@@ -85,11 +82,36 @@ GradientLawKernel<K> make_gauss_point_kernel(const preprocess::Mesh& mesh,
         os << label << ": element " << e << " is inverted or flat at Gauss point " << q << " (det J = " << det << ")";
         throw InputError(os.str());
       }
-      kern.gradient.push_back(gamma * j0.inverse());
-      kern.frame.push_back(b);
-      kern.volume0.push_back(w * det);
+      gp.gradient.push_back(gamma * j0.inverse());
+      gp.frame.push_back(b);
+      gp.volume0.push_back(w * det);
     }
   }
+  return gp;
+}
+
+template GaussPoints<4> make_gauss_points<4>(const preprocess::Mesh&, const std::vector<std::size_t>*,
+                                             const std::string&);
+template GaussPoints<8> make_gauss_points<8>(const preprocess::Mesh&, const std::vector<std::size_t>*,
+                                             const std::string&);
+template GaussPoints<10> make_gauss_points<10>(const preprocess::Mesh&, const std::vector<std::size_t>*,
+                                               const std::string&);
+
+template <int K>
+GradientLawKernel<K> make_gauss_point_kernel(const preprocess::Mesh& mesh,
+                                             const std::shared_ptr<const materials::Law>& law,
+                                             const std::vector<std::size_t>* element_subset, const std::string& label) {
+  if (!law) throw InputError(label + ": no constitutive law given");
+  GaussPoints<K> gp = make_gauss_points<K>(mesh, element_subset, label);
+  GradientLawKernel<K> kern;
+  kern.law = law;
+  kern.label = label;
+  kern.points = gp.points;
+  kern.elements = std::move(gp.elements);
+  kern.element_index = std::move(gp.element_index);
+  kern.gradient = std::move(gp.gradient);
+  kern.frame = std::move(gp.frame);
+  kern.volume0 = std::move(gp.volume0);
   return kern;
 }
 

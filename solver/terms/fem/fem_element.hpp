@@ -25,6 +25,7 @@
 // the same kernel (with its exact Jacobian, derived in solver/terms/adamss/virtual_hex.hpp) is reused.
 // B = [f s n] is the element's fibre frame from the mesh (re-orthonormalised), or the
 // identity when the mesh has no fibres. Sum over q of V_q is the exact reference volume.
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -35,6 +36,26 @@
 #include "solver/terms/adamss/virtual_hex.hpp"
 
 namespace adamss::solver {
+
+/// The quadrature points of the selected elements, element by element (`points` per element at
+/// i * points + q): G_q (K x 3, 1/m), the element's fibre frame B, and V_q = w_q det J0_q (m^3).
+template <int K>
+struct GaussPoints {
+  int points = 1;
+  std::vector<std::array<Index, K>> elements;         ///< node indices of each element
+  std::vector<std::size_t> element_index;             ///< mesh element of each element
+  std::vector<Eigen::Matrix<double, K, 3>> gradient;  ///< G_q per point
+  std::vector<Eigen::Matrix3d> frame;                 ///< B per point (the element's)
+  std::vector<double> volume0;                        ///< V_q per point
+};
+
+/// The points of K = 4 (1 point), 8 (2 x 2 x 2) or 10 (4 points) node elements in
+/// `element_subset` (all when null). InputError (prefixed `label`) for a type mismatch, a bad
+/// subset, a degenerate fibre frame or a point with det J0 <= 0 (naming the element).
+template <int K>
+[[nodiscard]] GaussPoints<K> make_gauss_points(const preprocess::Mesh& mesh,
+                                               const std::vector<std::size_t>* element_subset,
+                                               const std::string& label);
 
 /// Builds the Gauss-point kernel for K = 4 (tet mesh) or 8 (hex mesh); `label` becomes the
 /// term name. Item i is element subset[i] (all elements when null), with `points` = 8 (hex) or

@@ -4,6 +4,7 @@
 // pressure surfaces are quadratic, and the terms without a quadratic form are refused by name.
 #include <gtest/gtest.h>
 
+#include <map>
 #include <string>
 
 #include "common/error.hpp"
@@ -73,6 +74,30 @@ TEST(SceneQuadratic, RefusesTermsWithoutAQuadraticFormAndBadOrders) {
   hex = test::replaced(hex, "topology: tet6m", "topology: hex");
   EXPECT_NE(test::scene_error(hex).find("needs a mesh of linear tetrahedra"), std::string::npos)
       << test::scene_error(hex);
+}
+
+TEST(SceneQuadratic, ActiveStressRunsAtTheGaussPointsWithItsDelay) {
+  // active_tension form stress on tet10: one item per Gauss point (4 per element), the delay per
+  // element from its barycentre; the axis forms are refused by name.
+  const std::string active =
+      "fem_element: {law: neo_hookean, parameters: {E: 10 kPa, nu: 0.3}}\n      - active_tension: {form: stress, "
+      "tension: {ramp: {to: 5 kPa, duration: 1 ms}}, delay: {origin: [0, 0, 0], speed: 1 m/s}}";
+  const auto sc = test::load_scene(scene("2", active));
+  ASSERT_EQ(sc.model.terms.size(), 4u);  // law, active stress, volume, pressure
+  const solver::ForceTerm& a = *sc.model.terms[1];
+  EXPECT_EQ(a.name(), "active_stress");
+  EXPECT_EQ(a.describe(), std::to_string(4 * sc.model.mesh->element_count()) + " items");
+  std::map<std::string, Eigen::VectorXd> fields;
+  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, sc.model.x_ref.cols());
+  a.add_cell_fields({sc.model.x_ref, v, 2e-3}, sc.model.mesh->element_count(), fields);
+  const Eigen::VectorXd& t = fields.at("active_tension");
+  EXPECT_GT(t.maxCoeff(), 0.0);  // the elements within 2 mm of the origin have started
+  EXPECT_EQ(t.minCoeff(), 0.0);  // the far end has not
+  const std::string force = test::scene_error(
+      scene("2",
+            "fem_element: {law: neo_hookean, parameters: {E: 10 kPa, nu: 0.3}}\n      - active_tension: {form: force, "
+            "tension: 5 kPa}"));
+  EXPECT_NE(force.find("only form stress"), std::string::npos) << force;
 }
 
 TEST(SceneQuadratic, CavityRimHoldsTheMidNodesOfTheRimEdges) {

@@ -20,6 +20,7 @@
 #include "solver/geometry/surface.hpp"
 #include "solver/simd/volume_check.hpp"
 #include "solver/terms/adamss/volume_preservation.hpp"
+#include "solver/terms/fem/active_stress_gauss.hpp"
 #include "solver/terms/fem/fem_element.hpp"
 #include "solver/terms/fem/nodal_volume.hpp"
 #include "solver/terms/loads/cavity_pressure.hpp"
@@ -176,6 +177,51 @@ TEST(Tet10, PressureOnAClosedCurvedSurfaceIsTheVolumeGradient) {
   test::HarnessOptions opt;
   opt.internal = false;
   test::check_force_term(*term, x, v, 0.5e-3, opt);
+}
+
+TEST(Tet10, ActiveStressAtTheGaussPointsPassesTheHarnessAndIsExactForAnAffineStretch) {
+  // Land problem 3's active stress on tet10 (solver/terms/fem/active_stress_gauss.hpp): the
+  // derivative harness on a curved mesh with rotated fibres, sheet/normal fractions and delays
+  // (the harness runs at t = 0, where the ramp gives each delay its own tension); then, for
+  // x = A X with fibres along x, the energy is T V E_xx (E constant: the quadrature is exact).
+  auto mesh = curved_tet10();
+  test::set_rotated_fibres(mesh, false);
+  solver::ActiveTensionParams p;
+  p.course = solver::TimeCourse::ramp(20e3, 60e3, -0.1, 0.2);
+  p.sheet_fraction = 0.2;
+  p.normal_fraction = 0.1;
+  for (std::size_t e = 0; e < mesh.element_count(); ++e) p.delay.push_back(0.01 * static_cast<double>(e % 5));
+  const auto term = solver::make_gauss_active_stress_term(mesh, p);
+  EXPECT_EQ(term->name(), "active_stress");
+  const Eigen::Matrix3Xd x = test::perturbed(mesh.nodes, 0.5e-3, 0.03, 4);
+  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, x.cols());
+  test::HarnessOptions opt;
+  opt.tolerance = 1e-6;
+  test::check_force_term(*term, x, v, 0.5e-3, opt);
+  EXPECT_NE(term->energy({x, v, 0.0}), 0.0);
+
+  auto straight = straight_tet10();
+  test::set_axis_fibres(straight);
+  solver::ActiveTensionParams q;
+  q.course = solver::TimeCourse::constant(60e3);
+  const auto uniform = solver::make_gauss_active_stress_term(straight, q);
+  Eigen::Matrix3d a;
+  a << 1.1, 0.05, 0.0, -0.03, 0.95, 0.02, 0.01, 0.0, 1.02;
+  const Eigen::Matrix3Xd xa = a * straight.nodes;
+  const double exx = 0.5 * ((a.transpose() * a)(0, 0) - 1.0);
+  EXPECT_NEAR(uniform->energy({xa, Eigen::Matrix3Xd::Zero(3, xa.cols()), 0.3}), 60e3 * kLx * kLy * kLz * exx,
+              1e-12 * 60e3 * kLx * kLy * kLz);
+  // A flux-free stress field: the interior nodes carry no net force under a uniform S_a and F.
+  const Eigen::Matrix3Xd f = test::forces_of(*uniform, xa, Eigen::Matrix3Xd::Zero(3, xa.cols()));
+  double interior = 0.0, boundary = 0.0;
+  for (Eigen::Index i = 0; i < f.cols(); ++i)
+    (on_boundary(straight.nodes.col(i)) ? boundary : interior) =
+        std::max(on_boundary(straight.nodes.col(i)) ? boundary : interior, f.col(i).norm());
+  EXPECT_GT(boundary, 0.0);
+  EXPECT_LT(interior, 1e-12 * boundary);
+  // Only the stress form exists on tet10, and the scene builds it.
+  q.form = solver::ActiveTensionParams::Form::Force;
+  EXPECT_THROW((void)solver::make_gauss_active_stress_term(straight, q), InputError);
 }
 
 TEST(Tet10, TermsWithoutAQuadraticFormRefuseByName) {
