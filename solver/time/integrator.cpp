@@ -136,9 +136,10 @@ std::unique_ptr<Integrator> make_integrator(const std::string& name, System& sys
     for (const auto& t : system.model().terms) {
       if (t->cavity_constraint() != nullptr)
         throw InputError(name + " cannot hold a cavity volume (" + t->name() + "); use the integrator type static");
-      if (t->augmented_lagrangian().enabled)
+      if (t->augmented_lagrangian().enabled) {
         throw InputError(name + " cannot update the augmented-Lagrangian multipliers of " + t->name() +
                          "; use the integrator type static (or drop augmented_lagrangian)");
+      }
     }
   }
   const ImplicitSettings defaults;
