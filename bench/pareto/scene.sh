@@ -2,7 +2,10 @@
 # Prints one pareto-sweep scene (YAML) on stdout.
 # Usage: scene.sh PROBLEM MODEL TOPOLOGY LEVEL SOLVER DT FITDIR
 #   PROBLEM  p1 (Land beam) | p2 (Land ellipsoid) | p3 (seed 001 cube, 5 % compression)
-#   MODEL    fem | vhex_axis | springs | hybmss | lloyd | mss
+#   MODEL    fem | vhex_axis | springs | hybmss | lloyd | mss, or the nearly incompressible elements of
+#            issue 23 (uncoupled law, volume exact by the augmented Lagrangian at kappa = 2000 C; static
+#            only): fem_q1p0 (hex, element mean dilatation), fem_nodal (tet, nodal volume),
+#            fem_p2p0 / fem_p2p1 (the tet mesh raised to tet10; element mean / corner P1 dilatation)
 #   TOPOLOGY hex | tet5m | tet6m (boxes) ; hex | tet (ellipsoid, Kuhn tetrahedra)
 #   LEVEL    p1: NXxNYxNZ divisions of the beam; p2: NVxNUxNT of the ellipsoid; p3: n (n^3 cubes)
 #   SOLVER   static | implicit (backward_euler_newton) | explicit (symplectic_euler)
@@ -67,7 +70,17 @@ volume_term=""
 hourglass=""
 [[ $topo == hex ]] && hourglass="
       - hourglass: {fraction: 0.05}"
+# The issue-23 elements: uncoupled law, volume exact (augmented Lagrangian, |J - 1| <= 1e-6).
+al_volume() {
+  printf '\n      - volume: {p: %s, distribution: %s, augmented_lagrangian: {tolerance: 1e-6}}' "$vol" "$1"
+}
 case $model in
+  fem_p2p0 | fem_p2p1) mesh="$mesh
+  order: 2" ;;
+esac
+case $model in
+  fem_q1p0 | fem_p2p0) terms="      - fem_element: {law: $law, parameters: $params, uncoupled: true}$(al_volume isotropic)" ;;
+  fem_nodal | fem_p2p1) terms="      - fem_element: {law: $law, parameters: $params, uncoupled: true}$(al_volume nodal)" ;;
   fem)       terms="      - fem_element: {law: $law, parameters: $params}$volume_term" ;;
   vhex_axis) terms="      - virtual_hexahedron: {law: $law, parameters: $params, quadrature: axis}$volume_term$hourglass" ;;
   springs)   if [[ $problem == p3 ]]; then
