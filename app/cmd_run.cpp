@@ -115,7 +115,7 @@ nlohmann::json summary_json(const solver::LoadedScene& sc, const solver::RunOutc
   j["rejected_steps"] = out.rejected_steps;
   j["newton_iterations"] = out.newton_iterations;
   j["linear_iterations"] = out.linear_iterations;
-  if (out.augmentations > 0) {
+  if (!solver::augmented_terms(m.terms).empty()) {  // also when no update was needed
     j["augmented_lagrangian"] = {{"updates", out.augmentations},
                                  {"max_volume_ratio_violation", out.max_constraint_violation}};
   }

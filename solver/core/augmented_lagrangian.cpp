@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 #include "common/error.hpp"
 
@@ -24,8 +25,16 @@ void VolumeMultipliers::save(StateArchive& archive) const {
   if (settings.enabled) archive.put("lambda", lambda);
 }
 
+void VolumeMultipliers::assign(const std::vector<double>& values) {
+  if (values.size() != lambda.size())
+    throw std::logic_error("VolumeMultipliers::assign: " + std::to_string(values.size()) + " values for " +
+                           std::to_string(lambda.size()) + " multipliers");
+  lambda = values;
+}
+
 void VolumeMultipliers::load(const StateArchive& archive, const std::string& who) {
   if (!settings.enabled) return;
+  if (!archive.has("lambda")) return;  // a checkpoint of the plain penalty: the multipliers start at 0
   const std::vector<double>& l = archive.doubles("lambda");
   if (l.size() != lambda.size()) {
     throw InputError(archive.source() + ": " + who + " has " + std::to_string(l.size()) +

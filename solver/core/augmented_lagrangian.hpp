@@ -42,9 +42,12 @@ struct VolumeMultipliers {
   [[nodiscard]] double operator[](std::size_t i) const { return lambda.empty() ? 0.0 : lambda[i]; }
   /// Sizes lambda for `count` constraints (zeros) when enabled; leaves it empty otherwise.
   void resize(std::size_t count) { lambda.assign(settings.enabled ? count : 0, 0.0); }
+  /// Sets lambda to `values`; std::logic_error if the count differs (a caller's bug).
+  void assign(const std::vector<double>& values);
   /// Writes "lambda" into `archive` when enabled.
   void save(StateArchive& archive) const;
-  /// Reads what save wrote; InputError (naming `who` and the checkpoint) if the count differs.
+  /// Reads what save wrote (nothing to read: a checkpoint written without the multipliers, which
+  /// then start at 0); InputError (naming `who` and the checkpoint) if the count differs.
   void load(const StateArchive& archive, const std::string& who);
 };
 

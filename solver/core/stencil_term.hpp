@@ -23,6 +23,9 @@
 //           void end_step(const StateView& s, double dt);   // state update after a step
 //           void save_state(StateArchive&) const; void load_state(const StateArchive&);
 //                                                            // that state, for checkpoints
+//           VolumeMultipliers multipliers; double gap(i, x, t) const; double penalty_slope(i, x, t) const;
+//                                                            // augmented Lagrangian: J_i - r and U'(J_i; r)
+//                                                            // (solver/core/augmented_lagrangian.hpp)
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -109,7 +112,7 @@ class StencilTerm final : public ForceTerm {
     return {};
   }
   void set_multipliers(const std::vector<double>& lambda) override {
-    if constexpr (requires { kernel_.multipliers.settings; }) kernel_.multipliers.lambda = lambda;
+    if constexpr (requires { kernel_.multipliers.settings; }) kernel_.multipliers.assign(lambda);
   }
 
   [[nodiscard]] double energy(const StateView& s) const override {

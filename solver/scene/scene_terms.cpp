@@ -180,7 +180,11 @@ void build_volume(SceneNode& node, MaterialContext& ctx) {
   if (std::optional<SceneNode> al = node.optional_map("augmented_lagrangian")) {
     p.augmented.enabled = true;
     p.augmented.tolerance = al->positive("tolerance", Dimension::Dimensionless, p.augmented.tolerance);
-    p.augmented.max_updates = static_cast<int>(al->integer("max_updates", p.augmented.max_updates));
+    const long long updates = al->integer("max_updates", p.augmented.max_updates);
+    if (updates < 1 || updates > 100000) {
+      throw InputError(al->at("max_updates") + ": must be an integer in [1, 100000], got " + std::to_string(updates));
+    }
+    p.augmented.max_updates = static_cast<int>(updates);
     al->finish();
     check_augmented_lagrangian(p.augmented, node.at("augmented_lagrangian"));
   }

@@ -93,30 +93,41 @@ bool ImplicitIntegrator::attempt(State& s, double h, StepReport& rep) {
   record_ = NewtonRecord{};
   last_linear_ = 0;
   linear_->reset_iterations();
+  rep.augmentations = 0;  // of this attempt only
+  rep.constraint_violation = 0.0;
   const double t0 = s.t;
   x0_ = s.x;
   v0_ = s.v;
   resolve_iterations_ = 0;
-  // What a failed attempt must put back besides the state: the multipliers of the cavities and
-  // of the augmented terms (the bordered solve restores the former only on its own failure).
+  // What a failed or interrupted attempt must put back besides the state: the multipliers of the
+  // cavities and of the augmented terms (the bordered solve restores the former only on its own
+  // failure, and a re-solve of the augmented Lagrangian works on s itself).
   std::vector<double> cavity_p;
   for (const CavityConstraintTerm* c : constraints_) cavity_p.push_back(c->multiplier());
   std::vector<std::vector<double>> lambda;
   for (const ForceTerm* t : augmented_) lambda.push_back(t->multipliers());
-  bool ok = false;
-  if (kind_ == Kind::Static) {
-    ok = constraints_.empty() ? static_step(s, h, rep) : static_bordered_step(s, h, rep);
-    if (ok && !augmented_.empty()) ok = augment(s, h, rep);
-  } else {
-    ok = backward_euler_step(s, h, rep);
-  }
-  s.t = t1;
-  if (!ok || !s.x.allFinite() || !s.v.allFinite()) {
+  const auto restore = [&] {
     s.x = x0_;
     s.v = v0_;
     s.t = t0;
     for (std::size_t k = 0; k < constraints_.size(); ++k) constraints_[k]->set_multiplier(cavity_p[k]);
     for (std::size_t k = 0; k < augmented_.size(); ++k) augmented_[k]->set_multipliers(lambda[k]);
+  };
+  bool ok = false;
+  try {
+    if (kind_ == Kind::Static) {
+      ok = constraints_.empty() ? static_step(s, h, rep) : static_bordered_step(s, h, rep);
+      if (ok && !augmented_.empty()) ok = augment(s, h, rep);
+    } else {
+      ok = backward_euler_step(s, h, rep);
+    }
+  } catch (...) {  // a stop request (StepInterrupted) or an error: the step start stays intact
+    restore();
+    throw;
+  }
+  s.t = t1;
+  if (!ok || !s.x.allFinite() || !s.v.allFinite()) {
+    restore();
     return false;
   }
   if (kind_ == Kind::Static && constraints_.empty()) {

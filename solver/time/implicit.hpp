@@ -25,7 +25,12 @@
 // dt halved and the step retried; below dt_min the run stops with a NumericalError. With
 // adapt, the next step grows by 1.5 (up to dt_max) after an easy step taken without a
 // rejection -- Newton schemes: at most 4 Newton iterations; backward_euler: linear iterations
-// at most ksp_max_it / 4 -- and a Newton scheme halves it (down to dt_min) after 10 or more.
+// at most ksp_max_it / 4 -- and a Newton scheme halves it (down to dt_min) after 10 or more
+// (not counting the augmented Lagrangian's re-solves at the same load, below).
+// Augmented Lagrangian (static only; solver/core/augmented_lagrangian.hpp): after a converged load
+// step the terms with multipliers update them while max |J - r| exceeds their tolerance, and Newton
+// solves again from the converged state; a failed or interrupted attempt puts the state, the
+// multipliers and the cavity pressures back as they were at the step's start.
 // A term without a Jacobian makes these integrators refuse the scene by name (require_jacobians).
 // Cavity constraints (solver/terms/loads/cavity_constraint.hpp: a held volume, or a circulation's
 // phase condition -- given pressure, held volume, Windkessel ejection V = V*(P)) are enforced by
@@ -73,8 +78,8 @@ class ImplicitIntegrator : public Integrator {
   /// The scheme: a row of integrator_table() (solver/time/integrator.hpp) that is not explicit.
   using Kind = IntegratorType;
   /// InputError for a term without a Jacobian, a cavity constraint under the linearised
-  /// backward_euler, or dt bounds that are not 0 < dt_min <= dt_max; std::logic_error for an
-  /// explicit `kind`.
+  /// backward_euler, a term with augmented-Lagrangian multipliers under a backward-Euler scheme,
+  /// or dt bounds that are not 0 < dt_min <= dt_max; std::logic_error for an explicit `kind`.
   ImplicitIntegrator(System& system, Kind kind, const ImplicitSettings& settings);
   ~ImplicitIntegrator() override;
   ImplicitIntegrator(const ImplicitIntegrator&) = delete;

@@ -12,6 +12,9 @@
 //                                 volume preservation (eq. 2.86), r != 1 volume control
 //   p > 0                         penalty coefficient (Pa)
 // Time enters only through r(t): energy, forces and Jacobian are evaluated at s.t.
+// With the augmented Lagrangian (solver/core/augmented_lagrangian.hpp) item k also carries a
+// multiplier lambda_k (Pa): energy_k += V0 lambda_k (J - r), i.e. U' reads U' + lambda_k in the
+// forces and in the Hessian's d^2J term.
 //
 // Two ways of measuring J (the text after eq. 2.100):
 //
@@ -152,10 +155,11 @@ struct VolumeKernel {
   void forces(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& v, double t, Mat3N<K>& f) const;
   void jacobian(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& v, double t, MatJ<K>& dfdx, MatJ<K>& dfdv) const;
   /// Adds the term's hydrostatic Cauchy stress to `fields["volumetric_stress"]` (Pa, positive in
-  /// tension) for the frames: sigma_vol = (U'(J; r) + lambda) I (lambda the multiplier, 0 without augmentation).
-  /// Derivation: with W = U(J), P = dW/dF = U'(J) J F^-T, so sigma = P F^T / J = U'(J) I (anisotropic J = det(X G)
-  /// exactly; isotropic J = V / V0, the element mean of det F). The result writer adds it to stress_cauchy and J U'
-  /// C^-1 to stress_pk2 (solver/run/results.hpp).
+  /// tension) for the frames: sigma_vol = (U'(J; r) + lambda) I, lambda the item's multiplier (0
+  /// without the augmented Lagrangian). Derivation: with W = U(J) + lambda (J - r), P = dW/dF =
+  /// (U' + lambda) J F^-T, so sigma = P F^T / J = (U' + lambda) I (anisotropic J = det(X G) exactly;
+  /// isotropic J = V / V0, the element mean of det F). The result writer adds it to stress_cauchy
+  /// and J (U' + lambda) C^-1 to stress_pk2 (solver/run/results.hpp).
   void add_cell_fields(const StateView& s, std::size_t element_count,
                        std::map<std::string, Eigen::VectorXd>& fields) const;
   /// J_i - r(t), the constraint of item i.

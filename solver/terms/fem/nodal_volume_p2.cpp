@@ -72,7 +72,7 @@ class QuadraticNodalVolumeTerm final : public ForceTerm {
   [[nodiscard]] double constraint_violation(const StateView& s) const override;
   void update_multipliers(const StateView& s) override;
   [[nodiscard]] std::vector<double> multipliers() const override { return mult_.lambda; }
-  void set_multipliers(const std::vector<double>& lambda) override { mult_.lambda = lambda; }
+  void set_multipliers(const std::vector<double>& lambda) override { mult_.assign(lambda); }
   void save_state(StateArchive& archive) const override { mult_.save(archive); }
   void load_state(const StateArchive& archive) override { mult_.load(archive, kTerm); }
   /// `volumetric_stress` per element: the mean of p_e over the element, sum_c U'_c v_ec / V_e.

@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <csignal>
 #include <functional>
 #include <memory>
 #include <string>
@@ -21,6 +22,7 @@
 #include "solver/core/boundary.hpp"
 #include "solver/core/mass.hpp"
 #include "solver/core/model.hpp"
+#include "solver/core/stop_flag.hpp"
 #include "solver/terms/adamss/volume_preservation.hpp"
 #include "solver/terms/fem/fem_element.hpp"
 #include "solver/terms/fem/nodal_volume.hpp"
@@ -218,6 +220,78 @@ TEST(AugmentedLagrangian, StaticSolverDrivesASoftPenaltyToTheIncompressibleAnswe
   EXPECT_EQ(soft.augmentations, 0);
   EXPECT_LT((al.x - stiff.x).cwiseAbs().maxCoeff(), 0.02 * (soft.x - stiff.x).cwiseAbs().maxCoeff());
   EXPECT_LT((al.x - stiff.x).cwiseAbs().maxCoeff(), 1e-7);
+}
+
+namespace {
+
+/// A term with a "constraint" that is never met: its update requests a stop (as SIGTERM would)
+/// and moves its own multiplier, so the re-solve that follows is interrupted.
+class StopOnUpdate final : public ForceTerm {
+ public:
+  [[nodiscard]] std::string name() const override { return "stop_on_update"; }
+  [[nodiscard]] bool has_energy() const override { return true; }
+  [[nodiscard]] bool has_jacobian() const override { return true; }
+  [[nodiscard]] double energy(const solver::StateView& /*s*/) const override { return 0.0; }
+  void add_forces(const solver::StateView& /*s*/, Eigen::Matrix3Xd& /*f*/) const override {}
+  void add_jacobian(const solver::StateView& /*s*/, solver::JacobianSink& /*sink*/) const override {}
+  [[nodiscard]] AugmentedLagrangian augmented_lagrangian() const override { return {true, 1e-12, 3}; }
+  [[nodiscard]] double constraint_violation(const solver::StateView& /*s*/) const override { return 1.0; }
+  void update_multipliers(const solver::StateView& /*s*/) override {
+    lambda_[0] += 42.0;
+    solver::request_stop(SIGTERM);
+  }
+  [[nodiscard]] std::vector<double> multipliers() const override { return lambda_; }
+  void set_multipliers(const std::vector<double>& l) override { lambda_ = l; }
+
+ private:
+  std::vector<double> lambda_{0.0};
+};
+
+}  // namespace
+
+TEST(AugmentedLagrangian, AStopDuringAReSolvePutsTheStepStartBack) {
+  // The first solve of the load step converges, the multipliers are updated, and the stop arrives
+  // before the re-solve: StepInterrupted, and the state, time and every multiplier (the volume
+  // term's included) are those of the step's start, which the run loop then checkpoints.
+  auto mesh = std::make_shared<preprocess::Mesh>(box("tet6m"));
+  solver::Model model;
+  model.mesh = mesh;
+  model.x_ref = mesh->nodes;
+  model.mass = solver::voronoi_masses(*mesh, std::vector<double>(mesh->element_count(), 1000.0));
+  model.constraints = solver::Constraints(mesh->node_count());
+  const auto law =
+      std::make_shared<materials::UncoupledLaw>(materials::make_law("neo_hookean", {{"mu", 1e3}, {"lambda", 0.0}}));
+  model.terms.push_back(solver::make_gauss_point_term(*mesh, law, nullptr, "fem_element"));
+  model.terms.push_back(solver::make_nodal_volume_term(
+      *mesh, {{solver::VolumePenaltyForm::Quadratic, 1e4}, solver::TimeCourse::constant(1.0), kOn}));
+  auto stopper = std::make_unique<StopOnUpdate>();
+  const StopOnUpdate* probe = stopper.get();
+  model.terms.push_back(std::move(stopper));
+  for (Eigen::Index i = 0; i < model.x_ref.cols(); ++i) {
+    const auto n = static_cast<preprocess::Index>(i);
+    if (model.x_ref(0, i) < 1e-9) model.constraints.fix(n, 7, "clamp");
+    if (model.x_ref(0, i) > 1.5e-3 - 1e-9)
+      model.constraints.control(n, 0, solver::TimeCourse::ramp(0.0, 0.3e-3, 0.0, 1.0), false, "pull");
+  }
+  solver::System sys(model);
+  solver::ImplicitIntegrator integ(sys, solver::ImplicitIntegrator::Kind::Static, solver::ImplicitSettings{});
+  solver::State s{model.x_ref, zero_like(model.x_ref), 0.0};
+  const std::vector<double> lambda0 = model.terms[1]->multipliers();
+  solver::clear_stop();
+  EXPECT_THROW((void)integ.step(s, 0.5), solver::StepInterrupted);
+  solver::clear_stop();
+  EXPECT_EQ(s.t, 0.0);
+  EXPECT_TRUE(s.x == model.x_ref);
+  EXPECT_EQ(probe->multipliers(), std::vector<double>{0.0});
+  EXPECT_EQ(model.terms[1]->multipliers(), lambda0);
+  // Without the stopper's never-met constraint the same step completes and updates the volume term.
+  model.terms.pop_back();
+  solver::System sys2(model);
+  solver::ImplicitIntegrator integ2(sys2, solver::ImplicitIntegrator::Kind::Static, solver::ImplicitSettings{});
+  const solver::StepReport rep = integ2.step(s, 0.5);
+  EXPECT_EQ(s.t, 0.5);
+  EXPECT_GT(rep.augmentations, 0);
+  EXPECT_NE(model.terms[1]->multipliers(), lambda0);
 }
 
 TEST(AugmentedLagrangian, RefusesBadSettingsAndIntegratorsThatCannotUpdate) {

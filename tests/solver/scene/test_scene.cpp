@@ -77,6 +77,9 @@ TEST(Scene, VolumeTakesAnAugmentedLagrangian) {
   // Errors name the key; the explicit integrator is refused when the run is set up (make_integrator).
   const std::string unknown = test::scene_error(replaced(kBase, vhex, replaced(al, "max_updates", "max_update")));
   EXPECT_NE(unknown.find("augmented_lagrangian.max_update: unknown key"), std::string::npos) << unknown;
+  const std::string many =
+      test::scene_error(replaced(kBase, vhex, replaced(al, "max_updates: 9", "max_updates: 4294967297")));
+  EXPECT_NE(many.find("max_updates: must be an integer in [1, 100000]"), std::string::npos) << many;
   const std::string tol = test::scene_error(replaced(kBase, vhex, replaced(al, "1e-7", "0.5")));
   EXPECT_NE(tol.find("augmented_lagrangian: augmented_lagrangian tolerance"), std::string::npos) << tol;
 }
