@@ -26,9 +26,10 @@ void VolumeMultipliers::save(StateArchive& archive) const {
 }
 
 void VolumeMultipliers::assign(const std::vector<double>& values) {
-  if (values.size() != lambda.size())
+  if (values.size() != lambda.size()) {
     throw std::logic_error("VolumeMultipliers::assign: " + std::to_string(values.size()) + " values for " +
                            std::to_string(lambda.size()) + " multipliers");
+  }
   lambda = values;
 }
 
