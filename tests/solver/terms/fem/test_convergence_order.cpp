@@ -8,8 +8,9 @@
 // A = 1 mm to a = 1.2 mm, outer surface B = 2 mm free, every node held in z. Law: neo-Hookean,
 // uncoupled (mu = 1 kPa); volume: the tet10 corner projection (`distribution: nodal`, Taylor-Hood
 // P2-P1 penalty) or the element mean (`isotropic`, P2-P0), either with the augmented Lagrangian to
-// |J - 1| <= 1e-10, so the discrete solution is the incompressible one. The mesh is a structured (R, theta, z) box raised to tet10 in that
-// parameter space and then mapped, so the boundaries are curved exactly as isoparametric P2 allows.
+// |J - 1| <= 1e-10, so the discrete solution is the incompressible one. The mesh is a structured (R, theta, z) box
+// raised to tet10 in that parameter space and then mapped, so the boundaries are curved exactly as isoparametric P2
+// allows.
 //
 // Checked: the largest nodal error |x_h - x(R)| falls with h at an observed order >= 1.8 over
 // three meshes (h halved each time) for P2-P1 (>= 1.5 for P2-P0, the element-wise pressure; see
