@@ -10,6 +10,7 @@
 #include "solver/core/stencil_term.hpp"
 #include "solver/geometry/axis_frame.hpp"
 #include "solver/terms/adamss/volume_preservation.hpp"
+#include "solver/terms/fem/nodal_constraint_term.hpp"
 #include "solver/terms/fem/nodal_volume_p2.hpp"
 
 namespace adamss::solver {
@@ -20,30 +21,19 @@ constexpr const char* kTerm = "volume_preservation (nodal)";
 /// The term for K-node elements (4: tetrahedron, 8: hexahedron); see the header for the math.
 /// Nodes are numbered locally (0 .. nodes_.size() - 1) over the selected elements only.
 template <int K>
-class NodalVolumeTerm final : public ForceTerm {
+class NodalVolumeTerm final : public NodalConstraintTerm {
  public:
   NodalVolumeTerm(const preprocess::Mesh& mesh, const NodalVolumeParams& params,
                   const std::vector<std::size_t>& selected);
 
-  [[nodiscard]] std::string name() const override { return "volume_preservation"; }
-  [[nodiscard]] bool has_energy() const override { return true; }
-  [[nodiscard]] bool has_jacobian() const override { return true; }
   [[nodiscard]] std::string describe() const override {
     return "nodal, " + std::to_string(nodes_.size()) + " nodes on " + std::to_string(elements_.size()) +
            " elements, U " + volume_penalty_name(penalty_.form);
   }
 
-  [[nodiscard]] double energy(const StateView& s) const override;
   void add_forces(const StateView& s, Eigen::Matrix3Xd& f) const override;
   void add_jacobian(const StateView& s, JacobianSink& sink) const override;
   void add_couplings(std::vector<std::vector<Index>>& adj) const override;
-  [[nodiscard]] AugmentedLagrangian augmented_lagrangian() const override { return mult_.settings; }
-  [[nodiscard]] double constraint_violation(const StateView& s) const override;
-  void update_multipliers(const StateView& s) override;
-  [[nodiscard]] std::vector<double> multipliers() const override { return mult_.lambda; }
-  void set_multipliers(const std::vector<double>& lambda) override { mult_.assign(lambda); }
-  void save_state(StateArchive& archive) const override { mult_.save(archive); }
-  void load_state(const StateArchive& archive) override { mult_.load(archive, kTerm); }
   /// `volumetric_stress` (Pa, positive in tension) per element: c_e = sum_{n in e} U'_n / K, the
   /// hydrostatic Cauchy stress that the element's forces -c_e dV_e/dx carry (the result writer
   /// adds it to the stress tensors; solver/run/results.hpp).
@@ -52,20 +42,14 @@ class NodalVolumeTerm final : public ForceTerm {
 
  private:
   /// Current nodal volume ratios J_n = V_n / V0_n.
-  [[nodiscard]] std::vector<double> ratios(const Eigen::Matrix3Xd& x) const;
-  /// U'(J_n; r) + lambda_n per node at x, time t (Pa).
-  [[nodiscard]] std::vector<double> slopes(const Eigen::Matrix3Xd& x, double t) const;
+  [[nodiscard]] std::vector<double> ratios(const Eigen::Matrix3Xd& x) const override;
   /// Node patches (elements around each node and their nodes' places in the patch).
   void build_patches();
 
-  VolumePenalty penalty_;
-  TimeCourse ratio_;
-  VolumeMultipliers mult_;                      ///< lambda_n per local node (augmented Lagrangian)
   std::vector<std::array<Index, K>> elements_;  ///< global node indices
   std::vector<std::array<int, K>> local_;       ///< local node indices of each element
   std::vector<std::size_t> mesh_element_;       ///< mesh element index of each element
-  std::vector<Index> nodes_;                    ///< global index of each local node
-  std::vector<double> volume0_;                 ///< V0_n (m^3)
+  std::vector<Index> nodes_;                    ///< global index of each local node (V0_n: volume0_)
   // Node patches, CSR over local nodes: the elements around node n are
   // around_[around_start_[n] .. around_start_[n + 1]); the patch nodes (sorted local indices)
   // patch_[patch_start_[n] .. patch_start_[n + 1]); place_[j][a] is where node a of element
@@ -78,8 +62,7 @@ class NodalVolumeTerm final : public ForceTerm {
 template <int K>
 NodalVolumeTerm<K>::NodalVolumeTerm(const preprocess::Mesh& mesh, const NodalVolumeParams& params,
                                     const std::vector<std::size_t>& selected)
-    : penalty_(params.penalty), ratio_(params.ratio) {
-  mult_.settings = params.augmented;
+    : NodalConstraintTerm(params, kTerm) {
   std::vector<int> local_of(mesh.node_count(), -1);
   for (const std::size_t e : selected) {
     std::array<Index, K> g{};
@@ -106,7 +89,7 @@ NodalVolumeTerm<K>::NodalVolumeTerm(const preprocess::Mesh& mesh, const NodalVol
     local_.push_back(l);
     mesh_element_.push_back(e);
   }
-  mult_.resize(nodes_.size());
+  constraints_built();
   build_patches();
 }
 
@@ -151,41 +134,6 @@ std::vector<double> NodalVolumeTerm<K>::ratios(const Eigen::Matrix3Xd& x) const 
   }
   for (std::size_t n = 0; n < nodes_.size(); ++n) jn[n] /= volume0_[n];
   return jn;
-}
-
-template <int K>
-std::vector<double> NodalVolumeTerm<K>::slopes(const Eigen::Matrix3Xd& x, double t) const {
-  std::vector<double> jn = ratios(x);
-  const double r = ratio_(t);
-  for (std::size_t n = 0; n < jn.size(); ++n) jn[n] = penalty_.slope(jn[n], r) + mult_[n];
-  return jn;
-}
-
-template <int K>
-double NodalVolumeTerm<K>::energy(const StateView& s) const {
-  std::vector<double> jn = ratios(s.x);
-  const double r = ratio_(s.t);
-  double e = 0.0;
-  for (std::size_t n = 0; n < nodes_.size(); ++n)
-    e += volume0_[n] * (penalty_.value(jn[n], r) + mult_[n] * (jn[n] - r));
-  return e;
-}
-
-template <int K>
-double NodalVolumeTerm<K>::constraint_violation(const StateView& s) const {
-  const std::vector<double> jn = ratios(s.x);
-  const double r = ratio_(s.t);
-  double worst = 0.0;
-  for (const double j : jn) worst = std::max(worst, std::abs(j - r));
-  return worst;
-}
-
-template <int K>
-void NodalVolumeTerm<K>::update_multipliers(const StateView& s) {
-  if (mult_.lambda.empty()) return;
-  const std::vector<double> jn = ratios(s.x);
-  const double r = ratio_(s.t);
-  for (std::size_t n = 0; n < jn.size(); ++n) mult_.lambda[n] += penalty_.slope(jn[n], r);
 }
 
 template <int K>

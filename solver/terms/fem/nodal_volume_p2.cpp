@@ -10,6 +10,7 @@
 #include "solver/core/stencil_term.hpp"
 #include "solver/geometry/axis_frame.hpp"
 #include "solver/terms/adamss/volume_preservation.hpp"
+#include "solver/terms/fem/nodal_constraint_term.hpp"
 
 namespace adamss::solver {
 namespace {
@@ -52,49 +53,33 @@ void corner_volumes(const Mat3N<10>& x, std::array<double, 4>& v, std::array<Mat
   }
 }
 
-class QuadraticNodalVolumeTerm final : public ForceTerm {
+class QuadraticNodalVolumeTerm final : public NodalConstraintTerm {
  public:
   QuadraticNodalVolumeTerm(const preprocess::Mesh& mesh, const NodalVolumeParams& params,
                            const std::vector<std::size_t>& selected);
 
-  [[nodiscard]] std::string name() const override { return "volume_preservation"; }
-  [[nodiscard]] bool has_energy() const override { return true; }
-  [[nodiscard]] bool has_jacobian() const override { return true; }
   [[nodiscard]] std::string describe() const override {
     return "nodal (P1 on the corners of tet10), " + std::to_string(volume0_.size()) + " corner nodes on " +
            std::to_string(elements_.size()) + " elements, U " + volume_penalty_name(penalty_.form);
   }
-  [[nodiscard]] double energy(const StateView& s) const override;
   void add_forces(const StateView& s, Eigen::Matrix3Xd& f) const override;
   void add_jacobian(const StateView& s, JacobianSink& sink) const override;
   void add_couplings(std::vector<std::vector<Index>>& adj) const override;
-  [[nodiscard]] AugmentedLagrangian augmented_lagrangian() const override { return mult_.settings; }
-  [[nodiscard]] double constraint_violation(const StateView& s) const override;
-  void update_multipliers(const StateView& s) override;
-  [[nodiscard]] std::vector<double> multipliers() const override { return mult_.lambda; }
-  void set_multipliers(const std::vector<double>& lambda) override { mult_.assign(lambda); }
-  void save_state(StateArchive& archive) const override { mult_.save(archive); }
-  void load_state(const StateArchive& archive) override { mult_.load(archive, kTerm); }
   /// `volumetric_stress` per element: the mean of p_e over the element, sum_c U'_c v_ec / V_e.
   void add_cell_fields(const StateView& s, std::size_t element_count,
                        std::map<std::string, Eigen::VectorXd>& fields) const override;
 
  private:
-  [[nodiscard]] std::vector<double> ratios(const Eigen::Matrix3Xd& x) const;
-  /// U'(J_c; r) + lambda_c per corner node at x, time t (Pa).
-  [[nodiscard]] std::vector<double> slopes(const Eigen::Matrix3Xd& x, double t) const;
+  /// J_c of every corner (pressure) node.
+  [[nodiscard]] std::vector<double> ratios(const Eigen::Matrix3Xd& x) const override;
   [[nodiscard]] Mat3N<10> positions(const Eigen::Matrix3Xd& x, std::size_t e) const {
     return element_positions<10>(x, elements_[e].data());
   }
 
-  VolumePenalty penalty_;
-  TimeCourse ratio_;
-  VolumeMultipliers mult_;                       ///< lambda_c per pressure node (augmented Lagrangian)
   std::vector<std::array<Index, 10>> elements_;  ///< global node indices
   std::vector<std::array<int, 4>> corner_;       ///< local corner (pressure node) index of corners 0..3
   std::vector<std::size_t> mesh_element_;
-  std::vector<Index> corner_node_;  ///< global node of each pressure node
-  std::vector<double> volume0_;     ///< V0_c (m^3)
+  std::vector<Index> corner_node_;  ///< global node of each pressure node (V0_c: volume0_)
   /// Elements around each pressure node (CSR) and the sorted global nodes of its patch.
   std::vector<std::size_t> around_start_, around_, patch_start_;
   std::vector<Index> patch_;
@@ -102,8 +87,7 @@ class QuadraticNodalVolumeTerm final : public ForceTerm {
 
 QuadraticNodalVolumeTerm::QuadraticNodalVolumeTerm(const preprocess::Mesh& mesh, const NodalVolumeParams& params,
                                                    const std::vector<std::size_t>& selected)
-    : penalty_(params.penalty), ratio_(params.ratio) {
-  mult_.settings = params.augmented;
+    : NodalConstraintTerm(params, kTerm) {
   std::vector<int> local_of(mesh.node_count(), -1);
   for (const std::size_t e : selected) {
     std::array<Index, 10> g{};
@@ -132,7 +116,7 @@ QuadraticNodalVolumeTerm::QuadraticNodalVolumeTerm(const preprocess::Mesh& mesh,
     mesh_element_.push_back(e);
   }
   const std::size_t nc = corner_node_.size();
-  mult_.resize(nc);
+  constraints_built();
   around_start_.assign(nc + 1, 0);
   for (const auto& l : corner_)
     for (const int c : l) ++around_start_[static_cast<std::size_t>(c) + 1];
@@ -161,36 +145,6 @@ std::vector<double> QuadraticNodalVolumeTerm::ratios(const Eigen::Matrix3Xd& x) 
   }
   for (std::size_t c = 0; c < jc.size(); ++c) jc[c] /= volume0_[c];
   return jc;
-}
-
-double QuadraticNodalVolumeTerm::energy(const StateView& s) const {
-  const std::vector<double> jc = ratios(s.x);
-  const double r = ratio_(s.t);
-  double e = 0.0;
-  for (std::size_t c = 0; c < jc.size(); ++c) e += volume0_[c] * (penalty_.value(jc[c], r) + mult_[c] * (jc[c] - r));
-  return e;
-}
-
-std::vector<double> QuadraticNodalVolumeTerm::slopes(const Eigen::Matrix3Xd& x, double t) const {
-  std::vector<double> jc = ratios(x);
-  const double r = ratio_(t);
-  for (std::size_t c = 0; c < jc.size(); ++c) jc[c] = penalty_.slope(jc[c], r) + mult_[c];
-  return jc;
-}
-
-double QuadraticNodalVolumeTerm::constraint_violation(const StateView& s) const {
-  const std::vector<double> jc = ratios(s.x);
-  const double r = ratio_(s.t);
-  double worst = 0.0;
-  for (const double j : jc) worst = std::max(worst, std::abs(j - r));
-  return worst;
-}
-
-void QuadraticNodalVolumeTerm::update_multipliers(const StateView& s) {
-  if (mult_.lambda.empty()) return;
-  const std::vector<double> jc = ratios(s.x);
-  const double r = ratio_(s.t);
-  for (std::size_t c = 0; c < jc.size(); ++c) mult_.lambda[c] += penalty_.slope(jc[c], r);
 }
 
 void QuadraticNodalVolumeTerm::add_forces(const StateView& s, Eigen::Matrix3Xd& f) const {
