@@ -47,32 +47,6 @@ std::vector<preprocess::CavitySpec> cavity_specs(SceneNode& node) {
   return out;
 }
 
-/// `cgal: {...}` (topology cgal only); its values are appended to `key`.
-preprocess::CgalMeshOptions cgal_options(SceneNode& node, std::ostringstream& key) {
-  preprocess::CgalMeshOptions o;
-  auto c = node.optional_map("cgal");
-  if (!c) return o;
-  if (c->has("facet_angle")) {
-    o.facet_angle_deg = c->quantity("facet_angle", Dimension::Angle) * 180.0 / std::numbers::pi;
-    if (!(o.facet_angle_deg > 0.0 && o.facet_angle_deg <= 30.0))
-      throw InputError(c->at("facet_angle") + ": the facet angle bound must lie in (0, 30] degrees");
-  }
-  if (c->has("facet_size")) o.facet_size_m = c->positive("facet_size", Dimension::Length);
-  if (c->has("facet_distance")) o.facet_distance_m = c->positive("facet_distance", Dimension::Length);
-  if (c->has("cell_size")) o.cell_size_m = c->positive("cell_size", Dimension::Length);
-  o.cell_radius_edge_ratio = c->quantity("cell_ratio", Dimension::Dimensionless, o.cell_radius_edge_ratio);
-  if (!(o.cell_radius_edge_ratio >= 2.0))
-    throw InputError(c->at("cell_ratio") + ": the radius-edge ratio bound must be >= 2");
-  const long long seed = c->integer("seed", 0);
-  if (seed < 0 || seed > 0xffffffffLL) throw InputError(c->at("seed") + ": an integer in [0, 4294967295]");
-  o.seed = static_cast<std::uint32_t>(seed);
-  c->finish();
-  key << ";cgal;" << o.facet_angle_deg << ';' << o.facet_size_m.value_or(-1.0) << ';'
-      << o.facet_distance_m.value_or(-1.0) << ';' << o.cell_size_m.value_or(-1.0) << ';' << o.cell_radius_edge_ratio
-      << ';' << o.seed;
-  return o;
-}
-
 /// `fibres: rule` with its angles; values appended to `key`. NoFibres for `none`.
 preprocess::FibreSource fibre_source(SceneNode& node, std::ostringstream& key) {
   const std::string kind = node.choice("fibres", {"none", "rule"}, "none");
@@ -97,6 +71,31 @@ preprocess::FibreSource fibre_source(SceneNode& node, std::ostringstream& key) {
 }
 
 }  // namespace
+
+preprocess::CgalMeshOptions cgal_options(SceneNode& node, std::ostringstream& key) {
+  preprocess::CgalMeshOptions o;
+  auto c = node.optional_map("cgal");
+  if (!c) return o;
+  if (c->has("facet_angle")) {
+    o.facet_angle_deg = c->quantity("facet_angle", Dimension::Angle) * 180.0 / std::numbers::pi;
+    if (!(o.facet_angle_deg > 0.0 && o.facet_angle_deg <= 30.0))
+      throw InputError(c->at("facet_angle") + ": the facet angle bound must lie in (0, 30] degrees");
+  }
+  if (c->has("facet_size")) o.facet_size_m = c->positive("facet_size", Dimension::Length);
+  if (c->has("facet_distance")) o.facet_distance_m = c->positive("facet_distance", Dimension::Length);
+  if (c->has("cell_size")) o.cell_size_m = c->positive("cell_size", Dimension::Length);
+  o.cell_radius_edge_ratio = c->quantity("cell_ratio", Dimension::Dimensionless, o.cell_radius_edge_ratio);
+  if (!(o.cell_radius_edge_ratio >= 2.0))
+    throw InputError(c->at("cell_ratio") + ": the radius-edge ratio bound must be >= 2");
+  const long long seed = c->integer("seed", 0);
+  if (seed < 0 || seed > 0xffffffffLL) throw InputError(c->at("seed") + ": an integer in [0, 4294967295]");
+  o.seed = static_cast<std::uint32_t>(seed);
+  c->finish();
+  key << ";cgal;" << o.facet_angle_deg << ';' << o.facet_size_m.value_or(-1.0) << ';'
+      << o.facet_distance_m.value_or(-1.0) << ';' << o.cell_size_m.value_or(-1.0) << ';' << o.cell_radius_edge_ratio
+      << ';' << o.seed;
+  return o;
+}
 
 preprocess::Mesh image_recipe_mesh(SceneNode& node, const fs::path& base, const SceneOptions& opt,
                                    std::string& source) {

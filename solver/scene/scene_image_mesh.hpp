@@ -15,9 +15,11 @@
 //   clean            true: keep the largest solid component, fill enclosed holes
 //                    (preprocess/image/label_cleanup.hpp)
 #include <filesystem>
+#include <sstream>
 #include <string>
 
 #include "preprocess/mesh/mesh.hpp"
+#include "preprocess/meshers/cgal_mesher.hpp"
 #include "solver/scene/scene.hpp"
 #include "solver/scene/scene_node.hpp"
 
@@ -28,5 +30,11 @@ namespace adamss::solver {
 /// the key for a missing image, bad labels or options, and the pipeline's own errors.
 preprocess::Mesh image_recipe_mesh(SceneNode& node, const std::filesystem::path& base, const SceneOptions& opt,
                                    std::string& source);
+
+/// `cgal: {facet_angle, facet_size, facet_distance, cell_ratio, cell_size, seed}` of a `mesh:`
+/// mapping (absent: CGAL's defaults of preprocess::CgalMeshOptions); every value is appended to
+/// `key` (the cache file's hash). Shared by the image and the phantom recipes. InputError naming
+/// the key for a bound out of range.
+preprocess::CgalMeshOptions cgal_options(SceneNode& node, std::ostringstream& key);
 
 }  // namespace adamss::solver

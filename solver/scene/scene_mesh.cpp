@@ -160,7 +160,12 @@ preprocess::MeshRequest phantom_request(const std::string& kind, const preproces
   if (kind == "lv" || kind == "biv") {
     req.cavities.push_back({"lv", preprocess::kLvCavity});
     if (kind == "biv") req.cavities.push_back({"rv", preprocess::kRvCavity});
-    req.tag_planes.push_back({{"base", 2, preprocess::kPhantomBaseZ, 1e-3 * po.voxel_size_m}, true});
+    // The lattice puts the base nodes on the voxel face z = 5 mm exactly. CGAL's surface points
+    // on the base lie within about 0.04 voxel of it (0.25 mm voxels, facet distance 0.2 mm: 95
+    // nodes within 10 um, 103 within 25 um, 121 within 100 um): 0.1 voxel takes the base face
+    // and, at most, the first wall nodes just below its rim.
+    const double tolerance = (topo == "cgal" ? 0.1 : 1e-3) * po.voxel_size_m;
+    req.tag_planes.push_back({{"base", 2, preprocess::kPhantomBaseZ, tolerance}, true});
   }
   req.scar = scar;
   return req;
@@ -180,7 +185,7 @@ PhantomRecipe phantom_recipe(SceneNode& node) {
       throw InputError(node.at("slab_size") + ": expected three voxel counts >= 1, e.g. [4, 4, 8]");
     po.slab_size = {s[0], s[1], s[2]};
   }
-  r.topology = node.choice("topology", {"hex", "tet5", "tet5m", "tet6", "tet6m"}, "tet6m");
+  r.topology = node.choice("topology", {"hex", "tet5", "tet5m", "tet6", "tet6m", "cgal"}, "tet6m");
   const std::optional<preprocess::ScarCone> scar = scar_cone(node, r.kind);
   std::ostringstream key;
   key << std::setprecision(17) << "v3;" << r.kind << ';' << po.voxel_size_m << ';' << po.helix_endo_rad << ';'
@@ -190,8 +195,15 @@ PhantomRecipe phantom_recipe(SceneNode& node) {
     key << ";scar;" << scar->direction.x() << ',' << scar->direction.y() << ',' << scar->direction.z() << ';'
         << scar->half_angle_rad;
   }
+  preprocess::CgalMeshOptions cgal;
+  if (r.topology == "cgal") {
+    cgal = cgal_options(node, key);
+  } else if (node.has("cgal")) {
+    throw InputError(node.at("cgal") + ": only with topology: cgal (got topology: " + r.topology + ")");
+  }
   r.key = key.str();
   r.request = phantom_request(r.kind, po, r.topology, scar);
+  r.request.cgal = cgal;
   return r;
 }
 

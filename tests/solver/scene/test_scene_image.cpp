@@ -5,12 +5,14 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <string>
 
 #include "common/error.hpp"
 #include "preprocess/image/nifti_io.hpp"
 #include "preprocess/image/phantom.hpp"
+#include "preprocess/mesh/element_volume.hpp"
 #include "scene_fixtures.hpp"
 #include "solver/scene/scene.hpp"
 
@@ -109,5 +111,46 @@ TEST(SceneImage, ErrorsNameTheKey) {
   EXPECT_NE(unknown.find("the mesh has no cavity 'lw'"), std::string::npos) << unknown;
   EXPECT_NE(unknown.find("lv"), std::string::npos) << unknown;
   EXPECT_NE(test::scene_error(scene(", topology: tet6m")).find("has no cavity 'lv' (it has no cavities)"),
+            std::string::npos);
+}
+
+// `mesh: {phantom: lv, topology: cgal, cgal: {...}}`: the phantom recipe meshed by CGAL Mesh_3
+// (cases/benchmarks/land-p2-cgal.yaml), with its cavity and the base plane z = 5 mm as a tag.
+TEST(SceneImage, APhantomRecipeMeshesWithCgalAndTagsItsBase) {
+  const std::string scene =
+      "name: t\nmesh: {phantom: lv, voxel_size: 1 mm, topology: cgal, cgal: {facet_size: 3 mm, cell_size: 3 mm}}\n"
+      "materials:\n  - {name: m, labels: [1], density: 1000 kg/m^3, terms: [{volume: {p: 1 kPa}}]}\n"
+      "boundary:\n  - {select: {tag: base}, fix: xyz}\nintegrator: {type: static, dt: 0.1 s}\nrun: {t_end: 1 s}\n";
+  const auto s = test::load_scene(scene);
+  const preprocess::Mesh& m = *s.model.mesh;
+  EXPECT_EQ(m.type, preprocess::ElementType::Tet4);
+  EXPECT_NE(s.mesh_source.find("mesh-lv-cgal-"), std::string::npos) << s.mesh_source;
+  ASSERT_EQ(m.cavities.count("lv"), 1u);
+  EXPECT_TRUE(m.cavities.at("lv").closed);
+  // The shell's volume is 3234.6 mm^3 (docs/meshing.md); CGAL inscribes its facets in the
+  // labelled surface of 1 mm voxels, so a few per cent less.
+  double volume = 0.0;
+  for (std::size_t e = 0; e < m.element_count(); ++e) volume += preprocess::element_volume(m, e);
+  EXPECT_NEAR(volume, 3234.6e-9, 0.05 * 3234.6e-9);
+  // The base tag: nodes within 0.1 voxel of z = 5 mm, spanning the ring from the endocardium
+  // (radius 6.69 mm at z = 5 mm) to the epicardium (9.68 mm), each to within a voxel.
+  const auto& base = m.node_tags.at("base");
+  ASSERT_GT(base.size(), 20u);
+  double rmin = 1.0, rmax = 0.0;
+  for (const auto n : base) {
+    EXPECT_NEAR(m.nodes(2, n), 5e-3, 1e-4);
+    const double r = std::hypot(m.nodes(0, n), m.nodes(1, n));
+    rmin = std::min(rmin, r);
+    rmax = std::max(rmax, r);
+    EXPECT_TRUE(s.model.constraints.constrained(n, 0) && s.model.constraints.constrained(n, 2));
+  }
+  EXPECT_LT(rmin, 7.69e-3);
+  EXPECT_GT(rmax, 8.68e-3);
+  // The base is the top of the mesh: no node lies above the plane.
+  EXPECT_LE(m.nodes.row(2).maxCoeff(), 5e-3 + 1e-4);
+  // `cgal:` belongs to topology cgal.
+  EXPECT_NE(test::scene_error("name: t\nmesh: {phantom: lv, topology: tet6m, cgal: {cell_size: 3 mm}}\n"
+                              "materials: []\nintegrator: {type: static, dt: 0.1 s}\nrun: {t_end: 1 s}\n")
+                .find("mesh.cgal: only with topology: cgal (got topology: tet6m)"),
             std::string::npos);
 }
