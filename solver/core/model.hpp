@@ -56,6 +56,10 @@ class VolumeMonitor {
 struct BoundaryGroup {
   std::string name;  ///< the entry's key path, e.g. "boundary[1]"
   std::vector<Index> nodes;
+  /// The entry's spring term (solver/terms/loads/node_springs.hpp) for `spring:` entries, whose
+  /// reaction is that term's force on the body; null for fixed and controlled nodes, whose
+  /// reaction is minus the sum of every term's force there.
+  const ForceTerm* springs = nullptr;
 };
 
 struct Model {

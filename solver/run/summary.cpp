@@ -58,12 +58,18 @@ std::vector<ReactionSummary> summarize_reactions(const Model& m, const State& s)
   Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, s.x.cols());
   for (const auto& t : m.terms) t->add_forces({s.x, s.v, s.t}, f);
   std::vector<ReactionSummary> groups;
+  Eigen::Matrix3Xd fs;
   for (const auto& g : m.boundary_groups) {
+    if (g.springs != nullptr) {
+      fs = Eigen::Matrix3Xd::Zero(3, s.x.cols());
+      g.springs->add_forces({s.x, s.v, s.t}, fs);
+    }
     Eigen::Vector3d c = Eigen::Vector3d::Zero(), r = Eigen::Vector3d::Zero(), mo = Eigen::Vector3d::Zero();
     for (const auto n : g.nodes) c += m.x_ref.col(n);
     if (!g.nodes.empty()) c /= static_cast<double>(g.nodes.size());
     for (const auto n : g.nodes) {
-      const Eigen::Vector3d rn = -f.col(n);
+      // The support's force on the body: the springs' own force, or minus the body's at a fixed node.
+      const Eigen::Vector3d rn = g.springs != nullptr ? Eigen::Vector3d(fs.col(n)) : Eigen::Vector3d(-f.col(n));
       r += rn;
       mo += (s.x.col(n) - c).cross(rn);
     }

@@ -14,6 +14,7 @@
 #include "solver/scene/scene_materials.hpp"
 #include "solver/scene/scene_mesh.hpp"
 #include "solver/terms/loads/gravity.hpp"
+#include "solver/terms/loads/node_springs.hpp"
 
 namespace adamss::solver {
 
@@ -80,11 +81,25 @@ std::vector<Index> select(SceneNode sel, const Model& model, const fs::path& bas
   return nodes;
 }
 
-void load_boundary(std::vector<SceneNode> entries, Model& model, const fs::path& base) {
+void load_boundary(std::vector<SceneNode> entries, LoadedScene& sc, const fs::path& base) {
+  Model& model = sc.model;
   for (SceneNode& b : entries) {
     const std::vector<Index> nodes = select(b.map("select"), model, base);
-    const bool fix = b.has("fix"), ctl = b.has("control");
-    if (fix == ctl) throw InputError(b.path() + ": give either fix: (axes) or control: {...}");
+    const bool fix = b.has("fix"), ctl = b.has("control"), spring = b.has("spring");
+    if (int(fix) + int(ctl) + int(spring) != 1)
+      throw InputError(b.path() + ": give exactly one of fix: (axes), control: {...} or spring: {...}");
+    if (spring) {
+      SceneNode sp = b.map("spring");
+      const std::uint8_t axes = parse_axes(sp.text("axis", "xyz"), sp.at("axis"));
+      const double k = sp.positive("stiffness", Dimension::Stiffness, 0.0, true);
+      const double c = sp.positive("damping", Dimension::Damping, 0.0, true);
+      sp.finish();
+      model.terms.push_back(make_node_spring_term(b.path(), nodes, model.x_ref, axes, k, c));
+      model.boundary_groups.push_back({b.path(), nodes, model.terms.back().get()});
+      sc.term_summary.push_back(model.terms.back()->name() + ": " + model.terms.back()->describe());
+      b.finish();
+      continue;
+    }
     if (fix) {
       const std::uint8_t axes = parse_axes(b.text("fix"), b.at("fix"));
       for (const Index n : nodes) model.constraints.fix(n, axes, b.path());
@@ -331,7 +346,7 @@ LoadedScene assemble(const YAML::Node& root_yaml, const fs::path& origin, const 
 
   const double max_c2 = load_materials(root.list("materials", true), sc);
   load_loads(root, sc, base);
-  load_boundary(root.list("boundary"), model, base);
+  load_boundary(root.list("boundary"), sc, base);
   const bool check_dt = load_integrator(root.map("integrator"), sc.run);
   load_run(root.map("run"), sc.run);
   load_output(root, sc.run, model);

@@ -3,39 +3,14 @@
 #include <cmath>
 #include <map>
 #include <sstream>
-#include <stdexcept>
 
 #include "common/error.hpp"
 #include "solver/terms/loads/cavity_pressure.hpp"
+#include "solver/terms/loads/support_term.hpp"
 
 namespace adamss::solver {
 
 namespace {
-
-/// The kernel's StencilTerm, with has_energy() false when the support has damping (no potential).
-class RobinSupportTerm final : public ForceTerm {
- public:
-  explicit RobinSupportTerm(RobinSupportKernel k) : term_(std::move(k)) {}
-  [[nodiscard]] std::string name() const override { return term_.name(); }
-  [[nodiscard]] bool has_energy() const override { return term_.kernel().damping == 0.0; }
-  [[nodiscard]] bool has_jacobian() const override { return true; }
-  [[nodiscard]] double energy(const StateView& s) const override {
-    if (!has_energy()) throw std::logic_error(name() + ": a damped support has no energy");
-    return term_.energy(s);
-  }
-  void add_forces(const StateView& s, Eigen::Matrix3Xd& f) const override { term_.add_forces(s, f); }
-  void add_jacobian(const StateView& s, JacobianSink& sink) const override { term_.add_jacobian(s, sink); }
-  [[nodiscard]] std::string describe() const override {
-    const RobinSupportKernel& k = term_.kernel();
-    std::ostringstream os;
-    os << k.nodes.size() << " nodes, area " << k.area.sum() * 1e6 << " mm^2, k " << k.stiffness << " Pa/m, c "
-       << k.damping << " Pa s/m";
-    return os.str();
-  }
-
- private:
-  StencilTerm<RobinSupportKernel, 1> term_;
-};
 
 /// Adds a face's vector area (out of the solid) to the nodal sums, 1/n per corner.
 template <int N>
@@ -52,6 +27,13 @@ void add_face(const std::array<Index, N>& f, const Eigen::Matrix3Xd& x, std::map
 }
 
 }  // namespace
+
+std::string RobinSupportKernel::describe() const {
+  std::ostringstream os;
+  os << nodes.size() << " nodes, area " << area.sum() * 1e6 << " mm^2, k " << stiffness << " Pa/m, c " << damping
+     << " Pa s/m";
+  return os.str();
+}
 
 std::unique_ptr<ForceTerm> make_robin_support_term(const Surface& surface, const Eigen::Matrix3Xd& x_ref,
                                                    double stiffness, double damping) {
@@ -90,7 +72,7 @@ std::unique_ptr<ForceTerm> make_robin_support_term(const Surface& surface, const
     k.x0.col(j) = x_ref.col(node);
     ++j;
   }
-  return std::make_unique<RobinSupportTerm>(std::move(k));
+  return std::make_unique<SupportTerm<RobinSupportKernel>>(std::move(k));
 }
 
 }  // namespace adamss::solver

@@ -29,7 +29,7 @@
 namespace adamss::solver {
 
 struct RobinSupportKernel {
-  static constexpr bool kHasEnergy = true;  // the term (robin_support.cpp) reports damping == 0
+  static constexpr bool kHasEnergy = true;  // SupportTerm reports it only for damping == 0
   static constexpr bool kHasJacobian = true;
 
   std::string surface_name;
@@ -41,6 +41,8 @@ struct RobinSupportKernel {
   double damping = 0.0;     ///< c (Pa s/m)
 
   [[nodiscard]] std::string name() const { return "robin_support:" + surface_name; }
+  /// "N nodes, area A mm^2, k K Pa/m, c C Pa s/m" for the scene's term list.
+  [[nodiscard]] std::string describe() const;
   [[nodiscard]] std::size_t size() const { return nodes.size(); }
   [[nodiscard]] std::array<Index, 1> stencil(std::size_t i) const { return {nodes[i]}; }
   [[nodiscard]] double energy(std::size_t i, const Mat3N<1>& x, const Mat3N<1>& /*v*/, double /*t*/) const {
