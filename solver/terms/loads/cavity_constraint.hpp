@@ -26,10 +26,10 @@
 #include <memory>
 #include <string>
 
-#include "solver/terms/loads/cavity_pressure.hpp"
-#include "solver/terms/loads/circulation.hpp"
 #include "solver/core/model.hpp"
 #include "solver/geometry/surface.hpp"
+#include "solver/terms/loads/cavity_pressure.hpp"
+#include "solver/terms/loads/circulation.hpp"
 
 namespace adamss::solver {
 

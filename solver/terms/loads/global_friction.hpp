@@ -20,8 +20,8 @@
 #include <memory>
 #include <string>
 
-#include "solver/simd/node_loops.hpp"
 #include "solver/core/stencil_term.hpp"
+#include "solver/simd/node_loops.hpp"
 
 namespace adamss::solver {
 
