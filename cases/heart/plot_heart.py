@@ -13,6 +13,8 @@ OUT/scar/globals.csv when the scarred run exists), in the units cardiologists re
                          (ml) against time, the four phases shaded, valve events marked
                          (MC mitral closes, AO aortic opens, AC aortic closes, MO mitral opens)
   pv_loop_scar_mmhg.png/.svg  healthy and scarred loops (when OUT/scar exists)
+  pv_loop_biv_mmhg.png/.svg   LV and RV loops of the biventricular phantom (when OUT/biv exists:
+                         biv_beat.yaml), the passive inflation dotted
   bullseye.png/.svg      AHA 17-segment bull's-eye of the fibre strain from end diastole to end
                          systole of the last beat (frames nearest the mitral and aortic closures),
                          with the mean over the scar segment and over the remote wall when the mesh
@@ -89,6 +91,22 @@ def pv_loop(g, out):
     ax.legend(loc="upper right", fontsize=8, framealpha=0.9)
     ax.grid(alpha=0.3)
     save(fig, out, "pv_loop_mmhg")
+
+
+def biv_loops(g, out):
+    """Both ventricles' loops of the biventricular run (OUT/biv: biv_beat.yaml), mmHg and ml."""
+    fig, ax = plt.subplots(figsize=(5.5, 4.5))
+    for name, colour in (("lv", "#c0392b"), ("rv", "#2e6da4")):
+        v, p, phase = g[name + "_volume"] * 1e6, g[name + "_pressure"] / MMHG, g[name + "_phase"].astype(int)
+        started = np.cumsum(phase != 0) > 0  # from the first contraction on
+        ax.plot(v[~started], p[~started], ":", lw=1.0, color=colour)
+        ax.plot(v[started], p[started], "-", lw=1.6, color=colour, label=name.upper())
+    ax.set_xlabel("volume (ml)")
+    ax.set_ylabel("pressure (mmHg)")
+    ax.set_title("Biventricular pressure-volume loops")
+    ax.legend(loc="upper right", fontsize=8, framealpha=0.9)
+    ax.grid(alpha=0.3)
+    save(fig, out, "pv_loop_biv_mmhg")
 
 
 def wiggers(g, out):
@@ -337,6 +355,14 @@ def main(out, sim=None):
                 regional["scar"]["scar_region_percent"] = 100 * rs["strain"][rs["scar"]].mean()
                 regional["scar"]["remote_percent"] = 100 * rs["strain"][~rs["scar"]].mean()
             written.append("bullseye_scar")
+    biv = os.path.join(out, "biv", "globals.csv")
+    if os.path.exists(biv):
+        gb = read_globals(biv)
+        for col in ("lv_volume", "lv_pressure", "lv_phase", "rv_volume", "rv_pressure", "rv_phase"):
+            if col not in gb:
+                sys.exit("plot_heart.py: %s has no column %s" % (biv, col))
+        biv_loops(gb, out)
+        written.append("pv_loop_biv_mmhg")
     occlusion = os.path.join(out, "occlusion", "globals.csv")
     if os.path.exists(occlusion):
         fit = espvr(g, read_globals(occlusion), sim, out)

@@ -4,7 +4,8 @@
 # Usage: cases/heart/run.sh ADAMSS_BINARY OUTPUT_DIR
 #   HEART_VOXEL (default 2.5mm; 1.25mm does not yet finish: the refilling after the beat stalls) sets the voxel size (the base plane z = 5 mm must be a whole
 #   number of voxels: 0.5, 1, 1.25, 2.5 mm); HEART_CHECK=0 skips the physiology check.
-#   HEART_SCAR=0 skips the scarred run; HEART_ESPVR=0 skips the lower-preload run (and the ESPVR).
+#   HEART_SCAR=0 skips the scarred run; HEART_ESPVR=0 skips the lower-preload run (and the ESPVR);
+#   HEART_BIV=0 skips the biventricular run (biv_beat.yaml, results in OUTPUT_DIR/biv).
 # Writes OUTPUT_DIR/{summary.json, pv_loop.png, pressure_volume_time.png, pv_loop_scar.png,
 # report.md}, the healthy simulation in OUTPUT_DIR/sim (series.pvd + frames/*.vtu, globals.csv)
 # and the scarred one in OUTPUT_DIR/scar (its summary.json there).
@@ -54,6 +55,16 @@ if [[ "${HEART_ESPVR:-1}" == 1 ]]; then
   OMP_NUM_THREADS=${OMP_NUM_THREADS:-1} "$adamss" run "$out/lv_beat_occlusion.yaml" -o "$out/occlusion" --progress-interval 5s
 else
   echo "skipped (HEART_ESPVR=0)"
+fi
+
+echo "== 4c/6 simulation, biventricular: two beats of the biv phantom (CGAL mesh), LV and RV each with a Windkessel; see biv_beat.yaml"
+t_biv=0
+if [[ "${HEART_BIV:-1}" == 1 ]]; then
+  t_biv=$SECONDS
+  OMP_NUM_THREADS=${OMP_NUM_THREADS:-1} "$adamss" run "$here/biv_beat.yaml" -o "$out/biv" --progress-interval 10s
+  t_biv=$((SECONDS - t_biv))
+else
+  echo "skipped (HEART_BIV=0)"
 fi
 
 echo "== 5/6 plots and report"
@@ -146,6 +157,23 @@ if scar:
         print(f"| scar segment | {h.get('scar_region_percent', float('nan')):.1f} % | {sc['scar_region_percent']:.1f} % |")
         print(f"| remote wall | {h.get('remote_percent', float('nan')):.1f} % | {sc['remote_percent']:.1f} % |\n")
         print("![bull's-eye, scar](bullseye_scar.png)\n")
+import os
+if os.path.exists(out + "/biv/summary.json"):
+    b = json.load(open(out + "/biv/summary.json"))
+    print(f"\n## Biventricular phantom (`cases/heart/biv_beat.yaml`)\n\n"
+          f"{b['nodes']} nodes, {b['elements']} tetrahedra (CGAL); LV and RV each with a Windkessel (the RV's outflow "
+          f"is the pulmonary artery: its 'aortic' keys are pulmonary, its 'mitral' keys tricuspid); two beats, "
+          f"{b['steps']} steps, simulation {float(b['wall_time_s']):.0f} s wall; wall volume change at most "
+          f"{100 * b['total_volume_m3']['max_abs_relative_change']:.2f} %.\n")
+    print("| last beat | EDV (ml) | ESV (ml) | SV (ml) | EF | peak (kPa) | outflow sys/dia (kPa) | loop closure |\n"
+          "|---|---|---|---|---|---|---|---|")
+    for n in ("lv", "rv"):
+        cb = b["cavities"][n]
+        print(f"| {n.upper()} | {1e6 * cb['edv_m3']:.3f} | {1e6 * cb['esv_m3']:.3f} | {1e6 * cb['stroke_volume_m3']:.3f} | "
+              f"{100 * cb['ejection_fraction']:.1f} % | {1e-3 * cb['peak_pressure_Pa']:.2f} | "
+              f"{1e-3 * cb.get('aortic_systolic_pressure_Pa', float('nan')):.2f} / "
+              f"{1e-3 * cb.get('aortic_diastolic_pressure_Pa', float('nan')):.2f} | {100 * cb.get('loop_closure', float('nan')):.2g} % |")
+    print("\n![LV and RV loops (mmHg)](pv_loop_biv_mmhg.png)\n")
 print("Fields over time (displacement, fibre_stretch, active_tension, J): open [sim/series.pvd](sim/series.pvd) "
       "in ParaView. Every step: [sim/globals.csv](sim/globals.csv); everything: [summary.json](summary.json).")
 PY
@@ -157,8 +185,13 @@ if [[ "${HEART_CHECK:-1}" == 1 ]]; then
     cmake -DHEALTHY="$out/summary.json" -DSCARRED="$out/scar/summary.json" -DEXPECTED="$here/expected.cmake" \
       -P "$here/check_scar.cmake"
   fi
+  if [[ "${HEART_BIV:-1}" == 1 ]]; then
+    for cav in lv rv; do
+      cmake -DSUMMARY="$out/biv/summary.json" -DCAVITY=$cav -DEXPECTED="$here/biv_expected_$cav.cmake" -P "$here/check.cmake"
+    done
+  fi
 else
   echo "skipped (HEART_CHECK=0)"
 fi
 cat "$out/report.md"
-echo "heart case done in ${SECONDS} s (healthy simulation ${t_sim} s, scarred ${t_scar} s); results in $out"
+echo "heart case done in ${SECONDS} s (healthy simulation ${t_sim} s, scarred ${t_scar} s, biventricular ${t_biv} s); results in $out"
