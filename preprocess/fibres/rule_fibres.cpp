@@ -10,7 +10,10 @@
 #include <cmath>
 #include <numbers>
 #include <numeric>
+#include <optional>
 #include <sstream>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "common/error.hpp"
@@ -44,6 +47,14 @@ void check_options(const RuleFibreOptions& o) {
   }
   if (!std::isfinite(o.helix_epi_rad) || std::abs(o.helix_epi_rad) > lim)
     fail("helix angle at the epicardium (--helix-epi) must lie in [-90, 90] degrees, got " + deg_text(o.helix_epi_rad));
+  const std::pair<const std::optional<double>*, const char*> per_wall[] = {
+      {&o.rv_helix_endo_rad, "RV endocardium (--helix-endo-rv)"},
+      {&o.rv_helix_epi_rad, "RV epicardium (--helix-epi-rv)"},
+      {&o.septum_rv_helix_rad, "septum's RV surface (--helix-septum-rv)"}};
+  for (const auto& [v, what] : per_wall) {
+    if (*v && (!std::isfinite(**v) || std::abs(**v) > lim))
+      fail(std::string("helix angle at the ") + what + " must lie in [-90, 90] degrees, got " + deg_text(**v));
+  }
   if (!std::isfinite(o.sheet_angle_rad) || std::abs(o.sheet_angle_rad) > lim)
     fail("sheet angle (--sheet-angle) must lie in [-90, 90] degrees, got " + deg_text(o.sheet_angle_rad));
   if (o.long_axis && (!o.long_axis->allFinite() || !(o.long_axis->norm() > 0.0)))
@@ -629,20 +640,35 @@ void fill_missing_directions(const Mesh& mesh, std::vector<Vector3d>& et, RuleFi
   }
 }
 
+/// The helix angles of element e at its wall's endocardium (a0) and far surface (a1): "Angles per
+/// wall" of the header.
+std::pair<double, double> wall_angles(const Mesh& mesh, std::size_t e, bool rv, const RuleFibreOptions& o,
+                                      const RuleFibreReport& rep) {
+  if (rv) {
+    return {o.rv_helix_endo_rad.value_or(o.helix_endo_rad), o.rv_helix_epi_rad.value_or(o.helix_epi_rad)};
+  }
+  if (!rep.biv || !o.septum_rv_helix_rad) return {o.helix_endo_rad, o.helix_epi_rad};
+  const int k = nodes_per_element(mesh.type);
+  double psi = 0.0;
+  for (int a = 0; a < k; ++a) psi += rep.psi[mesh.element(e)[a]];
+  psi = std::clamp(psi / k, 0.0, 1.0);
+  return {o.helix_endo_rad, (1.0 - psi) * o.helix_epi_rad + psi * *o.septum_rv_helix_rad};
+}
+
 /// The fibre, sheet and normal of every element from its transmural direction n_t and coordinate
 /// t: e_l = the long axis projected normal to n_t (any direction normal to n_t at the apex),
-/// e_c = e_l x n_t, helix alpha = a_endo + (a_epi - a_endo) t, f = cos(alpha) e_c + sin(alpha)
+/// e_c = e_l x n_t, helix alpha = a0 + (a1 - a0) t (wall_angles), f = cos(alpha) e_c + sin(alpha)
 /// e_l, s = cos(beta) n_t + sin(beta) f x n_t, n = f x s.
 void write_frames(Mesh& mesh, const std::vector<Vector3d>& et, const Eigen::VectorXd& t_elem,
-                  const RuleFibreOptions& options, RuleFibreReport& rep) {
+                  const std::vector<char>& use_rv, const RuleFibreOptions& options, RuleFibreReport& rep) {
   const std::size_t ne = mesh.element_count();
   mesh.fiber.resize(3, static_cast<Eigen::Index>(ne));
   mesh.sheet.resize(3, static_cast<Eigen::Index>(ne));
   mesh.normal.resize(3, static_cast<Eigen::Index>(ne));
   const Vector3d l = rep.long_axis;
-  const double a0 = options.helix_endo_rad, a1 = options.helix_epi_rad;
   const double cb = std::cos(options.sheet_angle_rad), sb = std::sin(options.sheet_angle_rad);
   for (std::size_t e = 0; e < ne; ++e) {
+    const auto [a0, a1] = wall_angles(mesh, e, use_rv[e] != 0, options, rep);
     const Vector3d& n_t = et[e];
     Vector3d el = l - l.dot(n_t) * n_t;
     Vector3d ec;
@@ -711,7 +737,7 @@ RuleFibreReport assign_rule_fibres(Mesh& mesh, const LabelImage& image, const Ru
   rep.solve_seconds = std::chrono::duration<double>(Clock::now() - t_solve).count();
 
   fill_missing_directions(mesh, et, rep);
-  write_frames(mesh, et, t_elem, options, rep);
+  write_frames(mesh, et, t_elem, use_rv, options, rep);
   write_rule_fields(mesh, t_elem, use_rv, options, rep);
   rep.total_seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
   return rep;
@@ -724,8 +750,11 @@ std::string describe_rule(const RuleFibreOptions& options, const RuleFibreReport
       << " sheet_angle_deg=" << deg_text(options.sheet_angle_rad) << " long_axis=" << report.long_axis.x() << ","
       << report.long_axis.y() << "," << report.long_axis.z()
       << (report.long_axis_estimated ? " (estimated)" : " (given)")
-      << (options.coordinate == TransmuralCoordinate::Harmonic ? " coordinate=harmonic" : " coordinate=thickness")
-      << (report.biv ? " biv" : "");
+      << (options.coordinate == TransmuralCoordinate::Harmonic ? " coordinate=harmonic" : " coordinate=thickness");
+  if (options.rv_helix_endo_rad) out << " helix_endo_rv_deg=" << deg_text(*options.rv_helix_endo_rad);
+  if (options.rv_helix_epi_rad) out << " helix_epi_rv_deg=" << deg_text(*options.rv_helix_epi_rad);
+  if (options.septum_rv_helix_rad) out << " helix_septum_rv_deg=" << deg_text(*options.septum_rv_helix_rad);
+  out << (report.biv ? " biv" : "");
   return out.str();
 }
 

@@ -86,6 +86,13 @@
 //   sheet  s = cos(beta) e_t + sin(beta) (f x e_t)   (e_t turned by beta about f,
 //                                                     right-handed; beta = sheet angle)
 //   normal n = f x s
+// Angles per wall (biv; Bayer et al. 2012 give each ventricle and the septum its own angles):
+//   RV free wall: alpha = rv_helix_endo + (rv_helix_epi - rv_helix_endo) t;
+//   LV wall incl. septum: alpha = helix_endo + (a_1 - helix_endo) t with the angle at its far
+//     surface a_1 = (1 - psi_e) helix_epi + psi_e septum_rv_helix, psi_e the element mean of psi
+//     (about 0 in the LV free wall, rising to 1 at the septum's RV surface), so the LV free wall
+//     ends at helix_epi on the epicardium and the septum at septum_rv_helix on the RV side.
+// With the defaults (each empty) this is the one helix law above, bit for bit.
 // (f, s, n) is right-handed and orthonormal. Where e_t is parallel to the long
 // axis (within 1e-6 rad: only at an apex) e_c is taken perpendicular to e_t and
 // the global axis least aligned with it; such elements are counted.
@@ -133,6 +140,10 @@ struct RuleFibreOptions {
   double helix_endo_rad = 60.0 * 3.14159265358979323846 / 180.0;
   double helix_epi_rad = -60.0 * 3.14159265358979323846 / 180.0;
   double sheet_angle_rad = 0.0;
+  /// biv: the RV free wall's helix at its endocardium and epicardium (empty: helix_endo_rad,
+  /// helix_epi_rad), and the septum's helix at its RV surface (empty: helix_epi_rad). See
+  /// "Angles per wall" in the file comment.
+  std::optional<double> rv_helix_endo_rad, rv_helix_epi_rad, septum_rv_helix_rad;
   std::optional<Eigen::Vector3d> long_axis;  ///< apex -> base; estimated when empty
   std::int32_t background_label = 0;
   std::int32_t lv_cavity_label = 2;

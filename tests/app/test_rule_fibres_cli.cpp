@@ -65,6 +65,9 @@ TEST(CliRuleFibres, OptionErrorsNameTheOption) {
       {"--fiber rule --long-axis 1,x,0", "--long-axis"},
       {"--fiber rule --sheet s.nii", "--sheet"},
       {"--helix-endo 30", "--fiber rule"},
+      {"--fiber rule --helix-septum-rv 91", "--helix-septum-rv"},
+      {"--fiber rule --helix-endo-rv 1.7rad", "--helix-endo-rv"},
+      {"--helix-epi-rv -30", "--fiber rule"},
   };
   for (const Case& c : cases) {
     const auto r = run_adamss("mesh " + img + " " + c.args + " -o " + out);

@@ -316,6 +316,63 @@ TEST(RuleFibres, BivCoversBothVentricles) {
   EXPECT_LT(std::sqrt(septum_h2 / static_cast<double>(septum)) / kDeg, 9.0);
 }
 
+// Angles per wall (rule_fibres.hpp): the RV free wall takes its own endo/epi helix, and the septum
+// ends at its own angle on the RV side, while the LV free wall keeps the LV law.
+TEST(RuleFibres, BivAnglesPerWall) {
+  PhantomOptions po;
+  po.voxel_size_m = 1e-3;
+  const Phantom ph = make_phantom("biv", po);
+  Mesh m = mesh_of(ph.image, Topology::Tet6m);
+  RuleFibreOptions o;
+  o.rv_helix_endo_rad = 80 * kDeg;
+  o.rv_helix_epi_rad = -40 * kDeg;
+  o.septum_rv_helix_rad = 20 * kDeg;
+  const RuleFibreReport r = assign_rule_fibres(m, ph.image, o);
+  ASSERT_TRUE(r.biv);
+  expect_orthonormal_right_handed(m);
+  EXPECT_NE(m.attributes.at("fiber_rule").find("helix_endo_rv_deg=80 helix_epi_rv_deg=-40 helix_septum_rv_deg=20"),
+            std::string::npos)
+      << m.attributes.at("fiber_rule");
+  const Eigen::VectorXd& ventricle = m.cell_scalars.at("ventricle");
+  const Eigen::VectorXd& t = m.cell_scalars.at("transmural");
+  std::size_t rv = 0, lv_free = 0, septum_rv_side = 0;
+  double lv_free_dev = 0.0, septum_dev = 0.0;
+  for (std::size_t e = 0; e < m.element_count(); ++e) {
+    const auto c = static_cast<Eigen::Index>(e);
+    const Eigen::Vector3d f = m.fiber.col(c), et = m.sheet.col(c);
+    const Eigen::Vector3d el = (r.long_axis - r.long_axis.dot(et) * et).normalized();
+    const double helix = std::atan2(f.dot(el), f.dot(el.cross(et)));
+    const Eigen::Vector3d x = element_barycentre(m, e);
+    if (ventricle[c] > 0.5) {  // RV free wall: exactly its own law
+      ++rv;
+      ASSERT_NEAR(helix, 80 * kDeg - 120 * kDeg * t[c], 1e-9) << "element " << e;
+    } else if (x.x() < -3e-3) {  // LV free wall, away from the RV: psi ~ 0, the LV law
+      ++lv_free;
+      lv_free_dev = std::max(lv_free_dev, std::abs(helix - (60 * kDeg - 120 * kDeg * t[c])));
+    } else if (x.x() > 7.5e-3 && x.x() < 9.5e-3 && std::abs(x.y()) < 3e-3 && std::abs(x.z()) < 8e-3 && t[c] > 0.8) {
+      ++septum_rv_side;  // the septum's outer fifth, next to the RV cavity: towards +20 deg, not -60
+      septum_dev = std::max(septum_dev, std::abs(helix - 20 * kDeg));
+    }
+  }
+  ASSERT_GT(rv, 1000u);
+  ASSERT_GT(lv_free, 1000u);
+  ASSERT_GT(septum_rv_side, 10u);
+  // psi stays below about 0.03 in the LV free wall: within 3 deg of the LV law (2.3 measured).
+  EXPECT_LT(lv_free_dev / kDeg, 3.0);
+  // The septum's outer fifth within 6 deg of 20 deg (3.6 measured); the one law puts it near -60.
+  EXPECT_LT(septum_dev / kDeg, 6.0);
+  // An angle outside [-90, 90] degrees is refused by name.
+  Mesh m2 = mesh_of(ph.image, Topology::Tet6m);
+  RuleFibreOptions bad;
+  bad.septum_rv_helix_rad = 100 * kDeg;
+  try {
+    (void)assign_rule_fibres(m2, ph.image, bad);
+    ADD_FAILURE() << "no error";
+  } catch (const adamss::InputError& err) {
+    EXPECT_NE(std::string(err.what()).find("septum's RV surface (--helix-septum-rv)"), std::string::npos) << err.what();
+  }
+}
+
 TEST(RuleFibres, Errors) {
   const Phantom& ph = lv_phantom_1mm();
   const Mesh base = mesh_of(ph.image, Topology::Hex);

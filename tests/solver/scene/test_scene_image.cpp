@@ -106,6 +106,10 @@ TEST(SceneImage, ErrorsNameTheKey) {
       std::string::npos);
   EXPECT_NE(test::scene_error(scene(", helix_endo: 50 deg")).find("mesh.helix_endo: only with fibres: rule"),
             std::string::npos);
+  EXPECT_NE(test::scene_error(scene(", helix_septum_rv: 20 deg")).find("mesh.helix_septum_rv: only with fibres: rule"),
+            std::string::npos);
+  EXPECT_NE(test::scene_error(scene(", fibres: rule, helix_epi_rv: 95 deg")).find("mesh.helix_epi_rv: the angle"),
+            std::string::npos);
   EXPECT_NE(test::scene_error(scene(", cavities: {lv: 0}")).find("mesh.cavities.lv"), std::string::npos);
   const std::string unknown = test::scene_error(scene(kTet, "{cavity_rim: lw}"));
   EXPECT_NE(unknown.find("the mesh has no cavity 'lw'"), std::string::npos) << unknown;
