@@ -64,6 +64,7 @@ if [[ "${HEART_BIV:-1}" == 1 ]]; then
   OMP_NUM_THREADS=${OMP_NUM_THREADS:-1} "$adamss" run "$here/biv_beat.yaml" -o "$out/biv" --progress-interval 10s
   t_biv=$((SECONDS - t_biv))
 else
+  rm -rf "$out/biv"  # no stale loops from an earlier run in the plots and the report
   echo "skipped (HEART_BIV=0)"
 fi
 
@@ -168,9 +169,11 @@ if os.path.exists(out + "/biv/summary.json"):
     print("| last beat | EDV (ml) | ESV (ml) | SV (ml) | EF | peak (kPa) | outflow sys/dia (kPa) | loop closure |\n"
           "|---|---|---|---|---|---|---|---|")
     for n in ("lv", "rv"):
-        cb = b["cavities"][n]
-        print(f"| {n.upper()} | {1e6 * cb['edv_m3']:.3f} | {1e6 * cb['esv_m3']:.3f} | {1e6 * cb['stroke_volume_m3']:.3f} | "
-              f"{100 * cb['ejection_fraction']:.1f} % | {1e-3 * cb['peak_pressure_Pa']:.2f} | "
+        cb = b["cavities"].get(n, {})
+        nan = float("nan")
+        print(f"| {n.upper()} | {1e6 * cb.get('edv_m3', nan):.3f} | {1e6 * cb.get('esv_m3', nan):.3f} | "
+              f"{1e6 * cb.get('stroke_volume_m3', nan):.3f} | "
+              f"{100 * cb.get('ejection_fraction', nan):.1f} % | {1e-3 * cb.get('peak_pressure_Pa', nan):.2f} | "
               f"{1e-3 * cb.get('aortic_systolic_pressure_Pa', float('nan')):.2f} / "
               f"{1e-3 * cb.get('aortic_diastolic_pressure_Pa', float('nan')):.2f} | {100 * cb.get('loop_closure', float('nan')):.2g} % |")
     print("\n![LV and RV loops (mmHg)](pv_loop_biv_mmhg.png)\n")
