@@ -76,7 +76,18 @@ void JacobianSolver::Petsc::configure(const Eigen::Matrix3Xd& x_ref, double ksp_
     // -log_view, with OpenBLAS as the BLAS).
     PetscBool mumps = PETSC_FALSE;
     petsc_check(MatGetFactorAvailable(a.mat(), MATSOLVERMUMPS, MAT_FACTOR_LU, &mumps), "MatGetFactorAvailable");
-    if (mumps == PETSC_TRUE) petsc_check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
+    if (mumps == PETSC_TRUE) {
+      petsc_check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
+      // MUMPS sizes its workspace from the analysis plus ICNTL(14) per cent (default 20) for the
+      // pivots that numerical pivoting delays. Near a loss of stability more are delayed: the heart
+      // soak's isovolumic relaxation in beat 45 failed with INFOG(1) = -9 (FACTOR_OUTMEMORY) at
+      // every step size on one machine's BLAS kernels and not on another's. Allow 100 % unless the
+      // user's PETSc options say otherwise (a larger allowance only reserves memory).
+      PetscBool given = PETSC_FALSE;
+      petsc_check(PetscOptionsHasName(nullptr, nullptr, "-mat_mumps_icntl_14", &given), "PetscOptionsHasName");
+      if (given == PETSC_FALSE)
+        petsc_check(PetscOptionsSetValue(nullptr, "-mat_mumps_icntl_14", "100"), "PETSc options");
+    }
   } else {
     petsc_check(KSPSetType(ksp, KSPGMRES), "KSPSetType");
     petsc_check(PCSetType(pc, PCGAMG), "PCSetType");
