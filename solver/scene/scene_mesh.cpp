@@ -161,12 +161,12 @@ preprocess::MeshRequest phantom_request(const std::string& kind, const preproces
   if (kind == "lv" || kind == "biv") {
     req.cavities.push_back({"lv", preprocess::kLvCavity});
     if (kind == "biv") req.cavities.push_back({"rv", preprocess::kRvCavity});
-    // The lattice puts the base nodes on the voxel face z = 5 mm exactly. CGAL's surface points
-    // on the base lie within about 0.04 voxel of it (0.25 mm voxels, facet distance 0.2 mm: 95
-    // nodes within 10 um, 103 within 25 um, 121 within 100 um): 0.1 voxel takes the base face
-    // and, at most, the first wall nodes just below its rim.
-    // Only when the plane is a voxel face: otherwise the phantom's top lies above it and CGAL
-    // would find a few wall nodes near z = 5 mm (0.75 mm voxels: 11 nodes 0.26 mm below the top).
+    // Only when z = 5 mm is a voxel face: otherwise the phantom's top lies above it and CGAL would
+    // find a few wall nodes near the plane (0.75 mm voxels: 11 nodes 0.26 mm below the top). The
+    // lattice puts the base nodes on that face exactly; CGAL's surface points lie within about
+    // 0.04 voxel of it (0.25 mm voxels, facet distance 0.2 mm: 95 nodes within 10 um, 103 within
+    // 25 um, 121 within 100 um), so 0.1 voxel takes the base face and, at most, the first wall
+    // nodes just below its rim.
     const double faces = preprocess::kPhantomBaseZ / po.voxel_size_m;
     if (std::abs(faces - std::round(faces)) <= 1e-9 * faces) {
       const double tolerance = (topo == "cgal" ? 0.1 : 1e-3) * po.voxel_size_m;
