@@ -14,6 +14,7 @@ void add_info_command(CLI::App& app);
 void add_run_command(CLI::App& app);
 void add_fit_command(CLI::App& app);
 void add_verify_command(CLI::App& app);
+void add_unload_command(CLI::App& app);
 
 /// Parses an angle; a plain number means degrees ("60", "-60deg", "1.0 rad"). Result in radians.
 double parse_angle_deg_default(const std::string& text, const std::string& what);

@@ -81,6 +81,7 @@ int main(int argc, char** argv) {
   adamss::app::add_mesh_command(app);
   adamss::app::add_info_command(app);
   adamss::app::add_run_command(app);
+  adamss::app::add_unload_command(app);
   adamss::app::add_fit_command(app);
   adamss::app::add_verify_command(app);
   const std::vector<std::string> commands = subcommand_names(app);

@@ -8,6 +8,7 @@
 // terms need them).
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,10 @@ struct LoadedScene {
 struct SceneOptions {
   std::filesystem::path cache_dir;  ///< mesh-recipe cache; empty: default_cache_dir()
   bool verbose = false;
+  /// Node positions that replace the mesh's before the model is built (the reference
+  /// configuration of an unloading iteration, solver/run/unload.hpp); none: the mesh's own (or its
+  /// `mesh.reference` file's). Node selections by region and probes see these positions.
+  std::optional<Eigen::Matrix3Xd> reference_nodes;
 };
 
 /// $ADAMSS_CACHE_DIR, else $XDG_CACHE_HOME/adamss, else $HOME/.cache/adamss, else /tmp/adamss-cache.

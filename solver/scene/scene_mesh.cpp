@@ -16,6 +16,7 @@
 #include "preprocess/meshers/box_mesh.hpp"
 #include "preprocess/meshers/ellipsoid_mesh.hpp"
 #include "preprocess/pipeline/mesh_pipeline.hpp"
+#include "solver/core/model.hpp"
 #include "solver/scene/mesh_cache.hpp"
 #include "solver/scene/scene_image_mesh.hpp"
 
@@ -241,7 +242,43 @@ void uniform_fibre_frame(SceneNode& node, preprocess::Mesh& mesh) {
   mesh.normal = n.replicate(1, ne);
 }
 
+/// mesh: {..., reference: unloaded_mesh.h5}: the file named (relative to the scene's folder), if given.
+std::optional<fs::path> reference_file(SceneNode& node, const fs::path& base) {
+  if (!node.has("reference")) return std::nullopt;
+  fs::path p = node.text("reference");
+  if (p.is_relative()) p = base / p;
+  if (!fs::exists(p)) throw InputError(node.at("reference") + ": mesh file '" + p.string() + "' does not exist");
+  return p;
+}
+
+/// The node positions of the mesh file `file` (same elements as `mesh`, in the same order) in
+/// place of the mesh's own.
+void take_reference(preprocess::Mesh& mesh, const fs::path& file, const std::string& what) {
+  const preprocess::Mesh ref = preprocess::read_mesh_file(file);
+  if (ref.type != mesh.type || ref.connectivity != mesh.connectivity) {
+    throw InputError(what + ": '" + file.string() + "' has other elements (" + std::to_string(ref.element_count()) +
+                     " " + preprocess::element_type_name(ref.type) + ") than the scene's mesh (" +
+                     std::to_string(mesh.element_count()) + " " + preprocess::element_type_name(mesh.type) +
+                     "): a reference configuration must come from this mesh (adamss unload)");
+  }
+  replace_node_positions(mesh, ref.nodes, what);
+}
+
 }  // namespace
+
+void replace_node_positions(preprocess::Mesh& mesh, const Eigen::Matrix3Xd& nodes, const std::string& what) {
+  if (nodes.cols() != mesh.nodes.cols()) {
+    throw InputError(what + ": " + std::to_string(nodes.cols()) + " node positions for a mesh of " +
+                     std::to_string(mesh.nodes.cols()) + " nodes");
+  }
+  if (!nodes.allFinite()) throw InputError(what + ": a node position is not finite");
+  for (std::size_t e = 0; e < mesh.element_count(); ++e) {
+    if (!(element_signed_volume_check(mesh, nodes, e) > 0.0)) {
+      throw InputError(what + ": element " + std::to_string(e) + " is inverted or flat at the given node positions");
+    }
+  }
+  mesh.nodes = nodes;
+}
 
 preprocess::Mesh load_scene_mesh(SceneNode node, const fs::path& base, const SceneOptions& opt, std::string& source) {
   const bool has_file = node.has("file");
@@ -271,6 +308,7 @@ preprocess::Mesh load_scene_mesh(SceneNode node, const fs::path& base, const Sce
     mesh = phantom_mesh(node, opt, source);
   }
   uniform_fibre_frame(node, mesh);
+  const std::optional<fs::path> reference = reference_file(node, base);
   // order 2: the ellipsoid recipe places its mid-edge nodes on the curved map itself; every other
   // mesh of linear tetrahedra gets straight mid-edge nodes after its fibres and tags are set.
   if (!has_ellipsoid && mesh_order(node) == 2) {
@@ -280,6 +318,10 @@ preprocess::Mesh load_scene_mesh(SceneNode node, const fs::path& base, const Sce
     }
     mesh = preprocess::make_quadratic(mesh);
     source += ", raised to quadratic tetrahedra (tet10)";
+  }
+  if (reference) {
+    take_reference(mesh, *reference, node.at("reference"));
+    source += ", node positions from " + reference->string();
   }
   node.finish();
   return mesh;

@@ -17,4 +17,10 @@ namespace adamss::solver {
 preprocess::Mesh load_scene_mesh(SceneNode node, const std::filesystem::path& base, const SceneOptions& opt,
                                  std::string& source);
 
+/// Replaces the node positions of `mesh` by `nodes` (a reference configuration computed elsewhere,
+/// e.g. the unloaded geometry of solver/run/unload.hpp); elements, fibres, tags and cavities stay.
+/// InputError naming `what` if the node count differs, a position is not finite, or an element's
+/// signed volume at the new positions is not positive (the first such element is named).
+void replace_node_positions(preprocess::Mesh& mesh, const Eigen::Matrix3Xd& nodes, const std::string& what);
+
 }  // namespace adamss::solver

@@ -1,0 +1,119 @@
+// adamss unload end to end: the unloaded mesh it writes, re-loaded by `adamss run` through
+// mesh.reference, reproduces the imaged geometry; a run that does not converge still writes its best.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cli_runner.hpp"
+#include "preprocess/mesh/mesh_io.hpp"
+
+using namespace adamss;
+using adamss::test::run_adamss;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// The imaged geometry is the straight 8 x 2 x 2 mm block, clamped at x = 0, under gravity: its
+/// unloaded reference must be bent upwards so that gravity brings it down to straight.
+std::string cantilever(const std::string& mesh_extra = "", const std::string& probe = "8 mm, 1 mm, 2 mm") {
+  return R"(name: cantilever
+mesh: {box: [8 mm, 2 mm, 2 mm], divisions: [8, 2, 2], topology: hex)" +
+         mesh_extra + R"(}
+materials:
+  - name: m
+    labels: [1]
+    density: 1000 kg/m^3
+    terms:
+      - fem_element: {law: neo_hookean, parameters: {E: 20 kPa, nu: 0.3}}
+loads:
+  gravity: [0, 0, -9.81 m/s^2]
+boundary:
+  - select: {region: {plane: {point: [0, 0, 0], normal: [1, 0, 0], tolerance: 0.001 mm}}}
+    fix: xyz
+integrator: {type: static, dt: 0.5 s, newton_rtol: 1e-10}
+run: {t_end: 1 s}
+output:
+  probes:
+    - {name: tip, point: [)" +
+         probe + R"(]}
+)";
+}
+
+nlohmann::json read_json(const fs::path& p) {
+  std::ifstream in(p);
+  return nlohmann::json::parse(in);
+}
+
+}  // namespace
+
+TEST(UnloadCli, TheUnloadedMeshReloadsToTheImage) {
+  const fs::path dir = test::scratch_dir("unload_cli");
+  const fs::path scene = test::write_scene(dir, cantilever());
+  const auto r = run_adamss("unload " + scene.string() + " -o " + (dir / "out").string() + " --tolerance 0.1um");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("iteration 1 (step factor 1)"), std::string::npos) << r.output;
+  const nlohmann::json j = read_json(dir / "out" / "unload.json");
+  EXPECT_TRUE(j["converged"].get<bool>());
+  EXPECT_LE(j["max_error_m"].get<double>(), 1e-7);
+  EXPECT_TRUE(fs::exists(dir / "out" / "unloaded_mesh.vtu"));
+  EXPECT_TRUE(fs::exists(dir / "out" / "unload.log"));
+
+  // The unloaded tip (the image's node at 8, 1, 2 mm: the highest node of the mid-plane y = 1 mm)
+  // lies above the image: gravity brings it down.
+  const preprocess::Mesh unloaded = preprocess::read_mesh_h5(dir / "out" / "unloaded_mesh.h5");
+  Eigen::Index tip = -1;
+  for (Eigen::Index i = 0; i < unloaded.nodes.cols(); ++i) {
+    if (std::abs(unloaded.nodes(1, i) - 1e-3) < 1e-6 && (tip < 0 || unloaded.nodes(2, i) > unloaded.nodes(2, tip)))
+      tip = i;
+  }
+  ASSERT_GE(tip, 0);
+  EXPECT_GT(unloaded.nodes(2, tip), 2.5e-3);
+
+  // Re-loading the unloaded reference reproduces the image: that node ends at (8, 1, 2) mm.
+  const Eigen::Vector3d p = unloaded.nodes.col(tip) * 1e3;
+  const fs::path reload = dir / "reload.yaml";
+  std::ofstream(reload) << cantilever(
+      ", reference: out/unloaded_mesh.h5",
+      std::to_string(p.x()) + " mm, " + std::to_string(p.y()) + " mm, " + std::to_string(p.z()) + " mm");
+  const auto run = run_adamss("run " + reload.string() + " -o " + (dir / "reload").string() + " -q");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const nlohmann::json s = test::read_summary(dir / "reload");
+  EXPECT_EQ(s["probe_details"]["tip"]["node"].get<Eigen::Index>(), tip);
+  EXPECT_NEAR(s["probes"]["tip"][0].get<double>(), 8e-3, 1e-7);
+  EXPECT_NEAR(s["probes"]["tip"][1].get<double>(), 1e-3, 1e-7);
+  EXPECT_NEAR(s["probes"]["tip"][2].get<double>(), 2e-3, 1e-7);
+  EXPECT_NE(s["mesh"].get<std::string>().find("node positions from"), std::string::npos);
+}
+
+TEST(UnloadCli, NotConvergedStillWritesTheBestReference) {
+  const fs::path dir = test::scratch_dir("unload_cli_short");
+  const fs::path scene = test::write_scene(dir, cantilever());
+  const auto r = run_adamss("unload " + scene.string() + " -o " + (dir / "out").string() +
+                            " --max-iterations 2 --tolerance 0.001um");
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find("not converged (max_iterations) after 2 iterations"), std::string::npos) << r.output;
+  const nlohmann::json j = read_json(dir / "out" / "unload.json");
+  EXPECT_FALSE(j["converged"].get<bool>());
+  EXPECT_EQ(j["best_iteration"].get<int>(), 1);
+  EXPECT_TRUE(fs::exists(dir / "out" / "unloaded_mesh.h5"));
+}
+
+TEST(UnloadCli, BadOptionsAreRefusedBeforeAnyWork) {
+  const fs::path dir = test::scratch_dir("unload_cli_bad");
+  const fs::path scene = test::write_scene(dir, cantilever());
+  const auto bare = run_adamss("unload " + scene.string() + " -o " + (dir / "a").string() + " --tolerance 5");
+  EXPECT_EQ(bare.exit_code, 2) << bare.output;
+  EXPECT_NE(bare.output.find("--tolerance"), std::string::npos) << bare.output;
+  const auto relax = run_adamss("unload " + scene.string() + " -o " + (dir / "b").string() + " --relaxation 2");
+  EXPECT_EQ(relax.exit_code, 2) << relax.output;
+  EXPECT_NE(relax.output.find("relaxation must be in (0, 1]"), std::string::npos) << relax.output;
+  EXPECT_FALSE(fs::exists(dir / "b" / "iterations"));
+  const auto missing = run_adamss("unload " + (dir / "none.yaml").string() + " -o " + (dir / "c").string());
+  EXPECT_EQ(missing.exit_code, 2) << missing.output;
+  EXPECT_NE(missing.output.find("cannot open scene file"), std::string::npos) << missing.output;
+}
