@@ -34,6 +34,7 @@ struct RunArgs {
   std::string cache;
   std::string petsc;
   std::string resume;
+  std::string reference;
   std::size_t stop_after_steps = 0;
   bool check_only = false;
   bool quiet = false;
@@ -206,6 +207,7 @@ void log_header(solver::RunLog& log, const solver::LoadedScene& sc, const RunArg
   std::string cmd = "adamss run " + a.scene + " -o " + output.string();
   if (!a.resume.empty()) cmd += " --resume " + a.resume + (a.resume_modified ? " --resume-modified" : "");
   if (!a.petsc.empty()) cmd += " --petsc '" + a.petsc + "'";
+  if (!a.reference.empty()) cmd += " --reference " + a.reference;
   log.line(cmd);
   for (const std::string& l : model_lines(sc, a.t_load)) log.line(l);
   for (const auto& w : sc.warnings) log.line("warning: " + w);
@@ -283,6 +285,7 @@ std::uint64_t mesh_file_hash(const solver::LoadedScene& sc, const RunArgs& a) {
 int run_scene(RunArgs a) {
   solver::SceneOptions so;
   so.cache_dir = a.cache;
+  so.reference_file = a.reference;
   const auto t0 = std::chrono::steady_clock::now();
   solver::LoadedScene sc = solver::load_scene(a.scene, so);
   const double t_load = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -324,6 +327,10 @@ void add_run_command(CLI::App& app) {
                   "Continue an interrupted run from its checkpoint (OUT/checkpoint.h5, written on SIGINT/SIGTERM "
                   "and every output.checkpoint_interval): the result equals the uninterrupted run bit for bit. "
                   "The results continue in -o (default: the checkpoint's folder)");
+  sub->add_option("--reference", args->reference,
+                  "Start from this reference configuration: a mesh file of the scene's elements whose node "
+                  "positions replace the mesh's (OUT/unloaded_mesh.h5 of adamss unload), as the scene key "
+                  "mesh.reference");
   sub->add_flag("--resume-modified", args->resume_modified,
                 "With --resume: continue although the scene or its mesh file changed since the checkpoint "
                 "(refused otherwise); summary.json lists what changed under resume_modified");

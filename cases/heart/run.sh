@@ -5,7 +5,8 @@
 #   HEART_VOXEL (default 2.5mm; 1.25mm does not yet finish: the refilling after the beat stalls) sets the voxel size (the base plane z = 5 mm must be a whole
 #   number of voxels: 0.5, 1, 1.25, 2.5 mm); HEART_CHECK=0 skips the physiology check.
 #   HEART_SCAR=0 skips the scarred run; HEART_ESPVR=0 skips the lower-preload run (and the ESPVR);
-#   HEART_BIV=0 skips the biventricular run (biv_beat.yaml, results in OUTPUT_DIR/biv).
+#   HEART_BIV=0 skips the biventricular run (biv_unload.yaml unloaded into OUTPUT_DIR/biv_unload, then
+#   biv_beat.yaml from that reference, results in OUTPUT_DIR/biv).
 # Writes OUTPUT_DIR/{summary.json, pv_loop.png, pressure_volume_time.png, pv_loop_scar.png,
 # report.md}, the healthy simulation in OUTPUT_DIR/sim (series.pvd + frames/*.vtu, globals.csv)
 # and the scarred one in OUTPUT_DIR/scar (its summary.json there).
@@ -57,14 +58,20 @@ else
   echo "skipped (HEART_ESPVR=0)"
 fi
 
-echo "== 4c/6 simulation, biventricular: two beats of the biv phantom (CGAL mesh), LV and RV each with a Windkessel; see biv_beat.yaml"
+echo "== 4c/6 simulation, biventricular: the biv phantom (CGAL mesh) unloaded from end-diastole, then two beats, LV and RV each with a Windkessel; see biv_unload.yaml, biv_beat.yaml"
 t_biv=0
 if [[ "${HEART_BIV:-1}" == 1 ]]; then
   t_biv=$SECONDS
-  OMP_NUM_THREADS=${OMP_NUM_THREADS:-1} "$adamss" run "$here/biv_beat.yaml" -o "$out/biv" --progress-interval 10s
+  # The phantom is the end-diastolic image: unload it first (biv_unload.yaml), then beat from the
+  # unloaded reference, so that the filling ends at the image's volumes.
+  rm -rf "$out/biv_unload"
+  OMP_NUM_THREADS=${OMP_NUM_THREADS:-1} "$adamss" unload "$here/biv_unload.yaml" -o "$out/biv_unload" \
+    --tolerance 0.05mm --max-iterations 12
+  OMP_NUM_THREADS=${OMP_NUM_THREADS:-1} "$adamss" run "$here/biv_beat.yaml" -o "$out/biv" --progress-interval 10s \
+    --reference "$out/biv_unload/unloaded_mesh.h5"
   t_biv=$((SECONDS - t_biv))
 else
-  rm -rf "$out/biv"  # no stale loops from an earlier run in the plots and the report
+  rm -rf "$out/biv" "$out/biv_unload"  # no stale loops from an earlier run in the plots and the report
   echo "skipped (HEART_BIV=0)"
 fi
 
@@ -176,6 +183,17 @@ if os.path.exists(out + "/biv/summary.json"):
               f"{100 * cb.get('ejection_fraction', nan):.1f} % | {1e-3 * cb.get('peak_pressure_Pa', nan):.2f} | "
               f"{1e-3 * cb.get('aortic_systolic_pressure_Pa', float('nan')):.2f} / "
               f"{1e-3 * cb.get('aortic_diastolic_pressure_Pa', float('nan')):.2f} | {100 * cb.get('loop_closure', float('nan')):.2g} % |")
+    if os.path.exists(out + "/biv_unload/unload.json"):
+        u = json.load(open(out + "/biv_unload/unload.json"))
+        best = u["iterations"][u["best_iteration"]]
+        print(f"\nUnloaded reference (`adamss unload`, `biv_unload.yaml`: the phantom taken as the image at "
+              f"end-diastole): {len(u['iterations'])} iterations, max distance of the re-filled reference to the "
+              f"image {1e3 * u['max_error_m']:.3f} mm.\n")
+        print("| cavity | image (ml) | unloaded (ml) | beat's EDV (ml) | EDV vs image |\n|---|---|---|---|---|")
+        for n, v in u["imaged_cavity_volumes_m3"].items():
+            ref = best["cavities"][n]["reference_m3"]
+            edv = b["cavities"].get(n, {}).get("edv_m3", float("nan"))
+            print(f"| {n.upper()} | {1e6 * v:.3f} | {1e6 * ref:.3f} | {1e6 * edv:.3f} | {100 * (edv / v - 1):+.2f} % |")
     print("\n![LV and RV loops (mmHg)](pv_loop_biv_mmhg.png)\n")
 print("Fields over time (displacement, fibre_stretch, active_tension, J): open [sim/series.pvd](sim/series.pvd) "
       "in ParaView. Every step: [sim/globals.csv](sim/globals.csv); everything: [summary.json](summary.json).")
@@ -189,6 +207,7 @@ if [[ "${HEART_CHECK:-1}" == 1 ]]; then
       -P "$here/check_scar.cmake"
   fi
   if [[ "${HEART_BIV:-1}" == 1 ]]; then
+    cmake -DUNLOAD="$out/biv_unload/unload.json" -DSUMMARY="$out/biv/summary.json" -P "$here/check_unloaded_edv.cmake"
     for cav in lv rv; do
       cmake -DSUMMARY="$out/biv/summary.json" -DCAVITY=$cav -DEXPECTED="$here/biv_expected_$cav.cmake" -P "$here/check.cmake"
     done

@@ -116,7 +116,8 @@ bool next_reference(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& best, 
     omega *= 0.5;
   }
   stop = bad >= 0 ? "every step factor down to 1/8 inverts element " + std::to_string(bad) + " of the reference"
-                  : "diverged: the error did not fall at any step factor down to 1/8";
+                  : "stalled: the error did not fall at any step factor down to 1/8 (the loadings' own "
+                    "accuracy, integrator.newton_rtol, may be the limit)";
   return false;
 }
 

@@ -40,6 +40,9 @@ struct SceneOptions {
   /// configuration of an unloading iteration, solver/run/unload.hpp); none: the mesh's own (or its
   /// `mesh.reference` file's). Node selections by region and probes see these positions.
   std::optional<Eigen::Matrix3Xd> reference_nodes;
+  /// A mesh file whose node positions replace the mesh's, as the scene key mesh.reference
+  /// (`adamss run --reference`); InputError if the scene names one too. Empty: none.
+  std::filesystem::path reference_file;
 };
 
 /// $ADAMSS_CACHE_DIR, else $XDG_CACHE_HOME/adamss, else $HOME/.cache/adamss, else /tmp/adamss-cache.

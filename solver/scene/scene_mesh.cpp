@@ -242,8 +242,19 @@ void uniform_fibre_frame(SceneNode& node, preprocess::Mesh& mesh) {
   mesh.normal = n.replicate(1, ne);
 }
 
-/// mesh: {..., reference: unloaded_mesh.h5}: the file named (relative to the scene's folder), if given.
-std::optional<fs::path> reference_file(SceneNode& node, const fs::path& base) {
+/// mesh: {..., reference: unloaded_mesh.h5}: the file named (relative to the scene's folder), or
+/// the options' reference_file (`adamss run --reference`), if either is given.
+std::optional<fs::path> reference_file(SceneNode& node, const fs::path& base, const SceneOptions& opt) {
+  if (!opt.reference_file.empty()) {
+    if (node.has("reference")) {
+      throw InputError(node.at("reference") + ": the scene names a reference configuration and --reference gives " +
+                       "another ('" + opt.reference_file.string() + "'): give one");
+    }
+    if (!fs::exists(opt.reference_file)) {
+      throw InputError("--reference: mesh file '" + opt.reference_file.string() + "' does not exist");
+    }
+    return opt.reference_file;
+  }
   if (!node.has("reference")) return std::nullopt;
   fs::path p = node.text("reference");
   if (p.is_relative()) p = base / p;
@@ -308,7 +319,7 @@ preprocess::Mesh load_scene_mesh(SceneNode node, const fs::path& base, const Sce
     mesh = phantom_mesh(node, opt, source);
   }
   uniform_fibre_frame(node, mesh);
-  const std::optional<fs::path> reference = reference_file(node, base);
+  const std::optional<fs::path> reference = reference_file(node, base, opt);
   // order 2: the ellipsoid recipe places its mid-edge nodes on the curved map itself; every other
   // mesh of linear tetrahedra gets straight mid-edge nodes after its fibres and tags are set.
   if (!has_ellipsoid && mesh_order(node) == 2) {
@@ -320,7 +331,7 @@ preprocess::Mesh load_scene_mesh(SceneNode node, const fs::path& base, const Sce
     source += ", raised to quadratic tetrahedra (tet10)";
   }
   if (reference) {
-    take_reference(mesh, *reference, node.at("reference"));
+    take_reference(mesh, *reference, opt.reference_file.empty() ? node.at("reference") : "--reference");
     source += ", node positions from " + reference->string();
   }
   node.finish();

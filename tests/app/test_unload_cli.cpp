@@ -88,6 +88,18 @@ TEST(UnloadCli, TheUnloadedMeshReloadsToTheImage) {
   EXPECT_NEAR(s["probes"]["tip"][1].get<double>(), 1e-3, 1e-7);
   EXPECT_NEAR(s["probes"]["tip"][2].get<double>(), 2e-3, 1e-7);
   EXPECT_NE(s["mesh"].get<std::string>().find("node positions from"), std::string::npos);
+
+  // The same through `adamss run --reference`; with the scene key as well it is refused.
+  const fs::path plain = dir / "plain.yaml";
+  std::ofstream(plain) << cantilever(
+      "", std::to_string(p.x()) + " mm, " + std::to_string(p.y()) + " mm, " + std::to_string(p.z()) + " mm");
+  const std::string ref = " --reference " + (dir / "out" / "unloaded_mesh.h5").string();
+  const auto cli = run_adamss("run " + plain.string() + " -o " + (dir / "cli").string() + " -q" + ref);
+  ASSERT_EQ(cli.exit_code, 0) << cli.output;
+  EXPECT_NEAR(test::read_summary(dir / "cli")["probes"]["tip"][2].get<double>(), 2e-3, 1e-7);
+  const auto both = run_adamss("run " + reload.string() + " -o " + (dir / "both").string() + " -q" + ref);
+  EXPECT_EQ(both.exit_code, 2) << both.output;
+  EXPECT_NE(both.output.find("--reference gives another"), std::string::npos) << both.output;
 }
 
 TEST(UnloadCli, NotConvergedStillWritesTheBestReference) {
