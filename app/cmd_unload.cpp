@@ -42,8 +42,9 @@ std::string iteration_line(const solver::UnloadIteration& it) {
     o << ": loading " << it.status << " (" << it.reason << ")";
     return o.str();
   }
-  o << std::setprecision(4) << ": max |x(X) - x*| " << it.max_error * 1e3 << " mm, rms " << it.rms_error * 1e3
-    << " mm; " << it.steps << " load steps, " << it.newton_iterations << " Newton, " << it.wall_seconds << " s";
+  o << std::setprecision(4) << ": max |x(X) - x*| " << it.max_error * 1e3 << " mm (node " << it.worst_node << "), rms "
+    << it.rms_error * 1e3 << " mm; " << it.steps << " load steps, " << it.newton_iterations << " Newton, "
+    << it.wall_seconds << " s";
   for (const auto& c : it.cavities)
     o << "; " << c.name << " " << c.reference * 1e6 << " -> " << c.loaded * 1e6 << " ml";
   return o.str();
@@ -55,7 +56,13 @@ nlohmann::json result_json(const solver::UnloadResult& r, const UnloadArgs& a, d
   for (const auto& it : r.iterations) {
     json cav = json::object();
     for (const auto& c : it.cavities) cav[c.name] = {{"reference_m3", c.reference}, {"loaded_m3", c.loaded}};
+    json worst = nullptr;  // where the largest distance is: the node and its imaged position
+    if (it.worst_node >= 0) {
+      const Eigen::Vector3d p = r.mesh->nodes.col(it.worst_node);
+      worst = {{"node", it.worst_node}, {"image_position_m", {p.x(), p.y(), p.z()}}};
+    }
     its.push_back({{"iteration", it.k},
+                   {"max_error_at", worst},
                    {"step_factor", it.omega},
                    {"status", it.status},
                    {"reason", it.reason},

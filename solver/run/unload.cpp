@@ -68,7 +68,9 @@ Eigen::Matrix3Xd load_once(LoadedScene& sc, const fs::path& dir, UnloadIteration
 /// The error of a completed loading against the image: max and rms node distance.
 void measure(const Eigen::Matrix3Xd& e, UnloadIteration& it) {
   const Eigen::VectorXd d = e.colwise().norm().transpose();
-  it.max_error = d.size() > 0 ? d.maxCoeff() : 0.0;
+  Eigen::Index worst = 0;
+  it.max_error = d.size() > 0 ? d.maxCoeff(&worst) : 0.0;
+  it.worst_node = d.size() > 0 ? static_cast<long>(worst) : -1;
   it.rms_error = d.size() > 0 ? std::sqrt(d.squaredNorm() / static_cast<double>(d.size())) : 0.0;
 }
 

@@ -76,6 +76,9 @@ TEST(Unload, RecoversTheStraightCantileverFromItsSaggingShape) {
   const Eigen::Matrix3Xd sagged = forward.reloaded;
   ASSERT_GT(forward.iterations[0].max_error, 0.5e-3) << "the load must bend the beam visibly";
   ASSERT_LT(forward.iterations[0].max_error, 1.0e-3);
+  // The largest distance is at the free end, x = 8 mm.
+  ASSERT_GE(forward.iterations[0].worst_node, 0);
+  EXPECT_DOUBLE_EQ(straight(0, forward.iterations[0].worst_node), 8e-3);
 
   // The imaged geometry: the sagged block as a mesh file.
   preprocess::Mesh imaged = *forward.mesh;
