@@ -43,6 +43,8 @@ class RunLoop {
   void write_globals_row(const State& s, double ke);
   void write_frame(const State& s);
   void show_progress(const State& s, double ke, bool on_terminal, bool in_log);
+  [[nodiscard]] ImplicitSettings observed(const ImplicitSettings& implicit);
+  void show_newton(int iteration, double residual);
   [[nodiscard]] ProgressSnapshot snapshot(const State& s, double ke);
   void stop(const std::string& status, const std::string& reason);
   void fail(State& s, const std::string& status, const std::string& why);
@@ -57,6 +59,7 @@ class RunLoop {
   const StopSignals signals_;
   Clock::time_point wall0_ = Clock::now();
   System sys_;
+  ImplicitSettings implicit_;  ///< the scene's, with the Newton observer (integ_ keeps a copy)
   std::unique_ptr<Integrator> integ_;
   StabilityCheck check_;
   const bool clips_last_step_;  ///< the last step is shortened to land on t_end
@@ -66,6 +69,9 @@ class RunLoop {
   const bool dynamic_;          ///< the kinetic energy means something (not the static integrator)
   Clock::time_point last_progress_;
   Clock::time_point last_logged_progress_;
+  Clock::time_point step_start_;        ///< when the step under way began (for show_newton)
+  Clock::time_point last_newton_line_;  ///< show_newton's last line
+  double step_t0_ = 0.0;                ///< its start time, s
   RunLoopState loop_;
   RunOutcome out_;      ///< status, reason, bad element, memory; the counters are loop_'s until finish
   State spare_;         ///< the instability check copies s here; swapped with loop_.good when it passes
@@ -78,7 +84,8 @@ RunLoop::RunLoop(Model& model, const RunSettings& settings, ResultsWriter& write
       set_(settings),
       writer_(writer),
       sys_(model),
-      integ_(make_integrator(settings.integrator, sys_, settings.abm3, &settings.implicit)),
+      implicit_(observed(settings.implicit)),
+      integ_(make_integrator(settings.integrator, sys_, settings.abm3, &implicit_)),
       check_(model, settings.flat_fraction),
       clips_last_step_(integrator_info(settings.integrator).clips_last_step),
       t_eps_(1e-12 * settings.t_end),
@@ -159,6 +166,8 @@ bool RunLoop::stop_before_step(const State& s) {
 bool RunLoop::step(State& s) {
   const double h = clips_last_step_ ? std::min(loop_.dt, set_.t_end - s.t) : loop_.dt;
   StepReport& rep = loop_.last_report;
+  step_start_ = Clock::now();
+  step_t0_ = s.t;
   try {
     rep = integ_->step(s, h);
   } catch (const StepInterrupted&) {
@@ -291,6 +300,34 @@ void RunLoop::show_progress(const State& s, double ke, bool on_terminal, bool in
   if (in_log) {
     last_logged_progress_ = Clock::now();
     writer_.log().line(line);
+  }
+}
+
+/// The implicit settings with on_iteration calling show_newton (this loop outlives integ_).
+ImplicitSettings RunLoop::observed(const ImplicitSettings& implicit) {
+  ImplicitSettings set = implicit;
+  set.on_iteration = [this](int iteration, double residual) { show_newton(iteration, residual); };
+  return set;
+}
+
+/// Inside a step that has run for progress_interval or more (wall), a line per Newton iteration
+/// at most every progress_interval (its own clock: the step lines keep theirs), in the batch log
+/// and run.log (a terminal keeps its progress line): a long implicit step (a real heart's first
+/// load step can take minutes) is seen moving.
+/// Nothing with progress_interval 0 (its lines come every step anyway).
+void RunLoop::show_newton(int iteration, double residual) {
+  if (!(set_.progress_interval > 0.0)) return;
+  const auto now = Clock::now();
+  const auto since = [&now](Clock::time_point t) { return std::chrono::duration<double>(now - t).count(); };
+  if (since(step_start_) < set_.progress_interval || since(last_newton_line_) < set_.progress_interval) return;
+  char line[200];
+  std::snprintf(line, sizeof line, "  in step %zu (from t = %.6g s): Newton iteration %d, residual %.3e N, wall %.1f s",
+                loop_.steps + 1, step_t0_, iteration, residual, wall());
+  last_newton_line_ = now;
+  writer_.log().line(line);
+  if (batch_) {
+    std::fprintf(stderr, "%s\n", line);
+    std::fflush(stderr);
   }
 }
 

@@ -111,6 +111,7 @@ bool bordered_newton(StepEquations& eq, JacobianSolver& linear, CavityBorder& bo
     const bool volumes_ok = border.residuals(eq.positions(u), rv);
     if (!std::isfinite(nr) || !rv.allFinite()) return fail();
     record.residuals.push_back(nr);
+    if (settings.on_iteration) settings.on_iteration(it, nr);
     if (it == 0) r0 = std::max(nr, r0_floor);
     const bool forces_ok = nr <= settings.newton_atol || nr <= settings.newton_rtol * r0;
     if ((border.empty() || it > 0) && volumes_ok && forces_ok) return true;

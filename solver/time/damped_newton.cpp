@@ -66,6 +66,7 @@ bool damped_newton(StaticEquations& eq, JacobianSolver& linear, Eigen::Matrix3Xd
       if (record.residuals.empty()) r0 = nr;
       record.residuals.push_back(nr);
     }
+    if (settings.on_iteration) settings.on_iteration(it, nr);
     if (!pending && (nr <= settings.newton_atol || nr <= settings.newton_rtol * r0)) return true;
     if (it >= settings.max_newton) return false;
     if (!newton_direction(eq, linear, x, f, dpres, pending, dx)) return false;

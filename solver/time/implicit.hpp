@@ -42,6 +42,7 @@
 // pressures) and damped_newton.hpp (static without cavities), the PETSc matrix, KSP and
 // elimination behind petsc/jacobian_solver.hpp; this header is PETSc-free.
 #include <Eigen/Core>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -61,6 +62,10 @@ struct ImplicitSettings {
   int ksp_max_it = 2000;
   bool adapt = true;          ///< grow/shrink dt by the iteration counts
   std::string petsc_options;  ///< e.g. "-ksp_type cg -pc_type hypre"
+  /// Called at every Newton iteration of every attempt with the iteration (0 = the start of the
+  /// attempt) and its residual 2-norm (N): the run loop's progress lines inside a long step
+  /// (solver/run/run.cpp). Empty: nothing is called. It must not change the solve.
+  std::function<void(int iteration, double residual)> on_iteration;
 };
 
 /// What the Newton iterations of one attempt did (for the step-size rule, tests and logs).

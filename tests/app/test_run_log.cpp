@@ -70,6 +70,30 @@ TEST(RunLog, BatchProgressLinesAndTheLogOfAStaticRun) {
   }
 }
 
+// Inside a step that lasts longer than --progress-interval, each Newton iteration (at most one a
+// interval) gets a line in the batch log and run.log; with interval 0 (a line every step) none.
+TEST(RunLog, LongStepsShowTheirNewtonIterations) {
+  const fs::path dir = scratch_dir("runlog_newton");
+  const std::string scene = std::string(ADAMSS_SOURCE_DIR) + "/cases/quick/lv_isovolumic_static.yaml";
+  const auto r =
+      run_adamss("run " + scene + " -o " + (dir / "a").string() + cache_arg(dir) + " --progress-interval 1us");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string log = contents(dir / "a" / "run.log");
+  EXPECT_GT(occurrences(log, ": Newton iteration "), 3u) << log;
+  EXPECT_NE(log.find("  in step 1 (from t = 0 s): Newton iteration 0, residual "), std::string::npos) << log;
+  EXPECT_GT(occurrences(r.output, ": Newton iteration "), 3u) << r.output;
+  const auto quiet =
+      run_adamss("run " + scene + " -o " + (dir / "b").string() + cache_arg(dir) + " -q --progress-interval 1us");
+  ASSERT_EQ(quiet.exit_code, 0) << quiet.output;
+  EXPECT_EQ(quiet.output.find("Newton iteration"), std::string::npos) << quiet.output;
+  EXPECT_GT(occurrences(contents(dir / "b" / "run.log"), ": Newton iteration "), 3u);
+  const auto zero =
+      run_adamss("run " + scene + " -o " + (dir / "c").string() + cache_arg(dir) + " --progress-interval 0");
+  ASSERT_EQ(zero.exit_code, 0) << zero.output;
+  EXPECT_EQ(zero.output.find("Newton iteration"), std::string::npos) << zero.output;
+  EXPECT_EQ(contents(dir / "c" / "run.log").find("Newton iteration"), std::string::npos);
+}
+
 // A dynamic run shows the kinetic energy and no Newton iterations; -q silences stderr but not
 // run.log; a resume appends to it; a fresh run moves it into previous/ with the other results.
 TEST(RunLog, TheLogIsAppendedOnResumeAndMovedAsideByAFreshRun) {
