@@ -104,6 +104,7 @@ nlohmann::json summary_json(const solver::LoadedScene& sc, const solver::RunOutc
   j["scene"] = sc.file.string();
   j["name"] = sc.name;
   j["mesh"] = sc.mesh_source;
+  if (!sc.reference_file.empty()) j["reference_mesh"] = sc.reference_file.string();
   j["nodes"] = m.node_count();
   j["elements"] = m.mesh->element_count();
   j["element_type"] = preprocess::element_type_name(m.mesh->type);
@@ -183,7 +184,8 @@ std::vector<std::string> model_lines(const solver::LoadedScene& sc, double t_loa
   std::ostringstream o;
   o << "scene " << sc.name << ": " << m.node_count() << " particles, " << m.mesh->element_count() << " "
     << preprocess::element_type_name(m.mesh->type) << " elements, mass " << m.mass.sum() << " kg (mesh "
-    << sc.mesh_source << ", loaded in " << std::setprecision(3) << t_load << " s)";
+    << sc.mesh_source << (sc.reference_file.empty() ? "" : ", node positions from " + sc.reference_file.string())
+    << ", loaded in " << std::setprecision(3) << t_load << " s)";
   lines.push_back(o.str());
   for (const auto& t : sc.term_summary) lines.push_back("  term " + t);
   o.str("");
@@ -271,15 +273,20 @@ solver::RunOutcome run_into(solver::LoadedScene& sc, const RunArgs& a, const fs:
 
 /// The content hash of the mesh file the scene names; 0 for a mesh the scene builds (a recipe's
 /// file in the cache, or no file): the scene's text covers those, and a rebuilt cache file need
-/// not be byte-identical (HDF5 object times).
+/// not be byte-identical (HDF5 object times). Mixed with the reference file's hash when there is one.
 std::uint64_t mesh_file_hash(const solver::LoadedScene& sc, const RunArgs& a) {
+  std::uint64_t h = 0;
   std::error_code ec;
-  if (!fs::is_regular_file(sc.mesh_source, ec)) return 0;
-  const fs::path cache = fs::weakly_canonical(a.cache.empty() ? solver::default_cache_dir() : fs::path(a.cache), ec);
-  const fs::path mesh = fs::weakly_canonical(sc.mesh_source, ec);
-  const auto [c, m] = std::mismatch(cache.begin(), cache.end(), mesh.begin(), mesh.end());
-  if (c == cache.end()) return 0;  // inside the cache
-  return solver::content_hash(mesh);
+  if (fs::is_regular_file(sc.mesh_source, ec)) {
+    const fs::path cache = fs::weakly_canonical(a.cache.empty() ? solver::default_cache_dir() : fs::path(a.cache), ec);
+    const fs::path mesh = fs::weakly_canonical(sc.mesh_source, ec);
+    const auto [c, m] = std::mismatch(cache.begin(), cache.end(), mesh.begin(), mesh.end());
+    if (c != cache.end()) h = solver::content_hash(mesh);  // outside the cache
+  }
+  // A reference configuration (mesh.reference, --reference) is part of the mesh: a resume from
+  // another one, or without it, is a changed mesh.
+  if (!sc.reference_file.empty()) h = h * 1099511628211ULL ^ solver::content_hash(sc.reference_file);
+  return h;
 }
 
 int run_scene(RunArgs a) {

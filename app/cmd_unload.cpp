@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <system_error>
 
 #include "app/commands.hpp"
 #include "common/durable.hpp"
@@ -61,13 +62,14 @@ nlohmann::json result_json(const solver::UnloadResult& r, const UnloadArgs& a, d
       const Eigen::Vector3d p = r.mesh->nodes.col(it.worst_node);
       worst = {{"node", it.worst_node}, {"image_position_m", {p.x(), p.y(), p.z()}}};
     }
+    const bool done = it.status == "completed";  // a failed loading has no distances
     its.push_back({{"iteration", it.k},
                    {"max_error_at", worst},
                    {"step_factor", it.omega},
                    {"status", it.status},
                    {"reason", it.reason},
-                   {"max_error_m", it.max_error},
-                   {"rms_error_m", it.rms_error},
+                   {"max_error_m", done ? json(it.max_error) : json(nullptr)},
+                   {"rms_error_m", done ? json(it.rms_error) : json(nullptr)},
                    {"steps", it.steps},
                    {"newton_iterations", it.newton_iterations},
                    {"wall_time_s", it.wall_seconds},
@@ -103,6 +105,24 @@ void write_json(const fs::path& file, const nlohmann::json& j) {
   replace_file(file, {o.str()});
 }
 
+/// An earlier unloading's outputs in `out` go to out/previous/ (replacing an older one), so that
+/// nothing stale sits beside the new ones and nothing is deleted.
+void move_previous(const fs::path& out) {
+  const char* names[] = {"unload.json", "unload.log", "unloaded_mesh.h5", "unloaded_mesh.vtu", "iterations"};
+  std::error_code ec;
+  bool any = false;
+  for (const char* n : names) any = any || fs::exists(out / n, ec);
+  if (!any) return;
+  const fs::path prev = out / "previous";
+  fs::remove_all(prev, ec);
+  fs::create_directories(prev, ec);
+  for (const char* n : names) {
+    if (!fs::exists(out / n, ec)) continue;
+    fs::rename(out / n, prev / n, ec);
+    if (ec) throw IoError("cannot move " + (out / n).string() + " into " + prev.string() + ": " + ec.message());
+  }
+}
+
 int run_unload(const UnloadArgs& a) {
   if (a.output.empty()) throw InputError("-o/--output is required (the results folder)");
   solver::UnloadSettings set;
@@ -111,8 +131,11 @@ int run_unload(const UnloadArgs& a) {
   set.relaxation = a.relaxation;
   set.petsc_options = a.petsc;
   set.cache_dir = a.cache;
+  solver::check_unload_settings(set);  // before anything is written
+  if (!fs::exists(a.scene)) throw InputError("cannot open scene file '" + a.scene + "'");
   const fs::path out = a.output;
   const solver::OutputLock lock(out);
+  move_previous(out);
   solver::RunLog log(out / "unload.log");
   log.open(false);
   log.line("adamss unload " + a.scene + " -o " + a.output + " --tolerance " + a.tolerance);
@@ -154,7 +177,8 @@ void add_unload_command(CLI::App& app) {
   sub->add_option("--tolerance", args->tolerance,
                   "Largest node distance accepted between the re-loaded reference and the image, e.g. 10um "
                   "(default 10 um)");
-  sub->add_option("--max-iterations", args->max_iterations, "Iteration limit (default 20)");
+  sub->add_option("--max-iterations", args->max_iterations,
+                  "Iteration limit, counting iteration 0, the loading of the image itself (default 20)");
   sub->add_option("--relaxation", args->relaxation,
                   "Step factor omega in (0, 1] of X <- X - omega (x(X) - x*) (default 1; halved automatically when "
                   "the error grows)");

@@ -1,5 +1,6 @@
 # cmake -DADAMSS=... -DSCENE=NAME.yaml -DEXPECTED=NAME.unload.cmake -DOUT=... -DCACHE=... -P check_unload.cmake
-# Runs `adamss unload SCENE` with the expected file's tolerance and iteration limit, then checks
+# Runs `adamss unload SCENE` with the expected file's tolerance and iteration limit (counting
+# iteration 0, the loading of the image itself), then checks
 # OUT/unload.json: converged; every cavity of the best iteration re-filled within
 # EXPECT_RELOADED_WITHIN (relative) of the image's volume; each EXPECT_UNLOADED entry's unloaded
 # volume within its margin. Every value is printed.
@@ -18,7 +19,8 @@ message(STATUS "converged after ${n} iterations, max distance ${err} m")
 set(failures "")
 # within(what value expected margin): |value / expected - 1| <= margin.
 function(within what value expected margin)
-  execute_process(COMMAND awk "BEGIN{d = ${value} / ${expected} - 1; printf \"%+.3f\", 100 * d; exit (d <= ${margin} && d >= -${margin}) ? 0 : 1}"
+  execute_process(COMMAND awk -v v=${value} -v x=${expected} -v m=${margin}
+                          "BEGIN{d = v / x - 1; printf \"%+.3f\", 100 * d; exit (d <= m && d >= -m) ? 0 : 1}"
                   OUTPUT_VARIABLE pct RESULT_VARIABLE bad)
   if(bad)
     set(failures "${failures}\n  ${what} = ${value}, expected ${expected} within ${margin} (${pct} %)" PARENT_SCOPE)

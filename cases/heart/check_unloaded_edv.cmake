@@ -23,7 +23,8 @@ foreach(i RANGE ${last})
   string(JSON name MEMBER "${u}" imaged_cavity_volumes_m3 ${i})
   string(JSON image GET "${u}" imaged_cavity_volumes_m3 ${name})
   string(JSON edv GET "${s}" cavities ${name} edv_m3)
-  execute_process(COMMAND awk "BEGIN{d = (${edv} - ${image}) / ${image}; printf \"%+.3f\", 100 * d; exit (d <= ${TOLERANCE} && d >= -${TOLERANCE}) ? 0 : 1}"
+  execute_process(COMMAND awk -v e=${edv} -v i=${image} -v t=${TOLERANCE}
+                          "BEGIN{d = (e - i) / i; printf \"%+.3f\", 100 * d; exit (d <= t && d >= -t) ? 0 : 1}"
                   OUTPUT_VARIABLE pct RESULT_VARIABLE bad)
   if(bad)
     set(failures "${failures}\n  ${name}: EDV ${edv} m^3 against the image's ${image} m^3 (${pct} %)")

@@ -303,10 +303,14 @@ void RunLoop::show_progress(const State& s, double ke, bool on_terminal, bool in
   }
 }
 
-/// The implicit settings with on_iteration calling show_newton (this loop outlives integ_).
+/// The implicit settings with on_iteration calling show_newton after any observer the caller set
+/// (this loop outlives integ_).
 ImplicitSettings RunLoop::observed(const ImplicitSettings& implicit) {
   ImplicitSettings set = implicit;
-  set.on_iteration = [this](int iteration, double residual) { show_newton(iteration, residual); };
+  set.on_iteration = [this, earlier = implicit.on_iteration](int iteration, double residual) {
+    if (earlier) earlier(iteration, residual);
+    show_newton(iteration, residual);
+  };
   return set;
 }
 

@@ -12,12 +12,19 @@
 // stopped once max_i |e_k,i| <= tolerance: re-loading X_k then reproduces the image to that
 // distance. Fixed nodes never move (e = 0 there), so they keep their imaged positions. Each
 // iteration is a whole quasi-static loading from a new reference, so its cost is that of one
-// `adamss run` of the scene. If an error grows, omega is halved (down to 1/8) and the iteration
-// restarts from the best reference found so far; the result is always the best one reached.
+// `adamss run` of the scene. Steps always start from the best reference so far (the smallest
+// max_i |e_i|). After an improvement omega follows Aitken's secant rule (vector Aitken relaxation,
+// Kuettler & Wall 2008): omega' = omega r0.(r0 - r1) / |r0 - r1|^2 with r0, r1 the old and new
+// best errors, within [1/8, 2]: plain backward displacement contracts by a constant factor, which
+// a large, stiffening deformation (a soft heart at end-diastole) brings close to 1. If an error
+// grows, or a loading fails, omega is halved and no later omega exceeds that value (Aitken's
+// factor is a mean over the nodes, and a stiff local mode can diverge under it); a step that
+// would invert an element of the reference is halved the same way; below 1/8 the loop stops.
+// The result is always the best reference reached.
 //
 // Node selections by region, probes and fibres: fibres and tags stay with the elements and nodes
 // (they were built on the image); region selections are evaluated on each X_k, and an iteration
-// whose fixed coordinates differ from the first one's stops the loop (InputError naming both counts).
+// whose constrained coordinates differ from the first one's fails (naming the first such node).
 #include <Eigen/Core>
 #include <filesystem>
 #include <functional>
@@ -70,10 +77,18 @@ struct UnloadResult {
   std::vector<std::pair<std::string, double>> imaged_volumes;  ///< cavity volumes at x*, m^3
 };
 
+/// InputError for settings out of range (iteration limit < 1, tolerance <= 0, relaxation outside
+/// (0, 1]).
+void check_unload_settings(const UnloadSettings& settings);
+
 /// Runs the fixed point on the scene file `scene` (integrator type static; InputError otherwise,
-/// and for settings out of range). Iteration k's loading writes its results (run.log, globals.csv,
-/// frames) into out_dir/iterations/kk. `on_iteration` (may be empty) is called after each
-/// iteration. A loading that fails, or a signal, ends the loop with what was reached.
+/// for a scene that does not load, and for settings out of range). Iteration k (k = 0 loads the
+/// image itself, so max_iterations - 1 references are tried) writes its results (run.log,
+/// globals.csv, frames) into out_dir/iterations/kk. `on_iteration` (may be empty) is called after
+/// each iteration. A loading that fails (a NumericalError, or an InputError of the scene on the
+/// moved reference, e.g. a boundary region that selects other nodes there) halves omega as a
+/// growing error does; a signal, a failure of the first loading or of one at omega < 1/4 ends the
+/// loop with what was reached (`stop` says why). An IoError propagates.
 UnloadResult unload(const std::filesystem::path& scene, const UnloadSettings& settings,
                     const std::filesystem::path& out_dir,
                     const std::function<void(const UnloadIteration&)>& on_iteration);

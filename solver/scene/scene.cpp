@@ -338,7 +338,7 @@ LoadedScene assemble(const YAML::Node& root_yaml, const fs::path& origin, const 
   sc.name = root.text("name", origin.stem().string());
   sc.description = root.text("description", "");
 
-  auto mesh = std::make_shared<preprocess::Mesh>(load_scene_mesh(root.map("mesh"), base, opt, sc.mesh_source));
+  auto mesh = std::make_shared<preprocess::Mesh>(load_scene_mesh(root.map("mesh"), base, opt, sc.mesh_source, sc.reference_file));
   if (opt.reference_nodes) replace_node_positions(*mesh, *opt.reference_nodes, "the reference configuration");
   Model& model = sc.model;
   model.mesh = mesh;

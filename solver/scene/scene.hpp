@@ -22,6 +22,7 @@ struct LoadedScene {
   std::string description;
   std::filesystem::path file;
   std::string mesh_source;  ///< the mesh file read (a recipe's cached file; for an ellipsoid: a description)
+  std::filesystem::path reference_file;  ///< the file of the reference node positions, if one replaced the mesh's
   Model model;
   State initial;
   RunSettings run;

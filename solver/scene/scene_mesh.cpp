@@ -291,7 +291,8 @@ void replace_node_positions(preprocess::Mesh& mesh, const Eigen::Matrix3Xd& node
   mesh.nodes = nodes;
 }
 
-preprocess::Mesh load_scene_mesh(SceneNode node, const fs::path& base, const SceneOptions& opt, std::string& source) {
+preprocess::Mesh load_scene_mesh(SceneNode node, const fs::path& base, const SceneOptions& opt, std::string& source,
+                                 fs::path& reference_used) {
   const bool has_file = node.has("file");
   const bool has_phantom = node.has("phantom");
   const bool has_box = node.has("box");
@@ -332,7 +333,7 @@ preprocess::Mesh load_scene_mesh(SceneNode node, const fs::path& base, const Sce
   }
   if (reference) {
     take_reference(mesh, *reference, opt.reference_file.empty() ? node.at("reference") : "--reference");
-    source += ", node positions from " + reference->string();
+    reference_used = *reference;
   }
   node.finish();
   return mesh;

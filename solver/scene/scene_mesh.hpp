@@ -13,9 +13,11 @@ namespace adamss::solver {
 
 /// The mesh of `node` (the scene's `mesh:` mapping); relative file names are resolved against
 /// `base`. `source` receives the file the mesh came from (a recipe's cached file; for meshes
-/// built in memory a description). InputError naming the key for any problem.
+/// built in memory a description), `reference_used` the file whose node positions replaced the
+/// mesh's (mesh.reference or SceneOptions::reference_file; unchanged if none). InputError naming
+/// the key for any problem.
 preprocess::Mesh load_scene_mesh(SceneNode node, const std::filesystem::path& base, const SceneOptions& opt,
-                                 std::string& source);
+                                 std::string& source, std::filesystem::path& reference_used);
 
 /// Replaces the node positions of `mesh` by `nodes` (a reference configuration computed elsewhere,
 /// e.g. the unloaded geometry of solver/run/unload.hpp); elements, fibres, tags and cavities stay.

@@ -188,8 +188,8 @@ TEST(Cli, MistypedNamesGetADidYouMean) {
   auto r = run_adamss("rnu scene.yaml");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_EQ(r.output,
-            "adamss: error: unknown command 'rnu'; did you mean 'run'? (commands: phantom, mesh, info, run, fit, "
-            "verify)\n");
+            "adamss: error: unknown command 'rnu'; did you mean 'run'? (commands: phantom, mesh, info, run, unload, "
+            "fit, verify)\n");
   r = run_adamss("simulate scene.yaml");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_EQ(r.output.find("did you mean"), std::string::npos) << r.output;

@@ -87,7 +87,7 @@ TEST(UnloadCli, TheUnloadedMeshReloadsToTheImage) {
   EXPECT_NEAR(s["probes"]["tip"][0].get<double>(), 8e-3, 1e-7);
   EXPECT_NEAR(s["probes"]["tip"][1].get<double>(), 1e-3, 1e-7);
   EXPECT_NEAR(s["probes"]["tip"][2].get<double>(), 2e-3, 1e-7);
-  EXPECT_NE(s["mesh"].get<std::string>().find("node positions from"), std::string::npos);
+  EXPECT_NE(s["reference_mesh"].get<std::string>().find("unloaded_mesh.h5"), std::string::npos) << s.dump();
 
   // The same through `adamss run --reference`; with the scene key as well it is refused.
   const fs::path plain = dir / "plain.yaml";
@@ -100,6 +100,17 @@ TEST(UnloadCli, TheUnloadedMeshReloadsToTheImage) {
   const auto both = run_adamss("run " + reload.string() + " -o " + (dir / "both").string() + " -q" + ref);
   EXPECT_EQ(both.exit_code, 2) << both.output;
   EXPECT_NE(both.output.find("--reference gives another"), std::string::npos) << both.output;
+
+  // The reference is part of the mesh a checkpoint records: resuming without it is refused.
+  const auto cut =
+      run_adamss("run " + plain.string() + " -o " + (dir / "cut").string() + " -q --stop-after-steps 1" + ref);
+  ASSERT_EQ(cut.exit_code, 130) << cut.output;
+  const std::string resume = " --resume " + (dir / "cut" / "checkpoint.h5").string();
+  const auto without = run_adamss("run " + plain.string() + " -q" + resume);
+  EXPECT_EQ(without.exit_code, 2) << without.output;
+  EXPECT_NE(without.output.find("mesh changed"), std::string::npos) << without.output;
+  const auto with = run_adamss("run " + plain.string() + " -q" + resume + ref);
+  EXPECT_EQ(with.exit_code, 0) << with.output;
 }
 
 TEST(UnloadCli, NotConvergedStillWritesTheBestReference) {
@@ -113,6 +124,13 @@ TEST(UnloadCli, NotConvergedStillWritesTheBestReference) {
   EXPECT_FALSE(j["converged"].get<bool>());
   EXPECT_EQ(j["best_iteration"].get<int>(), 1);
   EXPECT_TRUE(fs::exists(dir / "out" / "unloaded_mesh.h5"));
+  // A second unloading into the folder moves the first one's files into previous/.
+  const auto again =
+      run_adamss("unload " + scene.string() + " -o " + (dir / "out").string() + " --max-iterations 1 --tolerance 1mm");
+  EXPECT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_TRUE(fs::exists(dir / "out" / "previous" / "unload.json"));
+  EXPECT_TRUE(fs::exists(dir / "out" / "previous" / "iterations" / "01"));
+  EXPECT_FALSE(fs::exists(dir / "out" / "iterations" / "01"));
 }
 
 TEST(UnloadCli, BadOptionsAreRefusedBeforeAnyWork) {
@@ -124,7 +142,7 @@ TEST(UnloadCli, BadOptionsAreRefusedBeforeAnyWork) {
   const auto relax = run_adamss("unload " + scene.string() + " -o " + (dir / "b").string() + " --relaxation 2");
   EXPECT_EQ(relax.exit_code, 2) << relax.output;
   EXPECT_NE(relax.output.find("relaxation must be in (0, 1]"), std::string::npos) << relax.output;
-  EXPECT_FALSE(fs::exists(dir / "b" / "iterations"));
+  EXPECT_FALSE(fs::exists(dir / "b"));  // refused before the folder is made
   const auto missing = run_adamss("unload " + (dir / "none.yaml").string() + " -o " + (dir / "c").string());
   EXPECT_EQ(missing.exit_code, 2) << missing.output;
   EXPECT_NE(missing.output.find("cannot open scene file"), std::string::npos) << missing.output;

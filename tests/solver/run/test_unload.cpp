@@ -89,7 +89,6 @@ TEST(Unload, RecoversTheStraightCantileverFromItsSaggingShape) {
 
   ASSERT_TRUE(back.converged) << back.stop;
   EXPECT_GT(back.iterations.size(), 2U);
-  EXPECT_LE(back.iterations.back().max_error, 1e-8);
   // The unloaded reference is the straight block (the equilibrium is unique at this load), to
   // 1e-7 m, 0.015 % of the 0.69 mm sag (measured: 3.2 nm after 8 iterations).
   EXPECT_LT((back.reference - straight).colwise().norm().maxCoeff(), 1e-7);
@@ -99,7 +98,12 @@ TEST(Unload, RecoversTheStraightCantileverFromItsSaggingShape) {
 TEST(Unload, RefusesSettingsAndScenesItCannotUse) {
   const Scratch scratch;
   const fs::path dynamic = scratch.write("dynamic.yaml", cantilever(kBox, "backward_euler_newton"));
-  EXPECT_THROW(solver::unload(dynamic, settings(1e-6, 5), scratch.dir / "a", {}), InputError);
+  try {
+    (void)solver::unload(dynamic, settings(1e-6, 5), scratch.dir / "a", {});
+    FAIL() << "a dynamic scene was unloaded";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("needs integrator type static"), std::string::npos) << e.what();
+  }
   const fs::path statics = scratch.write("static.yaml", cantilever(kBox));
   EXPECT_THROW(solver::unload(statics, settings(0.0, 5), scratch.dir / "b", {}), InputError);
   EXPECT_THROW(solver::unload(statics, settings(1e-6, 0), scratch.dir / "c", {}), InputError);
