@@ -71,4 +71,11 @@ double element_signed_volume_check(const preprocess::Mesh& mesh, const Eigen::Ma
   return std::isfinite(vmin) ? vmin : 0.0;
 }
 
+std::optional<std::size_t> first_inverted_element(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x) {
+  for (std::size_t e = 0; e < mesh.element_count(); ++e) {
+    if (!(element_signed_volume_check(mesh, x, e) > 0.0)) return e;
+  }
+  return std::nullopt;
+}
+
 }  // namespace adamss::solver

@@ -97,4 +97,9 @@ struct Model {
 [[nodiscard]] double element_signed_volume_check(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x,
                                                  std::size_t e);
 
+/// The first element (lowest index) whose element_signed_volume_check at x is not positive
+/// (inverted or flat); none if every element is sound.
+[[nodiscard]] std::optional<std::size_t> first_inverted_element(const preprocess::Mesh& mesh,
+                                                                const Eigen::Matrix3Xd& x);
+
 }  // namespace adamss::solver

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <optional>
 #include <system_error>
 #include <utility>
 #include <vector>
@@ -80,14 +81,6 @@ void measure(const Eigen::Matrix3Xd& e, UnloadIteration& it) {
   it.rms_error = d.size() > 0 ? std::sqrt(d.squaredNorm() / static_cast<double>(d.size())) : 0.0;
 }
 
-/// The first element inverted or flat at x, or -1.
-long first_inverted(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x) {
-  for (std::size_t e = 0; e < mesh.element_count(); ++e) {
-    if (!(element_signed_volume_check(mesh, x, e) > 0.0)) return static_cast<long>(e);
-  }
-  return -1;
-}
-
 void record_volumes(const Model& m, const Eigen::Matrix3Xd& x, UnloadIteration& it) {
   for (const auto& c : m.cavities) it.cavities.push_back({c->name(), c->volume(m.x_ref), c->volume(x)});
 }
@@ -152,16 +145,16 @@ double aitken(double omega, const Eigen::Matrix3Xd& r0, const Eigen::Matrix3Xd& 
 /// saying why) once omega falls below kMinStep.
 bool next_reference(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& best, const Eigen::Matrix3Xd& error,
                     double& omega, Eigen::Matrix3Xd& x_ref, std::string& stop) {
-  long bad = -1;
+  std::optional<std::size_t> bad;
   while (omega >= kMinStep) {
     x_ref = best - omega * error;
-    bad = first_inverted(mesh, x_ref);
-    if (bad < 0) return true;
+    bad = first_inverted_element(mesh, x_ref);
+    if (!bad) return true;
     omega *= 0.5;
   }
-  stop = bad >= 0 ? "every step factor down to 1/8 inverts element " + std::to_string(bad) + " of the reference"
-                  : "stalled: the error did not fall at any step factor down to 1/8 (the loadings' own "
-                    "accuracy, integrator.newton_rtol, may be the limit)";
+  stop = bad ? "every step factor down to 1/8 inverts element " + std::to_string(*bad) + " of the reference"
+             : "stalled: the error did not fall at any step factor down to 1/8 (the loadings' own "
+               "accuracy, integrator.newton_rtol, may be the limit)";
   return false;
 }
 

@@ -283,10 +283,8 @@ void replace_node_positions(preprocess::Mesh& mesh, const Eigen::Matrix3Xd& node
                      std::to_string(mesh.nodes.cols()) + " nodes");
   }
   if (!nodes.allFinite()) throw InputError(what + ": a node position is not finite");
-  for (std::size_t e = 0; e < mesh.element_count(); ++e) {
-    if (!(element_signed_volume_check(mesh, nodes, e) > 0.0)) {
-      throw InputError(what + ": element " + std::to_string(e) + " is inverted or flat at the given node positions");
-    }
+  if (const auto e = first_inverted_element(mesh, nodes)) {
+    throw InputError(what + ": element " + std::to_string(*e) + " is inverted or flat at the given node positions");
   }
   mesh.nodes = nodes;
 }
