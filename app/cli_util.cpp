@@ -4,9 +4,13 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
+#include <nlohmann/json.hpp>
+#include <sstream>
 #include <system_error>
 
 #include "app/commands.hpp"
+#include "common/durable.hpp"
 #include "common/error.hpp"
 #include "common/units.hpp"
 
@@ -84,6 +88,12 @@ void require_distinct_files(const std::vector<NamedFile>& inputs, const std::vec
       }
     }
   }
+}
+
+void write_json(const std::filesystem::path& file, const nlohmann::json& j) {
+  std::ostringstream o;
+  o << std::setw(2) << j << "\n";
+  replace_file(file, {o.str()});
 }
 
 }  // namespace adamss::app

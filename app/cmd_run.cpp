@@ -13,7 +13,6 @@
 #include <vector>
 
 #include "app/commands.hpp"
-#include "common/durable.hpp"
 #include "common/error.hpp"
 #include "common/units.hpp"
 #include "solver/run/checkpoint.hpp"
@@ -155,13 +154,6 @@ nlohmann::json summary_json(const solver::LoadedScene& sc, const solver::RunOutc
   j["boundary"] = {{"fixed_dofs", m.constraints.fixed_dof_count()},
                    {"controlled_dofs", m.constraints.controlled_dof_count()}};
   return j;
-}
-
-/// Writes `j` to `file` via `file`.tmp renamed over it (replace_file, common/durable.hpp: IoError on failure).
-void write_json(const fs::path& file, const nlohmann::json& j) {
-  std::ostringstream o;
-  o << std::setw(2) << j << "\n";
-  replace_file(file, {o.str()});
 }
 
 /// After an I/O error during the run: summary.json says "failed" with the reason, if it can still

@@ -10,7 +10,6 @@
 #include <system_error>
 
 #include "app/commands.hpp"
-#include "common/durable.hpp"
 #include "common/error.hpp"
 #include "preprocess/mesh/mesh_io.hpp"
 #include "preprocess/mesh/mesh_quality.hpp"
@@ -97,12 +96,6 @@ void write_unloaded_mesh(const fs::path& dir, const solver::UnloadResult& r) {
     const preprocess::QualitySummary q = preprocess::summarize_quality(m);
     preprocess::write_mesh_vtu(dir / "unloaded_mesh.vtu", m, q.element_volume, q.element_min_dihedral);
   }
-}
-
-void write_json(const fs::path& file, const nlohmann::json& j) {
-  std::ostringstream o;
-  o << std::setw(2) << j << "\n";
-  replace_file(file, {o.str()});
 }
 
 /// An earlier unloading's outputs in `out` go to out/previous/ (replacing an older one), so that

@@ -3,6 +3,8 @@
 // subcommand whose callback does the work; errors are thrown as
 // adamss::InputError and printed by main() as one line.
 #include <CLI/CLI.hpp>
+#include <filesystem>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
 
@@ -26,6 +28,10 @@ inline constexpr double kLargestBareLength = 0.05;
 /// Parses a length given on the command line: a number with a unit ("0.5 mm", "1cm"), or a plain
 /// number of metres below kLargestBareLength ("0.0005"). InputError naming `what` otherwise.
 double parse_length(const std::string& text, const std::string& what);
+
+/// Writes `j` (indented by 2) to `file` via `file`.tmp renamed over it (replace_file,
+/// common/durable.hpp: IoError on failure): summary.json, unload.json.
+void write_json(const std::filesystem::path& file, const nlohmann::json& j);
 
 /// Throws InputError if the directory that should hold `path` does not exist.
 void require_parent_dir(const std::string& path, const std::string& what);
