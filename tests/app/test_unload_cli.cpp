@@ -10,6 +10,7 @@
 
 #include "cli_runner.hpp"
 #include "preprocess/mesh/mesh_io.hpp"
+#include "support/cantilever_scene.hpp"
 
 using namespace adamss;
 using adamss::test::run_adamss;
@@ -18,30 +19,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// The imaged geometry is the straight 8 x 2 x 2 mm block, clamped at x = 0, under gravity: its
-/// unloaded reference must be bent upwards so that gravity brings it down to straight.
+/// The imaged geometry is the straight block of test::gravity_cantilever: its unloaded reference
+/// must be bent upwards so that gravity brings it down to straight. `mesh_extra` adds keys to the
+/// mesh mapping; the probe `tip` is the node nearest to `probe`.
 std::string cantilever(const std::string& mesh_extra = "", const std::string& probe = "8 mm, 1 mm, 2 mm") {
-  return R"(name: cantilever
-mesh: {box: [8 mm, 2 mm, 2 mm], divisions: [8, 2, 2], topology: hex)" +
-         mesh_extra + R"(}
-materials:
-  - name: m
-    labels: [1]
-    density: 1000 kg/m^3
-    terms:
-      - fem_element: {law: neo_hookean, parameters: {E: 20 kPa, nu: 0.3}}
-loads:
-  gravity: [0, 0, -9.81 m/s^2]
-boundary:
-  - select: {region: {plane: {point: [0, 0, 0], normal: [1, 0, 0], tolerance: 0.001 mm}}}
-    fix: xyz
-integrator: {type: static, dt: 0.5 s, newton_rtol: 1e-10}
-run: {t_end: 1 s}
-output:
-  probes:
-    - {name: tip, point: [)" +
-         probe + R"(]}
-)";
+  return test::gravity_cantilever(test::kCantileverBoxOpen + mesh_extra + "}", "static",
+                                  "output:\n  probes:\n    - {name: tip, point: [" + probe + "]}\n");
 }
 
 nlohmann::json read_json(const fs::path& p) {

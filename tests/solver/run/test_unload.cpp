@@ -12,6 +12,7 @@
 #include "scene_fixtures.hpp"
 #include "solver/run/unload.hpp"
 #include "solver/scene/scene_mesh.hpp"
+#include "support/cantilever_scene.hpp"
 
 using namespace adamss;
 
@@ -19,29 +20,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// An 8 x 2 x 2 mm neo-Hookean cantilever (E 20 kPa) clamped at x = 0, sagging under gravity: the
-/// tip drops about 0.7 mm, so the load is moderately nonlinear. `mesh` is the scene's mesh mapping.
-std::string cantilever(const std::string& mesh, const std::string& integrator = "static") {
-  return "name: cantilever\nmesh: " + mesh + R"(
-materials:
-  - name: m
-    labels: [1]
-    density: 1000 kg/m^3
-    terms:
-      - fem_element: {law: neo_hookean, parameters: {E: 20 kPa, nu: 0.3}}
-loads:
-  gravity: [0, 0, -9.81 m/s^2]
-boundary:
-  - select: {region: {plane: {point: [0, 0, 0], normal: [1, 0, 0], tolerance: 0.001 mm}}}
-    fix: xyz
-integrator: {type: )" +
-         integrator +
-         R"(, dt: 0.5 s, newton_rtol: 1e-10}
-run: {t_end: 1 s}
-)";
-}
-
-const char* kBox = "{box: [8 mm, 2 mm, 2 mm], divisions: [8, 2, 2], topology: hex}";
+using test::gravity_cantilever;
+using test::kCantileverBoxOpen;
 
 struct Scratch {
   fs::path dir = fs::temp_directory_path() / ("adamss-test-unload-" + std::to_string(::getpid()));
@@ -69,8 +49,8 @@ solver::UnloadSettings settings(double tolerance, int iterations) {
 TEST(Unload, RecoversTheStraightCantileverFromItsSaggingShape) {
   const Scratch scratch;
   // The forward problem: one loading of the straight block (an unloading of one iteration).
-  const solver::UnloadResult forward =
-      solver::unload(scratch.write("straight.yaml", cantilever(kBox)), settings(1e-12, 1), scratch.dir / "forward", {});
+  const solver::UnloadResult forward = solver::unload(scratch.write("straight.yaml", gravity_cantilever()),
+                                                      settings(1e-12, 1), scratch.dir / "forward", {});
   ASSERT_EQ(forward.best, 0);
   const Eigen::Matrix3Xd straight = forward.mesh->nodes;
   const Eigen::Matrix3Xd sagged = forward.reloaded;
@@ -84,7 +64,7 @@ TEST(Unload, RecoversTheStraightCantileverFromItsSaggingShape) {
   preprocess::Mesh imaged = *forward.mesh;
   imaged.nodes = sagged;
   preprocess::write_mesh_h5(scratch.dir / "sagged.h5", imaged);
-  const fs::path scene = scratch.write("sagged.yaml", cantilever("{file: sagged.h5}"));
+  const fs::path scene = scratch.write("sagged.yaml", gravity_cantilever("{file: sagged.h5}"));
   const solver::UnloadResult back = solver::unload(scene, settings(1e-8, 30), scratch.dir / "back", {});
 
   ASSERT_TRUE(back.converged) << back.stop;
@@ -97,14 +77,15 @@ TEST(Unload, RecoversTheStraightCantileverFromItsSaggingShape) {
 
 TEST(Unload, RefusesSettingsAndScenesItCannotUse) {
   const Scratch scratch;
-  const fs::path dynamic = scratch.write("dynamic.yaml", cantilever(kBox, "backward_euler_newton"));
+  const fs::path dynamic =
+      scratch.write("dynamic.yaml", gravity_cantilever(kCantileverBoxOpen + "}", "backward_euler_newton"));
   try {
     (void)solver::unload(dynamic, settings(1e-6, 5), scratch.dir / "a", {});
     FAIL() << "a dynamic scene was unloaded";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("needs integrator type static"), std::string::npos) << e.what();
   }
-  const fs::path statics = scratch.write("static.yaml", cantilever(kBox));
+  const fs::path statics = scratch.write("static.yaml", gravity_cantilever());
   EXPECT_THROW(solver::unload(statics, settings(0.0, 5), scratch.dir / "b", {}), InputError);
   EXPECT_THROW(solver::unload(statics, settings(1e-6, 0), scratch.dir / "c", {}), InputError);
   solver::UnloadSettings bad = settings(1e-6, 5);
@@ -114,7 +95,7 @@ TEST(Unload, RefusesSettingsAndScenesItCannotUse) {
 
 TEST(SceneMesh, ReferencePositionsMustFitTheMesh) {
   const Scratch scratch;
-  const solver::LoadedScene sc = test::load_scene(cantilever(kBox));
+  const solver::LoadedScene sc = test::load_scene(gravity_cantilever());
   preprocess::Mesh mesh = *sc.model.mesh;
   // Mirrored positions turn every element inside out: refused, naming the first element.
   Eigen::Matrix3Xd mirrored = mesh.nodes;
@@ -130,15 +111,14 @@ TEST(SceneMesh, ReferencePositionsMustFitTheMesh) {
   preprocess::Mesh other = mesh;
   other.connectivity[0] = other.connectivity[1];
   preprocess::write_mesh_h5(scratch.dir / "other.h5", other);
-  const std::string text = cantilever("{box: [8 mm, 2 mm, 2 mm], divisions: [8, 2, 2], topology: hex, reference: " +
-                                      (scratch.dir / "other.h5").string() + "}");
+  const std::string text =
+      gravity_cantilever(kCantileverBoxOpen + ", reference: " + (scratch.dir / "other.h5").string() + "}");
   EXPECT_NE(test::scene_error(text).find("has other elements"), std::string::npos) << test::scene_error(text);
   // A file of the same elements is taken: the model's reference positions are the file's.
   preprocess::Mesh moved = mesh;
   moved.nodes.row(2) *= 1.1;
   preprocess::write_mesh_h5(scratch.dir / "moved.h5", moved);
-  const solver::LoadedScene taken =
-      test::load_scene(cantilever("{box: [8 mm, 2 mm, 2 mm], divisions: [8, 2, 2], topology: hex, reference: " +
-                                  (scratch.dir / "moved.h5").string() + "}"));
+  const solver::LoadedScene taken = test::load_scene(
+      gravity_cantilever(kCantileverBoxOpen + ", reference: " + (scratch.dir / "moved.h5").string() + "}"));
   EXPECT_DOUBLE_EQ(taken.model.x_ref.row(2).maxCoeff(), 2.2e-3);
 }
