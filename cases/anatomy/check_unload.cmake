@@ -17,17 +17,7 @@ string(JSON n LENGTH "${u}" iterations)
 string(JSON err GET "${u}" max_error_m)
 message(STATUS "converged after ${n} iterations, max distance ${err} m")
 set(failures "")
-# within(what value expected margin): |value / expected - 1| <= margin.
-function(within what value expected margin)
-  execute_process(COMMAND awk -v v=${value} -v x=${expected} -v m=${margin}
-                          "BEGIN{d = v / x - 1; printf \"%+.3f\", 100 * d; exit (d <= m && d >= -m) ? 0 : 1}"
-                  OUTPUT_VARIABLE pct RESULT_VARIABLE bad)
-  if(bad)
-    set(failures "${failures}\n  ${what} = ${value}, expected ${expected} within ${margin} (${pct} %)" PARENT_SCOPE)
-  else()
-    message(STATUS "  ${what} = ${value} (${pct} % of ${expected}, margin ${margin}): ok")
-  endif()
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/../within.cmake)
 string(JSON ncav LENGTH "${u}" imaged_cavity_volumes_m3)
 math(EXPR last "${ncav} - 1")
 foreach(i RANGE ${last})
