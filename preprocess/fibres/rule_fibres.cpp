@@ -716,8 +716,10 @@ RuleFibreReport assign_rule_fibres(Mesh& mesh, const LabelImage& image, const Ru
   check_options(options);
   const std::size_t ne = mesh.element_count();
   if (ne == 0) fail("the mesh has no elements");
-  if (mesh.type == ElementType::Tet10)
-    fail("the mesh has quadratic tetrahedra (tet10); assign the fibres on the linear mesh, then raise its order");
+  if (is_quadratic(mesh.type)) {
+    fail(std::string("the mesh has quadratic elements (") + element_type_name(mesh.type) +
+         "); assign the fibres on the linear mesh, then raise its order");
+  }
   RuleFibreReport rep;
 
   const Opening opening = find_opening(image, options);

@@ -7,6 +7,7 @@ namespace adamss::preprocess {
 double element_volume(const Mesh& mesh, std::size_t e) {
   const Index* n = mesh.element(e);
   if (mesh.type == ElementType::Tet10) return tet10_volume(mesh.nodes, n);
+  if (mesh.type == ElementType::Hex27) return hex27_volume(mesh.nodes, n);
   if (mesh.type == ElementType::Tet4) {
     const Eigen::Vector3d x0 = mesh.nodes.col(n[0]);
     const Eigen::Vector3d x1 = mesh.nodes.col(n[1]), x2 = mesh.nodes.col(n[2]), x3 = mesh.nodes.col(n[3]);

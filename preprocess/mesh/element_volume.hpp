@@ -20,6 +20,7 @@
 #include "preprocess/mesh/mesh.hpp"
 #include "preprocess/mesh/shape_functions.hpp"
 #include "preprocess/mesh/shape_functions_p2.hpp"
+#include "preprocess/mesh/shape_functions_q2.hpp"
 
 namespace adamss::preprocess {
 
@@ -62,6 +63,28 @@ namespace adamss::preprocess {
   double least = std::numeric_limits<double>::infinity();
   for (const auto& g : kLaw) least = std::min(least, (xe * g).determinant());
   for (const auto& g : kVol) least = std::min(least, (xe * g).determinant());
+  return least;
+}
+
+/// Exact volume of the triquadratic hexahedron (straight or curved) with node indices n[0..26]: the
+/// 3 x 3 x 3 Gauss rule over det(dx/dr), of degree <= 5 per direction
+/// (preprocess/mesh/shape_functions_q2.hpp).
+[[nodiscard]] inline double hex27_volume(const Eigen::Matrix3Xd& x, const Index* n) {
+  const auto& grads = hex27_gauss_gradients();
+  Eigen::Matrix<double, 3, 27> xe;
+  for (Eigen::Index a = 0; a < 27; ++a) xe.col(a) = x.col(n[a]);
+  double v = 0.0;
+  for (int q = 0; q < 27; ++q) v += hex27_gauss_weight(q) * (xe * grads[static_cast<std::size_t>(q)]).determinant();
+  return v;
+}
+
+/// The least det(dx/dr) of the hex27 n[0..26] over its 27 Gauss points (the points every hex27
+/// term evaluates): <= 0 means the element is folded where a term would see it.
+[[nodiscard]] inline double hex27_min_jacobian(const Eigen::Matrix3Xd& x, const Index* n) {
+  Eigen::Matrix<double, 3, 27> xe;
+  for (Eigen::Index a = 0; a < 27; ++a) xe.col(a) = x.col(n[a]);
+  double least = std::numeric_limits<double>::infinity();
+  for (const auto& g : hex27_gauss_gradients()) least = std::min(least, (xe * g).determinant());
   return least;
 }
 

@@ -19,7 +19,10 @@ using Index = std::int32_t;
 /// their numbers and the mid-edge nodes come after them. Only the solver's FEM path takes it
 /// (fem_element, volume isotropic, pressure loads, boundary conditions, output); the other
 /// terms and the preprocessing refuse it by name.
-enum class ElementType { Tet4, Hex8, Tet10 };
+/// Hex27 (the triquadratic hexahedron, VTK_TRIQUADRATIC_HEXAHEDRON: corners 0..7, the mid-edge
+/// nodes of kHexEdges, the six face centres, the centre; preprocess/mesh/shape_functions_q2.hpp) is
+/// made from a Hex8 mesh the same way and takes the same FEM path.
+enum class ElementType { Tet4, Hex8, Tet10, Hex27 };
 
 [[nodiscard]] constexpr int nodes_per_element(ElementType t) {
   switch (t) {
@@ -29,15 +32,21 @@ enum class ElementType { Tet4, Hex8, Tet10 };
       return 8;
     case ElementType::Tet10:
       return 10;
+    case ElementType::Hex27:
+      return 27;
   }
   return 0;
 }
-/// The element's corners (vertices): 4 for both tetrahedra, 8 for the hexahedron.
+/// The element's corners (vertices): 4 for both tetrahedra, 8 for both hexahedra.
 [[nodiscard]] constexpr int corners_per_element(ElementType t) {
-  return t == ElementType::Hex8 ? 8 : 4;
+  return t == ElementType::Hex8 || t == ElementType::Hex27 ? 8 : 4;
 }
 [[nodiscard]] constexpr bool is_tetrahedron(ElementType t) {
-  return t != ElementType::Hex8;
+  return t == ElementType::Tet4 || t == ElementType::Tet10;
+}
+/// The quadratic elements (tet10, hex27): only the solver's FEM path takes them.
+[[nodiscard]] constexpr bool is_quadratic(ElementType t) {
+  return t == ElementType::Tet10 || t == ElementType::Hex27;
 }
 [[nodiscard]] constexpr const char* element_type_name(ElementType t) {
   switch (t) {
@@ -47,6 +56,8 @@ enum class ElementType { Tet4, Hex8, Tet10 };
       return "hex8";
     case ElementType::Tet10:
       return "tet10";
+    case ElementType::Hex27:
+      return "hex27";
   }
   return "?";
 }

@@ -600,8 +600,9 @@ ElementType read_element_type(const Ctx& ctx, hid_t elements) {
   if (type == "tet4") return ElementType::Tet4;
   if (type == "hex8") return ElementType::Hex8;
   if (type == "tet10") return ElementType::Tet10;
+  if (type == "hex27") return ElementType::Hex27;
   ctx.fail("attribute /elements/type: unknown element type \"" + type +
-           "\" (expected \"tet4\", \"hex8\" or \"tet10\")");
+           "\" (expected \"tet4\", \"hex8\", \"tet10\" or \"hex27\")");
 }
 
 /// /elements/connectivity and /elements/label into mesh (type and nodes already read); returns the

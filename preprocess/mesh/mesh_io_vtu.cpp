@@ -142,6 +142,7 @@ vtkSmartPointer<vtkUnstructuredGrid> grid_geometry(const Mesh& mesh) {
   grid->SetPoints(points);
   grid->SetCells(mesh.type == ElementType::Tet4    ? VTK_TETRA
                  : mesh.type == ElementType::Tet10 ? VTK_QUADRATIC_TETRA
+                 : mesh.type == ElementType::Hex27 ? VTK_TRIQUADRATIC_HEXAHEDRON
                                                    : VTK_HEXAHEDRON,
                  cells);
   return grid;

@@ -34,6 +34,7 @@ void write_mesh_xdmf(const std::filesystem::path& xdmf, const std::filesystem::p
     << "      <Topology TopologyType=\""
     << (mesh.type == ElementType::Tet4    ? "Tetrahedron"
         : mesh.type == ElementType::Tet10 ? "Tetrahedron_10"
+        : mesh.type == ElementType::Hex27 ? "Hexahedron_27"
                                           : "Hexahedron")
     << "\" NumberOfElements=\"" << e << "\" NodesPerElement=\"" << k << "\">\n"
     << item(file, "/elements/connectivity", e, k, "Int", 4) << "      </Topology>\n"

@@ -11,6 +11,7 @@ void add_edge_uses(const std::vector<std::array<Index, K>>& polys, std::vector<E
   for (const auto& p : polys) {
     for (std::size_t i = 0; i < K; ++i) {
       const Index a = p[i], b = p[(i + 1) % K];
+      if (a == b) continue;  // the collapsed edge of a degenerate quad (a hex27 apex face) is no edge
       out.push_back(a < b ? EdgeUse{a, b, +1} : EdgeUse{b, a, -1});
     }
   }

@@ -47,8 +47,6 @@ void check_options(const EllipsoidMeshOptions& o) {
   if (o.n_u < 2) throw InputError(w + "n_u (longitudinal divisions) must be >= 2, got " + std::to_string(o.n_u));
   if (o.n_t < 1) throw InputError(w + "n_t (transmural divisions) must be >= 1, got " + std::to_string(o.n_t));
   if (o.order != 1 && o.order != 2) throw InputError(w + "order must be 1 or 2, got " + std::to_string(o.order));
-  if (o.order == 2 && !o.tetrahedra)
-    throw InputError(w + "order 2 (quadratic elements) needs topology tet: hexahedra stay linear");
   const auto nodes = static_cast<long long>(o.n_t + 1) * (1 + static_cast<long long>(o.n_u) * o.n_v);
   if (nodes * 6 > std::numeric_limits<Index>::max())
     throw InputError(w + "n_v x n_u x n_t is too large (" + std::to_string(nodes) + " nodes)");
@@ -236,6 +234,37 @@ MidEdgePlacer curved_mid_edge(const EllipsoidMeshOptions& o, const Shell& sh, co
   };
 }
 
+/// The hex27 placer (header): a node at the mean index coordinates of the corners it lies between.
+CornerPlacer curved_corner_node(const EllipsoidMeshOptions& o, const Shell& sh, const NodeNumbering& node) {
+  return [&o, sh, node](const std::vector<Index>& corners) {
+    double k = 0.0, i = 0.0, j = 0.0;
+    int j_count = 0, j_ref = -1;
+    bool base = true;
+    for (const Index n : corners) {
+      const int layer = static_cast<int>(n / node.per_layer), r = static_cast<int>(n % node.per_layer);
+      k += layer;
+      if (r == 0) {  // the apex: on the axis whatever v
+        base = false;
+        continue;
+      }
+      const int ring = 1 + (r - 1) / node.nv;
+      int jj = (r - 1) % node.nv;
+      i += ring;
+      base = base && ring == o.n_u;
+      if (j_ref < 0) j_ref = jj;
+      if (2 * (jj - j_ref) > node.nv) jj -= node.nv;  // across the seam: unwrap next to the first
+      if (2 * (j_ref - jj) > node.nv) jj += node.nv;
+      j += jj;
+      ++j_count;
+    }
+    const auto m = static_cast<double>(corners.size());
+    const double t = k / m / o.n_t, frac = i / m / o.n_u, v = j_count > 0 ? 2.0 * kPi * j / j_count / node.nv : 0.0;
+    Eigen::Vector3d x = sh.point(t, sh.u_at(t, frac), v);
+    if (base) x.z() = o.base_z;
+    return x;
+  };
+}
+
 double truncated_ellipsoid_volume(double r_s, double r_l, double base_z) {
   return kPi * r_s * r_s * ((base_z + r_l) - (base_z * base_z * base_z + r_l * r_l * r_l) / (3.0 * r_l * r_l));
 }
@@ -254,7 +283,8 @@ Mesh make_land_ellipsoid(const EllipsoidMeshOptions& o) {
   mesh.cavities["lv"] = lv_cavity(o, node, mesh);
   mesh.attributes["source"] = "land ellipsoid (structured)";
   mesh.attributes["topology"] = o.tetrahedra ? "tet" : "hex";
-  if (o.order == 2) return make_quadratic(mesh, curved_mid_edge(o, sh, node));
+  if (o.order == 2 && o.tetrahedra) return make_quadratic(mesh, curved_mid_edge(o, sh, node));
+  if (o.order == 2) return make_quadratic_hex(mesh, curved_corner_node(o, sh, node));
   return mesh;
 }
 

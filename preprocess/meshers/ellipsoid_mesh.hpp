@@ -40,7 +40,11 @@
 // node on the map: at the mean of its corners' index coordinates (k, i, j) (j across the seam
 // unwrapped; the apex takes the other corner's j), i.e. t = k/n_t, u = u_at(t, i/n_u), v = 2 pi j/n_v.
 // Mid-edge nodes of the endocardium and epicardium lie on their ellipsoids, those of the base ring
-// on the base plane; attribute "order" = "2".
+// on the base plane; attribute "order" = "2". With hexahedra, order 2 gives the Hex27 mesh
+// (make_quadratic_hex) with every added node (mid-edge, face centre, element centre) on the map at
+// the mean index coordinates of the corners it lies between (repeats counted; the apex corners add
+// to k and i but not to j; j unwrapped across the seam next to the first corner's): the same rule,
+// so the endocardial and epicardial faces are curved on their ellipsoids.
 //
 // Errors (adamss::InputError, one line naming the option): n_v < 3, n_u < 2, n_t < 1, a grid too
 // large for the 32-bit node index, radii not positive or epicardium not outside the endocardium,
@@ -57,7 +61,7 @@ struct EllipsoidMeshOptions {
   int n_u = 12;             ///< longitudinal elements, apex to base (>= 2)
   int n_t = 3;              ///< transmural elements (>= 1)
   bool tetrahedra = false;  ///< false: degenerate-apex hexahedra; true: 6 Kuhn tetrahedra per cell
-  int order = 1;            ///< 2: quadratic tetrahedra (tet10) on the curved map (needs tetrahedra)
+  int order = 1;            ///< 2: quadratic elements (tet10 or hex27) on the curved map
   double endo_r_s = 7e-3;   ///< m
   double endo_r_l = 17e-3;  ///< m
   double epi_r_s = 10e-3;   ///< m

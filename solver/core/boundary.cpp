@@ -160,6 +160,15 @@ std::vector<Index> select_cavity_rim(const preprocess::Mesh& mesh, const std::st
   if (out.empty()) throw InputError(what + ": cavity '" + cavity + "' has no openings (no lid), so it has no rim");
   // Quadratic tetrahedra: the mid-edge node of every lid edge that is a mesh edge (the rim's edges)
   // belongs to the rim too.
+  if (mesh.type == preprocess::ElementType::Hex27) {  // likewise the hex27 mid-edge nodes
+    const preprocess::CornerSetNodes mids(mesh);
+    for (const auto& t : it->second.lid) {
+      for (std::size_t k = 0; k < 3; ++k) {
+        const Index m = mids.find({t[k], t[(k + 1) % 3]});
+        if (m >= 0) out.push_back(m);
+      }
+    }
+  }
   if (mesh.type == preprocess::ElementType::Tet10) {
     const preprocess::EdgeMidNodes mids(mesh);
     for (const auto& t : it->second.lid) {

@@ -31,6 +31,13 @@ Eigen::VectorXd voronoi_masses(const preprocess::Mesh& mesh, const std::vector<d
       for (int a = 0; a < k; ++a) m[nodes[a]] += me * (a < 4 ? 1.0 / 36.0 : 4.0 / 27.0);
       continue;
     }
+    if (mesh.type == preprocess::ElementType::Hex27) {
+      // Row sums of the Q2 mass matrix on a parallelepiped: per direction 1/6, 2/3, 1/6 (corner,
+      // middle, corner), so corners 1/216, mid-edge 1/54, face centres 2/27, the centre 8/27.
+      for (int a = 0; a < k; ++a)
+        m[nodes[a]] += me * (a < 8 ? 1.0 / 216.0 : (a < 20 ? 1.0 / 54.0 : (a < 26 ? 2.0 / 27.0 : 8.0 / 27.0)));
+      continue;
+    }
     for (int a = 0; a < k; ++a) m[nodes[a]] += me / k;
   }
   return m;

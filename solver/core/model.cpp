@@ -34,6 +34,8 @@ double element_volume_at(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x
       return tet_volume(x, mesh.element(e));
     case preprocess::ElementType::Tet10:
       return preprocess::tet10_volume(x, mesh.element(e));
+    case preprocess::ElementType::Hex27:
+      return preprocess::hex27_volume(x, mesh.element(e));
     case preprocess::ElementType::Hex8:
       break;
   }
@@ -54,6 +56,8 @@ double element_signed_volume_check(const preprocess::Mesh& mesh, const Eigen::Ma
   // own evaluation points), so a mid-edge node pushed through a face is caught although the
   // corners' tetrahedron stays positive.
   if (mesh.type == preprocess::ElementType::Tet10) return preprocess::tet10_min_jacobian(x, n) / 6.0;
+  // Hex27: the least det(dx/dr) over its 27 Gauss points (the parameter cube has volume 1).
+  if (mesh.type == preprocess::ElementType::Hex27) return preprocess::hex27_min_jacobian(x, n);
   double vmin = std::numeric_limits<double>::infinity();
   for (std::size_t a = 0; a < 8; ++a) {
     // A corner with a collapsed edge (a degenerate hexahedron: a wedge or pyramid stored with

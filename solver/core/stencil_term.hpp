@@ -81,7 +81,8 @@ class StencilTerm final : public ForceTerm {
   [[nodiscard]] std::string describe() const override { return std::to_string(kernel_.size()) + " items"; }
 
   // Augmented Lagrangian (solver/core/augmented_lagrangian.hpp), for a kernel with a
-  // `VolumeMultipliers multipliers` member and gap(i, x, t) = J_i - r, penalty_slope(i, x, t) = U'(J_i; r).
+  // `VolumeMultipliers multipliers` member and gap(i, x, t) = J_i - r, penalty_slope(i, x, t) = U'(J_i; r);
+  // or, with several multipliers per item, update_multipliers(i, x, t) (and gap the item's largest).
   [[nodiscard]] AugmentedLagrangian augmented_lagrangian() const override {
     if constexpr (requires { kernel_.multipliers.settings; }) return kernel_.multipliers.settings;
     return {};
@@ -103,7 +104,11 @@ class StencilTerm final : public ForceTerm {
       Mat3N<N> x, v;
       for (std::size_t i = 0; i < kernel_.size(); ++i) {
         gather(s, kernel_.stencil(i), x, v);
-        kernel_.multipliers.lambda[i] += kernel_.penalty_slope(i, x, s.t);
+        if constexpr (requires { kernel_.update_multipliers(i, x, s.t); }) {
+          kernel_.update_multipliers(i, x, s.t);  // several multipliers per item
+        } else {
+          kernel_.multipliers.lambda[i] += kernel_.penalty_slope(i, x, s.t);
+        }
       }
     }
   }

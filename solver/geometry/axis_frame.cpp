@@ -238,8 +238,9 @@ void resize_all(AxisFrames& out, std::size_t n) {
 }  // namespace
 
 AxisFrames build_axis_frames(const preprocess::Mesh& mesh, const std::vector<std::size_t>* only) {
-  if (mesh.type == preprocess::ElementType::Tet10) {
-    throw InputError("axis frames are defined on linear elements; this mesh has quadratic tetrahedra (tet10)");
+  if (preprocess::is_quadratic(mesh.type)) {
+    throw InputError(std::string("axis frames are defined on linear elements; this mesh has quadratic elements (") +
+                     preprocess::element_type_name(mesh.type) + ")");
   }
   if (!mesh.has_fibres()) {
     throw InputError("axis frames need fibre/sheet directions; mesh has none");

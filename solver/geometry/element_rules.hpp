@@ -8,6 +8,7 @@
 // names them in the solver namespace.
 #include "preprocess/mesh/shape_functions.hpp"
 #include "preprocess/mesh/shape_functions_p2.hpp"
+#include "preprocess/mesh/shape_functions_q2.hpp"
 
 namespace adamss::solver {
 

@@ -11,6 +11,7 @@
 #include "preprocess/mesh/open_edges.hpp"
 #include "preprocess/mesh/quadratic.hpp"
 #include "preprocess/mesh/shape_functions_p2.hpp"
+#include "preprocess/mesh/shape_functions_q2.hpp"
 #include "solver/core/boundary.hpp"
 
 namespace adamss::solver {
@@ -120,6 +121,39 @@ double tri6_area(const Eigen::Matrix<double, 3, 6>& y) {
   return area;
 }
 
+/// Integral of x . n dA over the biquadratic quad y (3 x 9, positions relative to the origin).
+double quad9_flux(const Eigen::Matrix<double, 3, 9>& y) {
+  double flux = 0.0;
+  for (const auto& q : preprocess::quad9_rule()) {
+    const Eigen::Vector3d xq = y * q.shape.row(0).transpose(), xu = y * q.shape.row(1).transpose(),
+                          xv = y * q.shape.row(2).transpose();
+    flux += q.w * xq.dot(xu.cross(xv));
+  }
+  return flux;
+}
+
+/// Area of the biquadratic quad y (3 x 9) by the same rule (exact up to the rule's error on |x_u x x_v|).
+double quad9_area(const Eigen::Matrix<double, 3, 9>& y) {
+  double area = 0.0;
+  for (const auto& q : preprocess::quad9_rule()) {
+    area +=
+        q.w *
+        Eigen::Vector3d(y * q.shape.row(1).transpose()).cross(Eigen::Vector3d(y * q.shape.row(2).transpose())).norm();
+  }
+  return area;
+}
+
+/// The mid-edge nodes of a quadratic surface's faces, for its lid and fan triangles.
+preprocess::EdgeMidNodes surface_mid_nodes(const Surface& s) {
+  if (s.quad_mids.empty()) return preprocess::EdgeMidNodes(s.triangles, s.triangle_mids);
+  std::vector<std::array<Index, 3>> edges;
+  edges.reserve(4 * s.quads.size());
+  for (std::size_t j = 0; j < s.quads.size(); ++j) {
+    for (std::size_t k = 0; k < 4; ++k) edges.push_back({s.quads[j][k], s.quads[j][(k + 1) % 4], s.quad_mids[j][k]});
+  }
+  return preprocess::EdgeMidNodes::from_edges(edges);
+}
+
 /// The quadratic triangle over corners c0, c1, c2 (positions y0..y2, relative): mid-edge positions
 /// from the surface's mid nodes where the edge has one, else the straight midpoint.
 template <class P>
@@ -148,10 +182,45 @@ Index find_root(std::vector<Index>& parent, Index i) {
 
 namespace {
 
+/// The hex27 element faces behind wall triangles that are collapsed hexahedron faces (the apex
+/// wedges of the ellipsoid recipe store their quad (a, b, c, a) as the triangle (a, b, c)): each
+/// as the element's outward quad with its repeated corner, so the biquadratic face (and its
+/// centre node) is the element's own. InputError naming a triangle that is no such face.
+std::vector<std::array<Index, 4>> degenerate_faces(const preprocess::Mesh& mesh,
+                                                   const std::vector<std::array<Index, 3>>& triangles,
+                                                   const std::string& name) {
+  std::vector<std::pair<std::array<Index, 3>, std::array<Index, 4>>> faces;  // distinct corners, quad
+  for (const preprocess::FaceRecord& r : preprocess::sorted_face_records(mesh)) {
+    const Index* n = mesh.element(r.element);
+    const auto& lf = preprocess::kHexFaces[r.local];
+    const std::array<Index, 4> q{n[lf[0]], n[lf[1]], n[lf[2]], n[lf[3]]};
+    std::array<Index, 4> k = q;
+    std::sort(k.begin(), k.end());
+    if (std::unique(k.begin(), k.end()) - k.begin() != 3) continue;
+    faces.push_back({{k[0], k[1], k[2]}, q});
+  }
+  std::sort(faces.begin(), faces.end());
+  std::vector<std::array<Index, 4>> out;
+  for (const auto& t : triangles) {
+    std::array<Index, 3> k = t;
+    std::sort(k.begin(), k.end());
+    const auto it =
+        std::lower_bound(faces.begin(), faces.end(), std::make_pair(k, std::array<Index, 4>{-1, -1, -1, -1}));
+    if (it == faces.end() || it->first != k) {
+      throw InputError("cavity '" + name + "': the wall triangle (" + std::to_string(t[0]) + ", " +
+                       std::to_string(t[1]) + ", " + std::to_string(t[2]) +
+                       ") is not a collapsed face of a hex27 element (a hex27 cavity has quad walls)");
+    }
+    out.push_back(it->second);
+  }
+  return out;
+}
+
 /// The boundary faces whose nodes all have inside[node] != 0, oriented out of the solid.
 Surface boundary_faces_within(const preprocess::Mesh& mesh, const std::vector<char>& inside, std::string name) {
   const bool tet = preprocess::is_tetrahedron(mesh.type);
   const bool tet10 = mesh.type == preprocess::ElementType::Tet10;
+  const bool hex27 = mesh.type == preprocess::ElementType::Hex27;
   const std::vector<preprocess::FaceRecord> faces = preprocess::sorted_face_records(mesh);
   auto in = [&](Index k) { return inside[static_cast<std::size_t>(k)] != 0; };
   Surface s;
@@ -175,7 +244,15 @@ Surface boundary_faces_within(const preprocess::Mesh& mesh, const std::vector<ch
       } else {
         const auto& lf = preprocess::kHexFaces[faces[i].local];
         const std::array<Index, 4> f{n[lf[0]], n[lf[1]], n[lf[2]], n[lf[3]]};
-        if (std::all_of(f.begin(), f.end(), in)) s.quads.push_back(f);
+        if (std::all_of(f.begin(), f.end(), in)) {
+          s.quads.push_back(f);
+          if (hex27) {
+            std::array<Index, 5> m{};
+            for (std::size_t k = 0; k < 4; ++k) m[k] = n[preprocess::hex27_edge_node(lf[k], lf[(k + 1) % 4])];
+            m[4] = n[preprocess::kHexFaceCentreNode[faces[i].local]];
+            s.quad_mids.push_back(m);
+          }
+        }
       }
     }
     i = j;
@@ -236,15 +313,60 @@ Surface cavity_surface(const preprocess::Mesh& mesh, const std::string& name) {
       s.triangle_mids.push_back(m);
     }
   }
+  if (mesh.type == preprocess::ElementType::Hex27) {
+    const std::vector<std::array<Index, 4>> collapsed = degenerate_faces(mesh, s.triangles, name);
+    s.quads.insert(s.quads.end(), collapsed.begin(), collapsed.end());
+    s.triangles.clear();
+    const preprocess::CornerSetNodes nodes(mesh);
+    for (const auto& q : s.quads) {
+      std::array<Index, 5> m{};
+      for (std::size_t k = 0; k < 4; ++k) m[k] = nodes.find({q[k], q[(k + 1) % 4]});
+      m[4] = nodes.find({q[0], q[1], q[2], q[3]});
+      for (const Index v : m) {
+        if (v < 0) {
+          throw InputError("cavity '" + name + "': the wall quad (" + std::to_string(q[0]) + ", " +
+                           std::to_string(q[1]) + ", " + std::to_string(q[2]) + ", " + std::to_string(q[3]) +
+                           ") is not a face of the hex27 mesh");
+        }
+      }
+      s.quad_mids.push_back(m);
+    }
+  }
   validate_surface(s, mesh.node_count());
   return s;
 }
 
 void validate_surface(const Surface& surface, std::size_t node_count) {
   check_faces(surface.triangles, "triangle", surface.name, node_count);
-  check_faces(surface.quads, "quad", surface.name, node_count);
+  if (surface.quad_mids.empty()) check_faces(surface.quads, "quad", surface.name, node_count);
   check_faces(surface.lid, "lid triangle", surface.name, node_count);
-  if (surface.quadratic()) {
+  if (!surface.quad_mids.empty()) {
+    if (surface.quad_mids.size() != surface.quads.size() || !surface.triangles.empty()) {
+      throw InputError("surface '" + surface.name + "': " + std::to_string(surface.quad_mids.size()) +
+                       " mid-node sets for " + std::to_string(surface.quads.size()) + " quads and " +
+                       std::to_string(surface.triangles.size()) +
+                       " triangles (a biquadratic surface has quads only, each with its mid nodes)");
+    }
+    // A biquadratic quad may be a collapsed element face (one corner twice, next to itself, its
+    // edge's mid node that corner: the apex faces of a hex27 ellipsoid); anything else repeating a
+    // node is refused, as for linear faces.
+    std::vector<std::array<Index, 9>> proper;
+    for (const auto& q : surface.quadratic_quads()) {
+      std::array<Index, 9> k = q;
+      std::sort(k.begin(), k.end());
+      const auto distinct = std::unique(k.begin(), k.end()) - k.begin();
+      bool collapsed = false;
+      for (std::size_t c = 0; c < 4 && distinct == 7; ++c)
+        collapsed = collapsed || (q[c] == q[(c + 1) % 4] && q[4 + c] == q[c]);
+      if (!collapsed) {
+        proper.push_back(q);
+        continue;
+      }
+      for (const Index n : q)
+        check_faces(std::vector<std::array<Index, 1>>{{n}}, "quadratic quad", surface.name, node_count);
+    }
+    check_faces(proper, "quadratic quad", surface.name, node_count);
+  } else if (surface.quadratic()) {
     if (surface.triangle_mids.size() != surface.triangles.size()) {
       throw InputError("surface '" + surface.name + "': " + std::to_string(surface.triangle_mids.size()) +
                        " mid-edge triples for " + std::to_string(surface.triangles.size()) + " triangles");
@@ -262,6 +384,17 @@ std::vector<std::array<Index, 6>> Surface::quadratic_triangles() const {
     const auto& c = triangles[j];
     const auto& m = triangle_mids[j];
     out.push_back({c[0], c[1], c[2], m[0], m[1], m[2]});
+  }
+  return out;
+}
+
+std::vector<std::array<Index, 9>> Surface::quadratic_quads() const {
+  std::vector<std::array<Index, 9>> out;
+  out.reserve(quad_mids.size());
+  for (std::size_t j = 0; j < quad_mids.size(); ++j) {
+    const auto& c = quads[j];
+    const auto& m = quad_mids[j];
+    out.push_back({c[0], c[1], c[2], c[3], m[0], m[1], m[2], m[3], m[4]});
   }
   return out;
 }
@@ -291,7 +424,7 @@ double enclosed_volume(const Surface& surface, const Eigen::Matrix3Xd& x) {
   const auto p = [&](Index n) -> Eigen::Vector3d { return x.col(n) - o; };
 
   const bool quadratic = surface.quadratic();
-  const preprocess::EdgeMidNodes mids(surface.triangles, surface.triangle_mids);  // empty for a linear surface
+  const preprocess::EdgeMidNodes mids = surface_mid_nodes(surface);  // empty for a linear surface
   // A triangle's flux: straight, or quadratic with the surface's mid-edge nodes (header).
   const auto flux_of = [&](const std::array<Index, 3>& c, const std::array<Eigen::Vector3d, 3>& y) {
     return quadratic ? tri6_flux(quadratic_positions(mids, c, y, p)) : tri_flux(y[0], y[1], y[2]);
@@ -299,7 +432,15 @@ double enclosed_volume(const Surface& surface, const Eigen::Matrix3Xd& x) {
   double flux = 0.0;  // sum of int x . n_in dA
   for (const auto& t : surface.triangles) flux += flux_of(t, {p(t[0]), p(t[1]), p(t[2])});
   for (const auto& t : surface.lid) flux += flux_of(t, {p(t[0]), p(t[1]), p(t[2])});
-  for (const auto& q : surface.quads) flux += quad_flux(p(q[0]), p(q[1]), p(q[2]), p(q[3]));
+  if (surface.quad_mids.empty()) {
+    for (const auto& q : surface.quads) flux += quad_flux(p(q[0]), p(q[1]), p(q[2]), p(q[3]));
+  } else {
+    for (const auto& q : surface.quadratic_quads()) {
+      Eigen::Matrix<double, 3, 9> y;
+      for (int a = 0; a < 9; ++a) y.col(a) = p(q[static_cast<std::size_t>(a)]);
+      flux += quad9_flux(y);
+    }
+  }
 
   const std::vector<Edge> open = boundary_edges(surface);
   if (!open.empty()) {
@@ -350,6 +491,14 @@ double surface_area(const Surface& surface, const Eigen::Matrix3Xd& x) {
   } else {
     for (const auto& t : surface.triangles)
       area += 0.5 * (x.col(t[1]) - x.col(t[0])).cross(x.col(t[2]) - x.col(t[0])).norm();
+  }
+  if (!surface.quad_mids.empty()) {
+    for (const auto& q : surface.quadratic_quads()) {
+      Eigen::Matrix<double, 3, 9> y;
+      for (int a = 0; a < 9; ++a) y.col(a) = x.col(q[static_cast<std::size_t>(a)]);
+      area += quad9_area(y);
+    }
+    return area;
   }
   for (const auto& q : surface.quads) area += 0.5 * (x.col(q[2]) - x.col(q[0])).cross(x.col(q[3]) - x.col(q[1])).norm();
   return area;

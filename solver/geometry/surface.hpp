@@ -32,6 +32,11 @@
 // or fan triangle is quadratic too: an edge that is an edge of the surface's triangles takes that
 // triangle's mid-edge node (the curved rim), any other edge is straight. The enclosed volume is
 // then exact and its gradient is the consistent pressure load.
+// The boundary of a hex27 mesh is made of biquadratic quads (Surface::quad_mids: the mid-edge
+// nodes and the centre), x(u, v) = sum_b N_b x_b on [0,1]^2, and int x . n dA = sum_q w_q
+// x(q) . (x_u x x_v)(q) with the 3 x 3 Gauss rule (preprocess/mesh/shape_functions_q2.hpp), exact
+// (degree 5 per direction). Lid and fan triangles take the quads' mid-edge nodes on their rim
+// edges as above.
 //
 // Open surfaces. If directed boundary edges remain after adding the lid (an edge whose
 // two orientations do not cancel), each connected set of boundary edges (a "loop",
@@ -60,11 +65,16 @@ struct Surface {
   /// Quadratic surfaces (tet10 meshes): per triangle the mid-edge nodes of its edges (0,1), (1,2),
   /// (2,0); empty for linear faces. The triangles keep their corners (topology, lids, open edges).
   std::vector<std::array<Index, 3>> triangle_mids;
+  /// Quadratic quads (hex27 meshes): per quad the mid-edge nodes of its edges (0,1), (1,2), (2,3),
+  /// (3,0) and its centre node; empty for linear faces.
+  std::vector<std::array<Index, 5>> quad_mids;
 
   [[nodiscard]] std::size_t face_count() const { return triangles.size() + quads.size(); }
-  [[nodiscard]] bool quadratic() const { return !triangle_mids.empty(); }
+  [[nodiscard]] bool quadratic() const { return !triangle_mids.empty() || !quad_mids.empty(); }
   /// The 6-node triangles (corners, then mid-edge nodes) of a quadratic surface.
   [[nodiscard]] std::vector<std::array<Index, 6>> quadratic_triangles() const;
+  /// The 9-node quads (corners, mid-edge nodes, centre; VTK_BIQUADRATIC_QUAD order).
+  [[nodiscard]] std::vector<std::array<Index, 9>> quadratic_quads() const;
 };
 
 /// The mesh's boundary faces (faces of exactly one element) whose nodes ALL lie in

@@ -27,7 +27,7 @@ namespace {
 
 using preprocess::ElementType;
 
-/// dx/dxi (tet: edge matrix; hex and tet10: Jacobian at the centre) of element e at positions x.
+/// dx/dxi (tet: edge matrix; hex, tet10 and hex27: Jacobian at the centre) of element e at positions x.
 Eigen::Matrix3d element_map(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& x, std::size_t e) {
   const preprocess::Index* n = mesh.element(e);
   Eigen::Matrix3d j;
@@ -39,6 +39,12 @@ Eigen::Matrix3d element_map(const preprocess::Mesh& mesh, const Eigen::Matrix3Xd
   }
   if (mesh.type == ElementType::Tet4) {
     for (int k = 0; k < 3; ++k) j.col(k) = x.col(n[k + 1]) - x.col(n[0]);
+    return j;
+  }
+  if (mesh.type == ElementType::Hex27) {
+    static const Eigen::Matrix<double, 27, 3> kG = preprocess::hex27_shape_gradients(Eigen::Vector3d::Constant(0.5));
+    j.setZero();
+    for (Eigen::Index a = 0; a < 27; ++a) j += x.col(n[a]) * kG.row(a);
     return j;
   }
   static const Eigen::Matrix<double, 8, 3> kG = hex_shape_gradients(0.5, 0.5, 0.5);
@@ -292,7 +298,10 @@ void write_vtu(const fs::path& path, const preprocess::Mesh& mesh, const Eigen::
     std::vector<std::int64_t> offs(ne);
     for (std::size_t e = 0; e < ne; ++e) offs[e] = static_cast<std::int64_t>((e + 1) * static_cast<std::size_t>(k));
     // VTK_TETRA 10, VTK_HEXAHEDRON 12, VTK_QUADRATIC_TETRA 24 (corners, then mid-edge nodes).
-    const std::uint8_t vtk_type = mesh.type == ElementType::Tet4 ? 10 : (mesh.type == ElementType::Tet10 ? 24 : 12);
+    const std::uint8_t vtk_type = mesh.type == ElementType::Tet4    ? 10
+                                  : mesh.type == ElementType::Tet10 ? 24
+                                  : mesh.type == ElementType::Hex27 ? 29
+                                                                    : 12;
     std::vector<std::uint8_t> types(ne, vtk_type);
     declare("Int64", "connectivity", 1, conn.size() * 8);
     put_block(data, conn.data(), conn.size());

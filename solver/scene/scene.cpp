@@ -40,11 +40,12 @@ double shortest_edge(const preprocess::Mesh& mesh) {
       l = std::min(l, (mesh.nodes.col(n[a]) - mesh.nodes.col(n[b])).norm());
     }
   }
-  // Quadratic tetrahedra: a quarter of the corner edge. A 1D quadratic element of length L with
+  // Quadratic elements: a quarter of the corner edge. A 1D quadratic element of length L with
   // HRZ masses has omega_max = sqrt(24) c / L, i.e. a critical step 0.41 L / c rather than the
   // 0.5 L / c of its node spacing, and the 3D corners carry only 1/36 of the mass: L / 4 keeps the
-  // estimate on the safe side.
-  return mesh.type == preprocess::ElementType::Tet10 ? 0.25 * l : l;
+  // estimate on the safe side. The hex27 is the same 1D element along each edge (row-sum masses
+  // 1/6, 2/3, 1/6 per direction; its corners carry 1/216): the same quarter.
+  return preprocess::is_quadratic(mesh.type) ? 0.25 * l : l;
 }
 
 std::vector<Index> select(SceneNode sel, const Model& model, const fs::path& base) {
@@ -338,7 +339,8 @@ LoadedScene assemble(const YAML::Node& root_yaml, const fs::path& origin, const 
   sc.name = root.text("name", origin.stem().string());
   sc.description = root.text("description", "");
 
-  auto mesh = std::make_shared<preprocess::Mesh>(load_scene_mesh(root.map("mesh"), base, opt, sc.mesh_source, sc.reference_file));
+  auto mesh = std::make_shared<preprocess::Mesh>(
+      load_scene_mesh(root.map("mesh"), base, opt, sc.mesh_source, sc.reference_file));
   if (opt.reference_nodes) replace_node_positions(*mesh, *opt.reference_nodes, "the reference configuration");
   Model& model = sc.model;
   model.mesh = mesh;

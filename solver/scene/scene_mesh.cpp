@@ -64,11 +64,15 @@ preprocess::Mesh box_mesh(SceneNode& node, std::string& source) {
   return mesh;
 }
 
-/// The optional `order: 1 | 2` of a mesh (2: quadratic tetrahedra, preprocess/mesh/quadratic.hpp).
+/// The optional `order: 1 | 2` of a mesh (2: quadratic tetrahedra or hexahedra,
+/// preprocess/mesh/quadratic.hpp).
 int mesh_order(SceneNode& node) {
   const long long order = node.integer("order", 1);
-  if (order != 1 && order != 2)
-    throw InputError(node.at("order") + ": the element order must be 1 (linear) or 2 (quadratic tetrahedra)");
+  if (order != 1 && order != 2) {
+    throw InputError(node.at("order") +
+                     ": the element order must be 1 (linear) or 2 (quadratic: tet10 from tetrahedra, hex27 from "
+                     "hexahedra)");
+  }
   return static_cast<int>(order);
 }
 
@@ -319,15 +323,19 @@ preprocess::Mesh load_scene_mesh(SceneNode node, const fs::path& base, const Sce
   }
   uniform_fibre_frame(node, mesh);
   const std::optional<fs::path> reference = reference_file(node, base, opt);
-  // order 2: the ellipsoid recipe places its mid-edge nodes on the curved map itself; every other
-  // mesh of linear tetrahedra gets straight mid-edge nodes after its fibres and tags are set.
+  // order 2: the ellipsoid recipe places its added nodes on the curved map itself; every other
+  // mesh of linear elements gets straight ones after its fibres and tags are set.
   if (!has_ellipsoid && mesh_order(node) == 2) {
-    if (mesh.type != preprocess::ElementType::Tet4) {
-      throw InputError(node.at("order") + ": order 2 needs a mesh of linear tetrahedra, this one has " +
+    if (mesh.type == preprocess::ElementType::Tet4) {
+      mesh = preprocess::make_quadratic(mesh);
+      source += ", raised to quadratic tetrahedra (tet10)";
+    } else if (mesh.type == preprocess::ElementType::Hex8) {
+      mesh = preprocess::make_quadratic_hex(mesh);
+      source += ", raised to triquadratic hexahedra (hex27)";
+    } else {
+      throw InputError(node.at("order") + ": order 2 needs a mesh of linear elements (tet4 or hex8), this one has " +
                        preprocess::element_type_name(mesh.type) + " elements");
     }
-    mesh = preprocess::make_quadratic(mesh);
-    source += ", raised to quadratic tetrahedra (tet10)";
   }
   if (reference) {
     take_reference(mesh, *reference, opt.reference_file.empty() ? node.at("reference") : "--reference");

@@ -24,6 +24,7 @@
 #include "solver/terms/fem/active_stress_gauss.hpp"
 #include "solver/terms/fem/fem_element.hpp"
 #include "solver/terms/fem/nodal_volume.hpp"
+#include "solver/terms/fem/volume_p1disc.hpp"
 #include "solver/terms/springs/hybmss.hpp"
 #include "solver/terms/springs/lloyd_springs.hpp"
 #include "solver/terms/springs/mass_springs.hpp"
@@ -149,7 +150,7 @@ void build_active_tension(SceneNode& node, MaterialContext& ctx) {
     const auto delay_of = [&](std::size_t e) {
       return offset + (preprocess::element_barycentre(ctx.mesh, e) - origin).norm() / speed;
     };
-    if (ctx.mesh.type == preprocess::ElementType::Tet10) {  // per mesh element, at the Gauss points
+    if (preprocess::is_quadratic(ctx.mesh.type)) {  // per mesh element, at the Gauss points
       p.delay.assign(ctx.mesh.element_count(), 0.0);
       for (const std::size_t e : ctx.elements) p.delay[e] = delay_of(e);
     } else {  // per axis-frame entry
@@ -159,7 +160,7 @@ void build_active_tension(SceneNode& node, MaterialContext& ctx) {
     }
   }
   node.finish();
-  if (ctx.mesh.type == preprocess::ElementType::Tet10) {
+  if (preprocess::is_quadratic(ctx.mesh.type)) {
     ctx.model.terms.push_back(make_gauss_active_stress_term(ctx.mesh, p, &ctx.elements));
     return;
   }
@@ -175,7 +176,7 @@ void build_volume(SceneNode& node, MaterialContext& ctx) {
   const std::string form = node.choice("form", {"quadratic", "log", "simo_taylor"}, "quadratic");
   p.form = form == "quadratic" ? VolumePenaltyForm::Quadratic
                                : (form == "log" ? VolumePenaltyForm::Log : VolumePenaltyForm::SimoTaylor);
-  const std::string dist = node.choice("distribution", {"anisotropic", "isotropic", "nodal"}, "anisotropic");
+  const std::string dist = node.choice("distribution", {"anisotropic", "isotropic", "nodal", "linear"}, "anisotropic");
   // augmented_lagrangian: {tolerance, max_updates} (solver/core/augmented_lagrangian.hpp)
   if (std::optional<SceneNode> al = node.optional_map("augmented_lagrangian")) {
     p.augmented.enabled = true;
@@ -192,6 +193,11 @@ void build_volume(SceneNode& node, MaterialContext& ctx) {
   ctx.bulk_modulus += 2.0 * p.p;  // every form has bulk modulus 2 p
   if (dist == "nodal") {
     ctx.model.terms.push_back(make_nodal_volume_term(ctx.mesh, {{p.form, p.p}, p.ratio, p.augmented}, &ctx.elements));
+    return;
+  }
+  if (dist == "linear") {  // Q2-P1disc on hex27 (solver/terms/fem/volume_p1disc.hpp)
+    ctx.model.terms.push_back(
+        make_linear_dilatation_term(ctx.mesh, {p.form, p.p}, p.ratio, &ctx.elements, p.augmented));
     return;
   }
   p.distribution = dist == "anisotropic" ? VolumeDistribution::Anisotropic : VolumeDistribution::Isotropic;
@@ -377,13 +383,15 @@ void build_material_term(const std::string& type, SceneNode& node, MaterialConte
     throw InputError(node.path() + ": unknown force term '" + type + "'" + did_you_mean(type, material_term_types()) +
                      " (known: " + list + ")");
   }
-  // Quadratic tetrahedra carry the FEM path only (preprocess/mesh/quadratic.hpp): the spring and
+  // Quadratic elements carry the FEM path only (preprocess/mesh/quadratic.hpp): the spring and
   // axis-frame terms are defined on linear elements.
-  if (ctx.mesh.type == preprocess::ElementType::Tet10 && type != "fem_element" && type != "volume" &&
+  if (preprocess::is_quadratic(ctx.mesh.type) && type != "fem_element" && type != "volume" &&
       type != "active_tension") {
-    throw InputError(node.path() + ": force term '" + type +
-                     "' is not available on quadratic tetrahedra (tet10); they take fem_element, volume "
-                     "(distribution isotropic or nodal) and active_tension (form stress)");
+    const bool tet = ctx.mesh.type == preprocess::ElementType::Tet10;
+    throw InputError(node.path() + ": force term '" + type + "' is not available on quadratic " +
+                     (tet ? "tetrahedra (tet10)" : "hexahedra (hex27)") + "; they take fem_element, volume " +
+                     (tet ? "(distribution isotropic or nodal)" : "(distribution isotropic)") +
+                     " and active_tension (form stress)");
   }
   try {
     it->second(node, ctx);

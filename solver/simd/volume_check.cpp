@@ -138,7 +138,7 @@ bool within_copy(const double* __restrict x, const double* __restrict x0, const 
 }  // namespace
 
 SignedVolumeScreen::SignedVolumeScreen(const preprocess::Mesh& mesh, const std::vector<double>& threshold)
-    : hex_(mesh.type == preprocess::ElementType::Hex8), exact_only_(mesh.type == preprocess::ElementType::Tet10) {
+    : hex_(mesh.type == preprocess::ElementType::Hex8), exact_only_(preprocess::is_quadratic(mesh.type)) {
   if (threshold.size() != mesh.element_count())
     throw std::invalid_argument("SignedVolumeScreen: one threshold per element expected");
   for (const double v : threshold)

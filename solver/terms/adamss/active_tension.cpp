@@ -213,6 +213,7 @@ void ActiveAxisKernel<K, kCurrentArea>::jacobian(std::size_t i, const Mat3N<K>& 
 template struct ActiveStressKernel<4>;
 template struct ActiveStressKernel<8>;
 template struct ActiveStressKernel<10>;
+template struct ActiveStressKernel<27>;
 template struct ActiveAxisKernel<4, true>;
 template struct ActiveAxisKernel<8, true>;
 template struct ActiveAxisKernel<4, false>;

@@ -102,7 +102,8 @@ struct ActivationSchedule {
 /// Form::Stress on K-node elements.
 template <int K>
 struct ActiveStressKernel {
-  static_assert(K == 4 || K == 8 || K == 10, "K must be 4 (tet), 8 (hex) or 10 (tet10, one item per Gauss point)");
+  static_assert(K == 4 || K == 8 || K == 10 || K == 27,
+                "K must be 4 (tet), 8 (hex), 10 (tet10) or 27 (hex27); the last two one item per Gauss point");
   static constexpr bool kHasEnergy = true;
   static constexpr bool kHasJacobian = true;
 
@@ -168,6 +169,7 @@ struct ActiveAxisKernel {
 extern template struct ActiveStressKernel<4>;
 extern template struct ActiveStressKernel<8>;
 extern template struct ActiveStressKernel<10>;
+extern template struct ActiveStressKernel<27>;
 extern template struct ActiveAxisKernel<4, true>;
 extern template struct ActiveAxisKernel<8, true>;
 extern template struct ActiveAxisKernel<4, false>;

@@ -125,6 +125,7 @@ void GradientLawKernel<K>::jacobian(std::size_t i, const Mat3N<K>& x, const Mat3
 template struct GradientLawKernel<4>;
 template struct GradientLawKernel<8>;
 template struct GradientLawKernel<10>;
+template struct GradientLawKernel<27>;
 
 template <int K>
 GradientLawKernel<K> make_virtual_hex_kernel(const preprocess::Mesh& mesh, const AxisFrames& frames,

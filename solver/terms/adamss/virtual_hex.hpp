@@ -66,7 +66,8 @@ namespace adamss::solver {
 /// Gauss points (G from the element's own shape functions, solver/terms/fem/fem_element.hpp) share it.
 template <int K>
 struct GradientLawKernel {
-  static_assert(K == 4 || K == 8 || K == 10, "K must be 4 (tet), 8 (hex) or 10 (tet10, fem_element only)");
+  static_assert(K == 4 || K == 8 || K == 10 || K == 27,
+                "K must be 4 (tet), 8 (hex), 10 (tet10) or 27 (hex27); the last two fem_element only");
   static constexpr bool kHasEnergy = true;
   static constexpr bool kHasJacobian = true;
 
@@ -105,6 +106,7 @@ struct GradientLawKernel {
 extern template struct GradientLawKernel<4>;
 extern template struct GradientLawKernel<8>;
 extern template struct GradientLawKernel<10>;
+extern template struct GradientLawKernel<27>;
 
 /// Builds the kernel from the axis frames: one item per frames entry whose mesh
 /// element is in `element_subset` (mesh element indices; all entries when null),

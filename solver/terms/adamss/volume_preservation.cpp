@@ -76,6 +76,14 @@ void add_volume(double scale, const Mat3N<K>& x, double& J, Mat3N<K>& dJ, MatJ<K
   if constexpr (K == 4) {
     static const Eigen::Matrix<double, 4, 3> kTetGamma = tet_shape_gradients();
     add_determinant_term<4>(scale / 6.0, kTetGamma, x, J, dJ, hess);
+  } else if constexpr (K == 27) {
+    // The triquadratic hexahedron: the 3x3x3 Gauss rule, exact for its det(dx/dr) of degree <= 5
+    // per direction (preprocess/mesh/shape_functions_q2.hpp); J = V / V0 is the Q2-P0 mean dilatation.
+    const auto& grads = preprocess::hex27_gauss_gradients();
+    for (int q = 0; q < 27; ++q) {
+      add_determinant_term<27>(scale * preprocess::hex27_gauss_weight(q), grads[static_cast<std::size_t>(q)], x, J, dJ,
+                               hess);
+    }
   } else if constexpr (K == 10) {
     // The quadratic tetrahedron: the 5-point degree-3 rule, exact for its cubic det(dx/dr)
     // (preprocess/mesh/shape_functions_p2.hpp); J = V / V0 is then the P2-P0 mean dilatation.
@@ -121,6 +129,8 @@ template void add_determinant_term<8>(double, const Eigen::Matrix<double, 8, 3>&
                                       MatJ<8>*);
 template void add_determinant_term<10>(double, const Eigen::Matrix<double, 10, 3>&, const Mat3N<10>&, double&,
                                        Mat3N<10>&, MatJ<10>*);
+template void add_determinant_term<27>(double, const Eigen::Matrix<double, 27, 3>&, const Mat3N<27>&, double&,
+                                       Mat3N<27>&, MatJ<27>*);
 
 /// The values that define the course; r must be finite and > 0 at all of them.
 void check_volume_ratio(const TimeCourse& r, const std::string& who) {
@@ -186,12 +196,15 @@ void element_volume_derivatives(const Mat3N<K>& x, double& v, Mat3N<K>& dv, MatJ
 template void element_volume_derivatives<4>(const Mat3N<4>&, double&, Mat3N<4>&, MatJ<4>&);
 template void element_volume_derivatives<8>(const Mat3N<8>&, double&, Mat3N<8>&, MatJ<8>&);
 template void element_volume_derivatives<10>(const Mat3N<10>&, double&, Mat3N<10>&, MatJ<10>&);
+template void element_volume_derivatives<27>(const Mat3N<27>&, double&, Mat3N<27>&, MatJ<27>&);
 template double element_volume_of<4>(const Mat3N<4>&);
 template double element_volume_of<8>(const Mat3N<8>&);
 template double element_volume_of<10>(const Mat3N<10>&);
+template double element_volume_of<27>(const Mat3N<27>&);
 template Mat3N<4> element_volume_gradient<4>(const Mat3N<4>&);
 template Mat3N<8> element_volume_gradient<8>(const Mat3N<8>&);
 template Mat3N<10> element_volume_gradient<10>(const Mat3N<10>&);
+template Mat3N<27> element_volume_gradient<27>(const Mat3N<27>&);
 
 template <int K>
 void VolumeKernel<K>::evaluate(std::size_t i, const Mat3N<K>& x, double& J, Mat3N<K>& dJ, MatJ<K>* hess) const {
@@ -269,24 +282,27 @@ void VolumeKernel<K>::add_cell_fields(const StateView& s, std::size_t element_co
 template struct VolumeKernel<4>;
 template struct VolumeKernel<8>;
 template struct VolumeKernel<10>;
+template struct VolumeKernel<27>;
 
 template <int K>
 VolumeKernel<K> make_volume_kernel(const preprocess::Mesh& mesh, const AxisFrames* frames, const VolumeParams& params,
                                    const std::vector<std::size_t>* element_subset) {
   check_volume_penalty(params.p, "volume_preservation");
   check_volume_ratio(params.ratio, "volume_preservation");
-  const preprocess::ElementType want = K == 4
-                                           ? preprocess::ElementType::Tet4
-                                           : (K == 10 ? preprocess::ElementType::Tet10 : preprocess::ElementType::Hex8);
+  const preprocess::ElementType want = K == 4    ? preprocess::ElementType::Tet4
+                                       : K == 10 ? preprocess::ElementType::Tet10
+                                       : K == 27 ? preprocess::ElementType::Hex27
+                                                 : preprocess::ElementType::Hex8;
   if (mesh.type != want) {
     throw InputError("volume_preservation: mesh element type " + std::string(preprocess::element_type_name(mesh.type)) +
                      " does not match a " + std::to_string(K) + "-node kernel");
   }
   const bool aniso = params.distribution == VolumeDistribution::Anisotropic;
-  if (K == 10 && aniso) {
-    throw InputError(
-        "volume_preservation: quadratic tetrahedra (tet10) take distribution isotropic (the P2-P0 mean dilatation); "
-        "the anisotropic distribution needs the axis frames of linear elements");
+  if ((K == 10 || K == 27) && aniso) {
+    throw InputError(std::string("volume_preservation: quadratic ") +
+                     (K == 10 ? "tetrahedra (tet10) take distribution isotropic (the P2-P0"
+                              : "hexahedra (hex27) take distribution isotropic (the Q2-P0") +
+                     " mean dilatation); the anisotropic distribution needs the axis frames of linear elements");
   }
   if (aniso && !frames) {
     throw InputError(
@@ -319,7 +335,7 @@ VolumeKernel<K> make_volume_kernel(const preprocess::Mesh& mesh, const AxisFrame
     kern.mesh_element.push_back(e);
     kern.volume0.push_back(v0);
   };
-  if constexpr (K != 10) {
+  if constexpr (K == 4 || K == 8) {
     if (aniso) {
       const auto& grads = frames->template nodal_gradient<K>();
       for (const std::size_t k : select_frame_entries("volume_preservation", mesh, *frames, K, element_subset)) {
@@ -341,6 +357,8 @@ template VolumeKernel<8> make_volume_kernel<8>(const preprocess::Mesh&, const Ax
                                                const std::vector<std::size_t>*);
 template VolumeKernel<10> make_volume_kernel<10>(const preprocess::Mesh&, const AxisFrames*, const VolumeParams&,
                                                  const std::vector<std::size_t>*);
+template VolumeKernel<27> make_volume_kernel<27>(const preprocess::Mesh&, const AxisFrames*, const VolumeParams&,
+                                                 const std::vector<std::size_t>*);
 
 std::unique_ptr<ForceTerm> make_volume_term(const preprocess::Mesh& mesh, const AxisFrames* frames,
                                             const VolumeParams& params,
@@ -352,6 +370,10 @@ std::unique_ptr<ForceTerm> make_volume_term(const preprocess::Mesh& mesh, const 
   if (mesh.type == preprocess::ElementType::Tet10) {
     return std::make_unique<StencilTerm<VolumeKernel<10>, 10>>(
         make_volume_kernel<10>(mesh, frames, params, element_subset));
+  }
+  if (mesh.type == preprocess::ElementType::Hex27) {
+    return std::make_unique<StencilTerm<VolumeKernel<27>, 27>>(
+        make_volume_kernel<27>(mesh, frames, params, element_subset));
   }
   return std::make_unique<StencilTerm<VolumeKernel<8>, 8>>(make_volume_kernel<8>(mesh, frames, params, element_subset));
 }

@@ -55,7 +55,9 @@
 //                tet10 (isotropic only): the five points of the degree-3 rule, c = w_q / V0,
 //                Gamma_q = dN/dr of the quadratic tetrahedron; exact for its cubic det, so
 //                J = V / V0 is the element's mean dilatation (the P2-P0 element with the
-//                uncoupled law of fem_element).
+//                uncoupled law of fem_element);
+//                hex27 (isotropic only): the 27 points of the 3x3x3 Gauss rule, c = w_q / V0,
+//                exact for its det of degree <= 5 per direction: the Q2-P0 element.
 //
 // Derivatives (per term, F = X Gamma, dropping q):
 //   dJ/dx_a = c cof(F) gamma_a.
@@ -129,7 +131,7 @@ void add_determinant_term(double c, const Eigen::Matrix<double, K, 3>& gamma, co
 
 template <int K>
 struct VolumeKernel {
-  static_assert(K == 4 || K == 8 || K == 10, "K must be 4 (tet), 8 (hex) or 10 (tet10)");
+  static_assert(K == 4 || K == 8 || K == 10 || K == 27, "K must be 4 (tet), 8 (hex), 10 (tet10) or 27 (hex27)");
   static constexpr bool kHasEnergy = true;
   static constexpr bool kHasJacobian = true;
 
@@ -179,6 +181,7 @@ struct VolumeKernel {
 extern template struct VolumeKernel<4>;
 extern template struct VolumeKernel<8>;
 extern template struct VolumeKernel<10>;
+extern template struct VolumeKernel<27>;
 
 /// Builds the kernel for the elements in `element_subset` (mesh element indices; all
 /// elements when null). Anisotropic: one item per frames entry whose element is

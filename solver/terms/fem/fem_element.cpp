@@ -45,7 +45,7 @@ GaussPoints<K> make_gauss_points(const preprocess::Mesh& mesh, const std::vector
                                  const std::string& label) {
   if (preprocess::nodes_per_element(mesh.type) != K)
     throw InputError(label + ": mesh element type does not match the kernel");
-  constexpr int kPoints = K == 8 ? 8 : (K == 10 ? 4 : 1);
+  constexpr int kPoints = K == 8 ? 8 : (K == 10 ? 4 : (K == 27 ? 27 : 1));
   GaussPoints<K> gp;
   gp.points = kPoints;
   const std::vector<std::size_t> elements = selected_elements(mesh, element_subset, label);
@@ -67,6 +67,9 @@ GaussPoints<K> make_gauss_points(const preprocess::Mesh& mesh, const std::vector
       if constexpr (K == 8) {
         gamma = hex_gauss_gradients()[static_cast<std::size_t>(q)];
         w = kHexGaussWeight;
+      } else if constexpr (K == 27) {
+        gamma = preprocess::hex27_gauss_gradients()[static_cast<std::size_t>(q)];
+        w = preprocess::hex27_gauss_weight(q);
       } else if constexpr (K == 10) {
         static const auto kGrads = preprocess::tet10_rule_gradients(preprocess::tet10_law_rule());
         gamma = kGrads[static_cast<std::size_t>(q)];
@@ -96,6 +99,8 @@ template GaussPoints<8> make_gauss_points<8>(const preprocess::Mesh&, const std:
                                              const std::string&);
 template GaussPoints<10> make_gauss_points<10>(const preprocess::Mesh&, const std::vector<std::size_t>*,
                                                const std::string&);
+template GaussPoints<27> make_gauss_points<27>(const preprocess::Mesh&, const std::vector<std::size_t>*,
+                                               const std::string&);
 
 template <int K>
 GradientLawKernel<K> make_gauss_point_kernel(const preprocess::Mesh& mesh,
@@ -124,6 +129,9 @@ template GradientLawKernel<8> make_gauss_point_kernel<8>(const preprocess::Mesh&
 template GradientLawKernel<10> make_gauss_point_kernel<10>(const preprocess::Mesh&,
                                                            const std::shared_ptr<const materials::Law>&,
                                                            const std::vector<std::size_t>*, const std::string&);
+template GradientLawKernel<27> make_gauss_point_kernel<27>(const preprocess::Mesh&,
+                                                           const std::shared_ptr<const materials::Law>&,
+                                                           const std::vector<std::size_t>*, const std::string&);
 
 std::unique_ptr<ForceTerm> make_gauss_point_term(const preprocess::Mesh& mesh,
                                                  const std::shared_ptr<const materials::Law>& law,
@@ -136,6 +144,10 @@ std::unique_ptr<ForceTerm> make_gauss_point_term(const preprocess::Mesh& mesh,
   if (mesh.type == preprocess::ElementType::Tet10) {
     return std::make_unique<StencilTerm<GradientLawKernel<10>, 10>>(
         make_gauss_point_kernel<10>(mesh, law, element_subset, label));
+  }
+  if (mesh.type == preprocess::ElementType::Hex27) {
+    return std::make_unique<StencilTerm<GradientLawKernel<27>, 27>>(
+        make_gauss_point_kernel<27>(mesh, law, element_subset, label));
   }
   return std::make_unique<StencilTerm<GradientLawKernel<8>, 8>>(
       make_gauss_point_kernel<8>(mesh, law, element_subset, label));

@@ -1,9 +1,11 @@
 #pragma once
 // Gauss-point (finite-element) evaluation of a constitutive law on the mesh's own
 // interpolation: the total-Lagrangian linear tetrahedron (one point), trilinear
-// hexahedron (full 2x2x2 quadrature) and quadratic tetrahedron (tet10, the 4-point degree-2
+// hexahedron (full 2x2x2 quadrature), quadratic tetrahedron (tet10, the 4-point degree-2
 // rule of preprocess/mesh/shape_functions_p2.hpp; with `volume: {distribution: isotropic}` and
-// an uncoupled law it is the P2-P0 mean-dilatation element, issue 23). Two uses:
+// an uncoupled law it is the P2-P0 mean-dilatation element, issue 23) and triquadratic
+// hexahedron (hex27, the 3x3x3 Gauss rule of preprocess/mesh/shape_functions_q2.hpp; with the
+// isotropic volume term the Q2-P0 element). Two uses:
 //   * the FEM reference element (scene term `fem_element`) that the spring models are
 //     measured against;
 //   * `virtual_hexahedron: {quadrature: gauss}` on hexahedral meshes. The thesis's virtual
@@ -18,7 +20,8 @@
 // Per quadrature point q of element e (one item of the stencil term per element, with its
 // points at i * points + q, all on the element's K nodes):
 //   G_q  = dN/dX at q = Gamma_q J0_q^{-1}    (K x 3, 1/m); Gamma_q = dN/dr, J0_q = X0 Gamma_q
-//   V_q  = w_q det J0_q                      (m^3); w = 1/8 (hex, unit cube), 1/6 (tet)
+//   V_q  = w_q det J0_q                      (m^3); w = 1/8 (hex, unit cube), 1/6 (tet), the
+//                                            rule's weights (tet10, hex27)
 //   F    = x G_q,  E = 1/2 (F^T F - I),  E_f = B^T E B,  S = B S_f(E_f) B^T,  P = F S
 //   energy = V_q W(E_f),  f_a = -V_q P g_a
 // which is exactly the GradientLawKernel's algebra with (G, V0) replaced by (G_q, V_q), so
@@ -49,7 +52,7 @@ struct GaussPoints {
   std::vector<double> volume0;                        ///< V_q per point
 };
 
-/// The points of K = 4 (1 point), 8 (2 x 2 x 2) or 10 (4 points) node elements in
+/// The points of K = 4 (1 point), 8 (2 x 2 x 2), 10 (4 points) or 27 (3 x 3 x 3) node elements in
 /// `element_subset` (all when null). InputError (prefixed `label`) for a type mismatch, a bad
 /// subset, a degenerate fibre frame or a point with det J0 <= 0 (naming the element).
 template <int K>

@@ -37,6 +37,9 @@
 // x_u x x_v by N_b,u d x x_v + x_u x N_b,v d = (N_b,v [x_u]_x - N_b,u [x_v]_x) d, so
 //   d f_a / d x_b = -P sum_q w_q N_a (N_b,v [x_u]_x - N_b,u [x_v]_x).
 // For a closed quadratic surface f = P dV/dx with V the exact enclosed volume of enclosed_volume.
+// Biquadratic quadrilaterals (the faces of hex27 meshes, Surface::quad_mids): the same formulas
+// with the nine quad9 shape functions on [0,1]^2 and the 3 x 3 Gauss rule
+// (preprocess/mesh/shape_functions_q2.hpp; exact, the integrand has degree 5 per direction).
 #include <Eigen/Geometry>
 #include <array>
 #include <memory>
@@ -96,31 +99,40 @@ struct CavityPressureKernel {
   }
 };
 
-/// The consistent pressure load on quadratic triangles (header comment), 6 nodes per face in VTK
-/// order (corners, then the mid-edge nodes of (0,1), (1,2), (2,0)).
+/// The consistent pressure load on quadratic faces (header comment): M = 6, quadratic triangles in
+/// VTK order (corners, then the mid-edge nodes of (0,1), (1,2), (2,0)); M = 9, biquadratic quads
+/// (corners, the mid-edge nodes of (0,1), (1,2), (2,3), (3,0), the centre).
+template <int M>
 struct QuadraticPressureKernel {
+  static_assert(M == 6 || M == 9, "quadratic faces are 6-node triangles or 9-node quads");
   static constexpr bool kHasEnergy = false;
   static constexpr bool kHasJacobian = true;
 
   std::string surface_name;
-  std::vector<std::array<Index, 6>> faces;  ///< normal into the cavity
+  std::vector<std::array<Index, M>> faces;  ///< normal into the cavity
   TimeCourse pressure;                      ///< P(t), Pa
 
   [[nodiscard]] std::string name() const { return "cavity_pressure:" + surface_name; }
   [[nodiscard]] std::size_t size() const { return faces.size(); }
-  [[nodiscard]] std::array<Index, 6> stencil(std::size_t i) const { return faces[i]; }
+  [[nodiscard]] std::array<Index, M> stencil(std::size_t i) const { return faces[i]; }
 
-  void forces(std::size_t i, const Mat3N<6>& x, const Mat3N<6>& v, double t, Mat3N<6>& f) const;
-  void jacobian(std::size_t i, const Mat3N<6>& x, const Mat3N<6>& v, double t, MatJ<6>& dfdx, MatJ<6>& dfdv) const;
+  void forces(std::size_t i, const Mat3N<M>& x, const Mat3N<M>& v, double t, Mat3N<M>& f) const;
+  void jacobian(std::size_t i, const Mat3N<M>& x, const Mat3N<M>& v, double t, MatJ<M>& dfdx, MatJ<M>& dfdv) const;
 };
 
+extern template struct QuadraticPressureKernel<6>;
+extern template struct QuadraticPressureKernel<9>;
+
 /// The term of one surface: eq. 2.119 on its triangles and quads, the consistent load on its
-/// quadratic triangles (three StencilTerms).
+/// quadratic triangles and quads (four StencilTerms).
 class CavityPressureTerm final : public ForceTerm {
  public:
   CavityPressureTerm(CavityPressureKernel<3> triangles, CavityPressureKernel<4> quads,
-                     QuadraticPressureKernel quadratic = {})
-      : tri_(std::move(triangles)), quad_(std::move(quads)), tri6_(std::move(quadratic)) {}
+                     QuadraticPressureKernel<6> quadratic = {}, QuadraticPressureKernel<9> quadratic_quads = {})
+      : tri_(std::move(triangles)),
+        quad_(std::move(quads)),
+        tri6_(std::move(quadratic)),
+        quad9_(std::move(quadratic_quads)) {}
 
   [[nodiscard]] std::string name() const override { return tri_.name(); }
   [[nodiscard]] bool has_energy() const override { return false; }
@@ -130,22 +142,26 @@ class CavityPressureTerm final : public ForceTerm {
     tri_.add_forces(s, f);
     quad_.add_forces(s, f);
     tri6_.add_forces(s, f);
+    quad9_.add_forces(s, f);
   }
   void add_jacobian(const StateView& s, JacobianSink& sink) const override {
     tri_.add_jacobian(s, sink);
     quad_.add_jacobian(s, sink);
     tri6_.add_jacobian(s, sink);
+    quad9_.add_jacobian(s, sink);
   }
   [[nodiscard]] std::string describe() const override;
 
   [[nodiscard]] const CavityPressureKernel<3>& triangle_kernel() const { return tri_.kernel(); }
   [[nodiscard]] const CavityPressureKernel<4>& quad_kernel() const { return quad_.kernel(); }
-  [[nodiscard]] const QuadraticPressureKernel& quadratic_kernel() const { return tri6_.kernel(); }
+  [[nodiscard]] const QuadraticPressureKernel<6>& quadratic_kernel() const { return tri6_.kernel(); }
+  [[nodiscard]] const QuadraticPressureKernel<9>& quadratic_quad_kernel() const { return quad9_.kernel(); }
 
  private:
   StencilTerm<CavityPressureKernel<3>, 3> tri_;
   StencilTerm<CavityPressureKernel<4>, 4> quad_;
-  StencilTerm<QuadraticPressureKernel, 6> tri6_;
+  StencilTerm<QuadraticPressureKernel<6>, 6> tri6_;
+  StencilTerm<QuadraticPressureKernel<9>, 9> quad9_;
 };
 
 /// The eq. 2.119 term on the loaded faces of `surface` (the lid is not loaded) with

@@ -45,8 +45,9 @@ std::unique_ptr<ForceTerm> make_robin_support_term(const Surface& surface, const
   if (stiffness == 0.0 && damping == 0.0) throw InputError(what + ": give a stiffness or a damping > 0");
   if (surface.quadratic()) {
     throw InputError(what +
-                     ": a Robin support on the quadratic faces of tet10 elements is not available yet (the "
-                     "nodal areas of curved 6-node triangles); use linear tetrahedra or fix the nodes instead");
+                     ": a Robin support on the quadratic faces of tet10 or hex27 elements is not available yet (the "
+                     "nodal areas of curved 6-node triangles and 9-node quads); use linear elements or fix the nodes "
+                     "instead");
   }
   std::map<Index, Eigen::Vector4d> acc;  // sum of vector areas / n, and of areas / n, per node
   for (const auto& f : surface.triangles) add_face<3>(f, x_ref, acc);

@@ -38,8 +38,10 @@ void EdgeSpringKernel::jacobian(std::size_t i, const Mat3N<2>& x, const Mat3N<2>
 
 std::vector<std::array<Index, 2>> mesh_edges(const preprocess::Mesh& mesh, bool face_diagonals, bool cell_diagonals,
                                              const std::vector<std::size_t>* element_subset) {
-  if (mesh.type == preprocess::ElementType::Tet10)
-    throw InputError("mesh_edges: springs are defined on linear elements, not quadratic tetrahedra (tet10)");
+  if (preprocess::is_quadratic(mesh.type)) {
+    throw InputError(std::string("mesh_edges: springs are defined on linear elements, not quadratic ones (") +
+                     preprocess::element_type_name(mesh.type) + ")");
+  }
   std::vector<std::array<Index, 2>> out;
   const bool tet = mesh.type == preprocess::ElementType::Tet4;
   auto push = [&out](Index a, Index b) {

@@ -177,9 +177,9 @@ TEST(EllipsoidOrder2, MidNodesLieOnTheCurvedWallsAndTheVolumeConverges) {
   const double err_lin = std::abs(total(lin) / exact - 1.0), err_quad = std::abs(total(q) / exact - 1.0);
   EXPECT_GT(err_lin, 5e-3);
   EXPECT_LT(err_quad, err_lin / 20.0);
-  // Hexahedra stay linear.
+  // Hexahedra become hex27 (tests/solver/terms/fem/test_hex27.cpp checks their geometry).
   o.tetrahedra = false;
-  EXPECT_THROW((void)make_land_ellipsoid(o), adamss::InputError);
+  EXPECT_EQ(make_land_ellipsoid(o).type, ElementType::Hex27);
 }
 
 TEST(MakeQuadratic, RoundTripsThroughMeshH5) {
@@ -187,16 +187,19 @@ TEST(MakeQuadratic, RoundTripsThroughMeshH5) {
   o.n_v = 6;
   o.n_u = 3;
   o.n_t = 1;
-  o.tetrahedra = true;
   o.order = 2;
-  const Mesh q = make_land_ellipsoid(o);
-  const auto path = std::filesystem::temp_directory_path() / "adamss_test_tet10.h5";
-  write_mesh_h5(path, q);
-  const Mesh r = read_mesh_h5(path);
-  std::filesystem::remove(path);
-  EXPECT_EQ(r.type, ElementType::Tet10);
-  EXPECT_EQ(r.connectivity, q.connectivity);
-  EXPECT_EQ((r.nodes - q.nodes).cwiseAbs().maxCoeff(), 0.0);
-  EXPECT_EQ(r.node_tags.at("base"), q.node_tags.at("base"));
-  EXPECT_EQ(r.cavities.at("lv").faces, q.cavities.at("lv").faces);
+  for (const bool tet : {true, false}) {  // tet10 and hex27
+    o.tetrahedra = tet;
+    const Mesh q = make_land_ellipsoid(o);
+    const auto path = std::filesystem::temp_directory_path() / "adamss_test_quadratic.h5";
+    write_mesh_h5(path, q);
+    const Mesh r = read_mesh_h5(path);
+    std::filesystem::remove(path);
+    EXPECT_EQ(r.type, tet ? ElementType::Tet10 : ElementType::Hex27);
+    EXPECT_EQ(r.connectivity, q.connectivity);
+    EXPECT_EQ((r.nodes - q.nodes).cwiseAbs().maxCoeff(), 0.0);
+    EXPECT_EQ(r.node_tags.at("base"), q.node_tags.at("base"));
+    EXPECT_EQ(r.cavities.at("lv").faces, q.cavities.at("lv").faces);
+    EXPECT_EQ(r.cavities.at("lv").quads, q.cavities.at("lv").quads);
+  }
 }
