@@ -1,4 +1,4 @@
-// Observed convergence order of the quadratic tetrahedra on a problem with a known finite-strain
+// Observed convergence order of the quadratic elements (tet10, hex27) on a problem with a known finite-strain
 // solution (issue 23): the plane-strain inflation of a thick incompressible tube.
 //
 // Kinematics alone fix the answer. A tube A <= R <= B whose inner radius is moved to a, with no
@@ -12,8 +12,10 @@
 // raised to tet10 in that parameter space and then mapped, so the boundaries are curved exactly as isoparametric P2
 // allows.
 //
+// The hex27 (Q2-P1disc: `distribution: linear`, multipliers at its Gauss points) on the same cells,
+// one triquadratic hexahedron each.
 // Checked: the largest nodal error |x_h - x(R)| falls with h at an observed order >= 1.8 over
-// three meshes (h halved each time) for P2-P1 (>= 1.5 for P2-P0, the element-wise pressure; see
+// three meshes (h halved each time) for P2-P1 and Q2-P1disc (>= 1.5 for P2-P0, the element-wise pressure; see
 // below), and the finest error is below 1 % of the 0.2 mm push.
 #include <gtest/gtest.h>
 
@@ -34,6 +36,7 @@
 #include "solver/terms/adamss/volume_preservation.hpp"
 #include "solver/terms/fem/fem_element.hpp"
 #include "solver/terms/fem/nodal_volume.hpp"
+#include "solver/terms/fem/volume_p1disc.hpp"
 #include "solver/time/implicit.hpp"
 
 using namespace adamss;
@@ -42,10 +45,13 @@ namespace {
 
 constexpr double kA = 1e-3, kB = 2e-3, kInner = 1.2e-3, kDepth = 0.25e-3;
 
-/// The quarter tube with nr x nt x 1 cells, 6 tet10 each, mapped from (R - A, theta, z).
-preprocess::Mesh quarter_tube(int nr, int nt) {
+enum class Element { P2P1, P2P0, Q2P1 };
+
+/// The quarter tube with nr x nt x 1 cells, 6 tet10 each (or one hex27), mapped from (R - A, theta, z).
+preprocess::Mesh quarter_tube(int nr, int nt, bool hex) {
   preprocess::Mesh m =
-      preprocess::make_quadratic(preprocess::make_box_mesh({kB - kA, 1.0, kDepth}, {nr, nt, 1}, "tet6m"));
+      hex ? preprocess::make_quadratic_hex(preprocess::make_box_mesh({kB - kA, 1.0, kDepth}, {nr, nt, 1}, "hex"))
+          : preprocess::make_quadratic(preprocess::make_box_mesh({kB - kA, 1.0, kDepth}, {nr, nt, 1}, "tet6m"));
   for (Eigen::Index i = 0; i < m.nodes.cols(); ++i) {
     const double r = kA + m.nodes(0, i), th = 0.5 * std::numbers::pi * m.nodes(1, i);
     m.nodes(0, i) = r * std::cos(th);
@@ -62,8 +68,8 @@ Eigen::Vector3d exact(const Eigen::Vector3d& X) {
 }
 
 /// Largest nodal error (m) of the static solution on the nr x nt mesh.
-double solve_tube(int nr, int nt, bool p2p0) {
-  auto mesh = std::make_shared<preprocess::Mesh>(quarter_tube(nr, nt));
+double solve_tube(int nr, int nt, Element element) {
+  auto mesh = std::make_shared<preprocess::Mesh>(quarter_tube(nr, nt, element == Element::Q2P1));
   solver::Model model;
   model.mesh = mesh;
   model.x_ref = mesh->nodes;
@@ -73,7 +79,10 @@ double solve_tube(int nr, int nt, bool p2p0) {
       std::make_shared<materials::UncoupledLaw>(materials::make_law("neo_hookean", {{"mu", 1e3}, {"lambda", 0.0}}));
   model.terms.push_back(solver::make_gauss_point_term(*mesh, law, nullptr, "fem_element"));
   const solver::AugmentedLagrangian al{true, 1e-10, 200};
-  if (p2p0) {
+  if (element == Element::Q2P1) {
+    model.terms.push_back(solver::make_linear_dilatation_term(*mesh, {solver::VolumePenaltyForm::Quadratic, 1e7},
+                                                              solver::TimeCourse::constant(1.0), nullptr, al));
+  } else if (element == Element::P2P0) {
     solver::VolumeParams vp;
     vp.p = 1e7;
     vp.distribution = solver::VolumeDistribution::Isotropic;
@@ -113,7 +122,7 @@ double solve_tube(int nr, int nt, bool p2p0) {
     updates += rep.augmentations;
     newton += rep.newton_iterations;
   }
-  std::printf("  %d x %d: %zu tet10, %d multiplier updates, %d Newton iterations\n", nr, nt, mesh->element_count(),
+  std::printf("  %d x %d: %zu elements, %d multiplier updates, %d Newton iterations\n", nr, nt, mesh->element_count(),
               updates, newton);
   EXPECT_LE(violation, 1e-10) << nr << " x " << nt;
   double worst = 0.0;
@@ -124,13 +133,16 @@ double solve_tube(int nr, int nt, bool p2p0) {
 
 }  // namespace
 
-TEST(ConvergenceOrder, Tet10InflatedTubeConvergesAtTheOrderOfEachElement) {
-  for (const bool p2p0 : {false, true}) {
-    const char* label = p2p0 ? "P2-P0 (distribution isotropic)" : "P2-P1 (distribution nodal)";
-    const double e1 = solve_tube(1, 2, p2p0), e2 = solve_tube(2, 4, p2p0), e3 = solve_tube(4, 8, p2p0);
+TEST(ConvergenceOrder, QuadraticInflatedTubeConvergesAtTheOrderOfEachElement) {
+  for (const Element element : {Element::P2P1, Element::P2P0, Element::Q2P1}) {
+    const bool p2p0 = element == Element::P2P0;
+    const char* label = p2p0                       ? "tet10 P2-P0 (distribution isotropic)"
+                        : element == Element::P2P1 ? "tet10 P2-P1 (distribution nodal)"
+                                                   : "hex27 Q2-P1disc (distribution linear)";
+    const double e1 = solve_tube(1, 2, element), e2 = solve_tube(2, 4, element), e3 = solve_tube(4, 8, element);
     const double q12 = std::log2(e1 / e2), q23 = std::log2(e2 / e3);
     std::printf(
-        "tube inflation, tet10 %s + augmented Lagrangian: max nodal error %.3e / %.3e / %.3e m "
+        "tube inflation, %s + augmented Lagrangian: max nodal error %.3e / %.3e / %.3e m "
         "(push 2e-4 m); observed orders %.2f, %.2f\n",
         label, e1, e2, e3, q12, q23);
     // P2-P0: the element-constant pressure limits the displacement to about h^1.7 (measured
