@@ -25,15 +25,17 @@ for p in p1 p3; do
   for topo in $topos; do [[ $topo == hex ]] || echo "$p lloyd $topo $levels"; done
   echo "$p mss hex $levels"
 done
-# The nearly incompressible elements (issue 23; static only, run.sh): hex Q1/P0, tet nodal, tet10.
+# The nearly incompressible elements (issue 23; static only, run.sh): hex Q1/P0, tet nodal, tet10, hex27.
 echo "p1 fem_q1p0 hex $p1"
 echo "p1 fem_nodal tet6m $p1"
 echo "p1 fem_p2p0 tet6m $p1"
 echo "p1 fem_p2p1 tet6m $p1"
+echo "p1 fem_q2p1 hex $p1"
 echo "p2 fem_q1p0 hex $p2"
 echo "p2 fem_nodal tet $p2"
 echo "p2 fem_p2p0 tet $p2"
 echo "p2 fem_p2p1 tet $p2"
+echo "p2 fem_q2p1 hex $p2"
 echo "p2 fem hex $p2fem"
 echo "p2 fem tet $p2"
 echo "p2 vhex_axis hex $p2"

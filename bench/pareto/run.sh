@@ -31,7 +31,7 @@ while read -r problem model topo levels; do
   if [[ -n ${PARETO_MODELS:-} && " $PARETO_MODELS " != *" $model "* ]]; then continue; fi
   for solver in static implicit explicit; do
     # The augmented Lagrangian updates its multipliers between static solves only.
-    if [[ $model == fem_q1p0 || $model == fem_nodal || $model == fem_p2p* ]] && [[ $solver != static ]]; then continue; fi
+    if [[ $model == fem_q1p0 || $model == fem_nodal || $model == fem_p2p* || $model == fem_q2p1 ]] && [[ $solver != static ]]; then continue; fi
     cap_var=cap_$solver
     skip=""
     for level in $levels; do

@@ -5,7 +5,8 @@
 #   MODEL    fem | vhex_axis | springs | hybmss | lloyd | mss, or the nearly incompressible elements of
 #            issue 23 (uncoupled law, volume exact by the augmented Lagrangian at kappa = 2000 C; static
 #            only): fem_q1p0 (hex, element mean dilatation), fem_nodal (tet, nodal volume),
-#            fem_p2p0 / fem_p2p1 (the tet mesh raised to tet10; element mean / corner P1 dilatation)
+#            fem_p2p0 / fem_p2p1 (the tet mesh raised to tet10; element mean / corner P1 dilatation),
+#            fem_q2p1 (the hex mesh raised to hex27; the dilatation projected on a linear field per element)
 #   TOPOLOGY hex | tet5m | tet6m (boxes) ; hex | tet (ellipsoid, Kuhn tetrahedra)
 #   LEVEL    p1: NXxNYxNZ divisions of the beam; p2: NVxNUxNT of the ellipsoid; p3: n (n^3 cubes)
 #   SOLVER   static | implicit (backward_euler_newton) | explicit (symplectic_euler)
@@ -75,12 +76,13 @@ al_volume() {
   printf '\n      - volume: {p: %s, distribution: %s, augmented_lagrangian: {tolerance: 1e-6}}' "$vol" "$1"
 }
 case $model in
-  fem_p2p0 | fem_p2p1) mesh="$mesh
+  fem_p2p0 | fem_p2p1 | fem_q2p1) mesh="$mesh
   order: 2" ;;
 esac
 case $model in
   fem_q1p0 | fem_p2p0) terms="      - fem_element: {law: $law, parameters: $params, uncoupled: true}$(al_volume isotropic)" ;;
   fem_nodal | fem_p2p1) terms="      - fem_element: {law: $law, parameters: $params, uncoupled: true}$(al_volume nodal)" ;;
+  fem_q2p1)  terms="      - fem_element: {law: $law, parameters: $params, uncoupled: true}$(al_volume linear)" ;;
   fem)       terms="      - fem_element: {law: $law, parameters: $params}$volume_term" ;;
   vhex_axis) terms="      - virtual_hexahedron: {law: $law, parameters: $params, quadrature: axis}$volume_term$hourglass" ;;
   springs)   if [[ $problem == p3 ]]; then

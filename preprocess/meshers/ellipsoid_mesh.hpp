@@ -36,7 +36,7 @@
 // e_u, e_v the unit tangents dx/du, dx/dv of the surface t = t_c; sheet = the unit normal of that
 // surface made orthogonal to f (Gram-Schmidt; it already is, up to rounding); normal = f x sheet.
 // mesh.attributes: "source" = "land ellipsoid (structured)", "topology" = "hex" | "tet".
-// Order 2 (tetrahedra only): the Tet10 mesh of preprocess/mesh/quadratic.hpp with every mid-edge
+// Order 2 with tetrahedra: the Tet10 mesh of preprocess/mesh/quadratic.hpp with every mid-edge
 // node on the map: at the mean of its corners' index coordinates (k, i, j) (j across the seam
 // unwrapped; the apex takes the other corner's j), i.e. t = k/n_t, u = u_at(t, i/n_u), v = 2 pi j/n_v.
 // Mid-edge nodes of the endocardium and epicardium lie on their ellipsoids, those of the base ring

@@ -158,9 +158,9 @@ std::vector<Index> select_cavity_rim(const preprocess::Mesh& mesh, const std::st
   std::vector<Index> out;
   for (const auto& t : it->second.lid) out.insert(out.end(), t.begin(), t.end());
   if (out.empty()) throw InputError(what + ": cavity '" + cavity + "' has no openings (no lid), so it has no rim");
-  // Quadratic tetrahedra: the mid-edge node of every lid edge that is a mesh edge (the rim's edges)
-  // belongs to the rim too.
-  if (mesh.type == preprocess::ElementType::Hex27) {  // likewise the hex27 mid-edge nodes
+  // Quadratic elements: the mid-edge node of every lid edge that is a mesh edge (the rim's edges)
+  // belongs to the rim too (hex27: looked up by its corners; tet10: by its edge).
+  if (mesh.type == preprocess::ElementType::Hex27) {
     const preprocess::CornerSetNodes mids(mesh);
     for (const auto& t : it->second.lid) {
       for (std::size_t k = 0; k < 3; ++k) {

@@ -115,7 +115,7 @@ preprocess::Mesh ellipsoid_mesh(SceneNode& node, std::string& source) {
     throw InputError(node.path() + ": " + e.what());
   }
   source = "ellipsoid land " + mesh.attributes["topology"] + " (built in memory, " +
-           std::to_string(mesh.element_count()) + " elements)";
+           std::to_string(mesh.element_count()) + " " + preprocess::element_type_name(mesh.type) + " elements)";
   return mesh;
 }
 

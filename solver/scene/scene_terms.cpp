@@ -201,6 +201,13 @@ void build_volume(SceneNode& node, MaterialContext& ctx) {
     return;
   }
   p.distribution = dist == "anisotropic" ? VolumeDistribution::Anisotropic : VolumeDistribution::Isotropic;
+  if (dist == "anisotropic" && preprocess::is_quadratic(ctx.mesh.type)) {  // before the axis frames refuse it
+    throw InputError(node.at("distribution") +
+                     ": anisotropic (the default) needs the axis frames of linear elements; " +
+                     (ctx.mesh.type == preprocess::ElementType::Hex27
+                          ? "hex27 takes distribution linear (Q2-P1disc) or isotropic (Q2-P0)"
+                          : "tet10 takes distribution nodal (P2-P1) or isotropic (P2-P0)"));
+  }
   const AxisFrames* frames = p.distribution == VolumeDistribution::Anisotropic ? &ctx.frames() : nullptr;
   ctx.model.terms.push_back(make_volume_term(ctx.mesh, frames, p, &ctx.elements));
 }
@@ -390,7 +397,7 @@ void build_material_term(const std::string& type, SceneNode& node, MaterialConte
     const bool tet = ctx.mesh.type == preprocess::ElementType::Tet10;
     throw InputError(node.path() + ": force term '" + type + "' is not available on quadratic " +
                      (tet ? "tetrahedra (tet10)" : "hexahedra (hex27)") + "; they take fem_element, volume " +
-                     (tet ? "(distribution isotropic or nodal)" : "(distribution isotropic)") +
+                     (tet ? "(distribution isotropic or nodal)" : "(distribution linear or isotropic)") +
                      " and active_tension (form stress)");
   }
   try {

@@ -300,9 +300,9 @@ VolumeKernel<K> make_volume_kernel(const preprocess::Mesh& mesh, const AxisFrame
   const bool aniso = params.distribution == VolumeDistribution::Anisotropic;
   if ((K == 10 || K == 27) && aniso) {
     throw InputError(std::string("volume_preservation: quadratic ") +
-                     (K == 10 ? "tetrahedra (tet10) take distribution isotropic (the P2-P0"
-                              : "hexahedra (hex27) take distribution isotropic (the Q2-P0") +
-                     " mean dilatation); the anisotropic distribution needs the axis frames of linear elements");
+                     (K == 10 ? "tetrahedra (tet10) take distribution nodal (P2-P1) or isotropic (P2-P0)"
+                              : "hexahedra (hex27) take distribution linear (Q2-P1disc) or isotropic (Q2-P0)") +
+                     "; the anisotropic distribution needs the axis frames of linear elements");
   }
   if (aniso && !frames) {
     throw InputError(

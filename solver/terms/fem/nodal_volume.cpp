@@ -229,8 +229,8 @@ std::unique_ptr<ForceTerm> make_nodal_volume_term(const preprocess::Mesh& mesh, 
   if (mesh.type == preprocess::ElementType::Tet10) return make_quadratic_nodal_volume_term(mesh, params, selected);
   if (mesh.type == preprocess::ElementType::Hex27) {
     throw InputError(std::string(kTerm) +
-                     ": distribution nodal is not built for triquadratic hexahedra (hex27); use distribution isotropic "
-                     "(the Q2-P0 mean dilatation)");
+                     ": distribution nodal is not built for triquadratic hexahedra (hex27); use distribution linear "
+                     "(the Q2-P1disc element)");
   }
   return std::make_unique<NodalVolumeTerm<8>>(mesh, params, selected);
 }

@@ -1,6 +1,7 @@
 #include "solver/terms/fem/volume_p1disc.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <sstream>
 #include <utility>
 
@@ -167,7 +168,10 @@ std::unique_ptr<ForceTerm> make_linear_dilatation_term(const preprocess::Mesh& m
   kern.penalty = penalty;
   kern.ratio = std::move(ratio);
   const auto& grads = preprocess::hex27_gauss_gradients();
-  for (const std::size_t e : selected_elements(mesh, element_subset, who)) {
+  std::vector<std::size_t> selected = selected_elements(mesh, element_subset, who);
+  std::sort(selected.begin(), selected.end());
+  selected.erase(std::unique(selected.begin(), selected.end()), selected.end());
+  for (const std::size_t e : selected) {
     const Index* n = mesh.element(e);
     std::array<Index, kK> st{};
     Mat3N<kK> x0;

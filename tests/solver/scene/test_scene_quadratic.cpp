@@ -74,6 +74,14 @@ TEST(SceneQuadratic, RefusesTermsWithoutAQuadraticFormAndBadOrders) {
   std::string hex = scene("2", springs);
   hex = test::replaced(hex, "topology: tet6m", "topology: hex");
   EXPECT_NE(test::scene_error(hex).find("hex27"), std::string::npos) << test::scene_error(hex);
+  // The volume term's default (anisotropic) names the distributions a quadratic mesh takes.
+  std::string aniso =
+      test::replaced(scene("2", law), "volume: {p: 100 kPa, distribution: nodal}", "volume: {p: 100 kPa}");
+  EXPECT_NE(test::scene_error(aniso).find("tet10 takes distribution nodal"), std::string::npos)
+      << test::scene_error(aniso);
+  aniso = test::replaced(aniso, "topology: tet6m", "topology: hex");
+  EXPECT_NE(test::scene_error(aniso).find("hex27 takes distribution linear"), std::string::npos)
+      << test::scene_error(aniso);
 }
 
 TEST(SceneQuadratic, ActiveStressRunsAtTheGaussPointsWithItsDelay) {
