@@ -39,13 +39,15 @@ std::vector<std::uint64_t> boundary_edge_keys(const Mesh& mesh) {
   return keys;
 }
 
-void check_elements(const Mesh& q) {
+/// InputError naming the first element of q whose least det(dx/dr) (min_jacobian) is <= 0.
+template <class MinJacobian>
+void check_elements(const Mesh& q, MinJacobian min_jacobian, const char* who, const char* nodes, const char* where) {
   for (std::size_t e = 0; e < q.element_count(); ++e) {
-    const double worst = tet10_min_jacobian(q.nodes, q.element(e));
+    const double worst = min_jacobian(q.nodes, q.element(e));
     if (!(worst > 0.0)) {
       std::ostringstream os;
-      os << "make_quadratic: tet10 element " << e << " is tangled by its mid-edge nodes (det dx/dr = " << worst
-         << " at a quadrature point)";
+      os << who << ": " << element_type_name(q.type) << " element " << e << " is tangled by its " << nodes
+         << " (det dx/dr = " << worst << " at " << where << ")";
       throw InputError(os.str());
     }
   }
@@ -102,18 +104,6 @@ std::vector<CornerKey> boundary_entity_keys(const Mesh& mesh) {
   std::sort(keys.begin(), keys.end());
   keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
   return keys;
-}
-
-void check_hex27_elements(const Mesh& q) {
-  for (std::size_t e = 0; e < q.element_count(); ++e) {
-    const double worst = hex27_min_jacobian(q.nodes, q.element(e));
-    if (!(worst > 0.0)) {
-      std::ostringstream os;
-      os << "make_quadratic_hex: hex27 element " << e << " is tangled by its added nodes (det dx/dr = " << worst
-         << " at a Gauss point)";
-      throw InputError(os.str());
-    }
-  }
 }
 
 /// Copies everything per element or per mesh from the linear mesh; sets "order" = "2".
@@ -203,7 +193,7 @@ Mesh make_quadratic_hex(const Mesh& linear, const CornerPlacer& place) {
     }
     q.node_tags[name] = std::move(out);
   }
-  check_hex27_elements(q);
+  check_elements(q, hex27_min_jacobian, "make_quadratic_hex", "added nodes", "a Gauss point");
   return q;
 }
 
@@ -289,7 +279,7 @@ Mesh make_quadratic(const Mesh& linear, const MidEdgePlacer& place) {
     }
     q.node_tags[name] = std::move(out);
   }
-  check_elements(q);
+  check_elements(q, tet10_min_jacobian, "make_quadratic", "mid-edge nodes", "a quadrature point");
   return q;
 }
 

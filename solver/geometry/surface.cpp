@@ -377,26 +377,28 @@ void validate_surface(const Surface& surface, std::size_t node_count) {
   }
 }
 
-std::vector<std::array<Index, 6>> Surface::quadratic_triangles() const {
-  std::vector<std::array<Index, 6>> out;
-  out.reserve(triangle_mids.size());
-  for (std::size_t j = 0; j < triangle_mids.size(); ++j) {
-    const auto& c = triangles[j];
-    const auto& m = triangle_mids[j];
-    out.push_back({c[0], c[1], c[2], m[0], m[1], m[2]});
+namespace {
+
+/// Each face's corners followed by its mid nodes (one face per entry of mids).
+template <std::size_t C, std::size_t M>
+std::vector<std::array<Index, C + M>> joined_faces(const std::vector<std::array<Index, C>>& corners,
+                                                   const std::vector<std::array<Index, M>>& mids) {
+  std::vector<std::array<Index, C + M>> out(mids.size());
+  for (std::size_t j = 0; j < mids.size(); ++j) {
+    std::copy(corners[j].begin(), corners[j].end(), out[j].begin());
+    std::copy(mids[j].begin(), mids[j].end(), out[j].begin() + C);
   }
   return out;
 }
 
+}  // namespace
+
+std::vector<std::array<Index, 6>> Surface::quadratic_triangles() const {
+  return joined_faces(triangles, triangle_mids);
+}
+
 std::vector<std::array<Index, 9>> Surface::quadratic_quads() const {
-  std::vector<std::array<Index, 9>> out;
-  out.reserve(quad_mids.size());
-  for (std::size_t j = 0; j < quad_mids.size(); ++j) {
-    const auto& c = quads[j];
-    const auto& m = quad_mids[j];
-    out.push_back({c[0], c[1], c[2], c[3], m[0], m[1], m[2], m[3], m[4]});
-  }
-  return out;
+  return joined_faces(quads, quad_mids);
 }
 
 std::size_t open_edge_count(const Surface& surface) {
