@@ -53,6 +53,56 @@ Eigen::Matrix<double, kP, 1> moments(const PointDets& pd) {
   return b;
 }
 
+/// Gamma stacked by point: G(3q + j, b) = d N_b / d xi_j at Gauss point q (81 x 27), the same for
+/// every element.
+const Eigen::Matrix<double, 3 * kK, kK>& stacked_gradients() {
+  static const Eigen::Matrix<double, 3 * kK, kK> kStacked = [] {
+    Eigen::Matrix<double, 3 * kK, kK> m;
+    const auto& grads = preprocess::hex27_gauss_gradients();
+    for (int q = 0; q < kK; ++q) m.middleRows<3>(3 * q) = grads[static_cast<std::size_t>(q)].transpose();
+    return m;
+  }();
+  return kStacked;
+}
+
+/// dfdx -= sum_q c_q d^2 det(x Gamma_q) / dx^2 (the second term of df/dx above, with c_q =
+/// sum_l lambda_l c_lq). Block (a, b) of the Hessian of det(x Gamma_q) is
+/// -[F_q (gamma_qa x gamma_qb)]_x (volume_preservation.hpp), so block (a, b) gains [w_ab]_x with
+///   w_ab = sum_q c_q F_q (gamma_qa x gamma_qb) = sum_q (c_q F_q [gamma_qa]_x) gamma_qb,
+/// and with A(3a + i, 3q + j) = (c_q F_q [gamma_qa]_x)_ij all the w_ab are one product
+/// W = A G (81 x 81 times 81 x 27; W(3a + i, b) = w_ab,i): 177 000 multiply-adds per element in
+/// one dense product, instead of 27 x 351 cross products, each scattered into two 3 x 3 blocks.
+/// (w_ba = -w_ab, so block (b, a) = [w_ab]_x^T, the Hessian's symmetry; w_aa = 0.)
+void add_weighted_determinant_hessians(const Eigen::Matrix<double, kK, 1>& c, const Mat3N<kK>& x, MatJ<kK>& dfdx) {
+  const auto& grads = preprocess::hex27_gauss_gradients();
+  Eigen::Matrix<double, 3 * kK, 3 * kK> a;
+  for (int q = 0; q < kK; ++q) {
+    const Eigen::Matrix<double, kK, 3>& gamma = grads[static_cast<std::size_t>(q)];
+    const Eigen::Matrix3d cf = c[q] * (x * gamma);
+    for (int n = 0; n < kK; ++n) {
+      const Eigen::Vector3d g = gamma.row(n).transpose();
+      Eigen::Matrix3d s;  // [g]_x
+      s << 0.0, -g.z(), g.y(), g.z(), 0.0, -g.x(), -g.y(), g.x(), 0.0;
+      a.block<3, 3>(3 * n, 3 * q).noalias() = cf * s;
+    }
+  }
+  Eigen::Matrix<double, 3 * kK, kK> w;
+  w.noalias() = a * stacked_gradients();
+  for (int n = 0; n < kK; ++n) {
+    for (int b = 0; b < kK; ++b) {
+      if (b == n) continue;
+      const Eigen::Vector3d u = w.block<3, 1>(3 * n, b);  // w_nb
+      auto blk = dfdx.block<3, 3>(3 * n, 3 * b);
+      blk(0, 1) -= u.z();
+      blk(0, 2) += u.y();
+      blk(1, 0) += u.z();
+      blk(1, 2) -= u.x();
+      blk(2, 0) -= u.y();
+      blk(2, 1) += u.x();
+    }
+  }
+}
+
 }  // namespace
 
 Eigen::Matrix<double, kK, 1> LinearDilatationKernel::projected_dilatation(std::size_t i, const Mat3N<kK>& x) const {
@@ -110,14 +160,12 @@ void LinearDilatationKernel::jacobian(std::size_t i, const Mat3N<kK>& x, const M
     k4.noalias() += vq * penalty.curvature(theta[q], r) * (a * a.transpose());
   }
   dfdx.noalias() -= D * k4 * D.transpose();
-  const auto& grads = preprocess::hex27_gauss_gradients();
+  Eigen::Matrix<double, kK, 1> c;
   for (int q = 0; q < kK; ++q) {
-    double c = 0.0;
-    for (int l = 0; l < kP; ++l) c += lambda[l] * coefficient(l, q);
-    double d = 0.0;
-    Mat3N<kK> dd = Mat3N<kK>::Zero();
-    add_determinant_term<kK>(-c, grads[static_cast<std::size_t>(q)], x, d, dd, &dfdx);
+    c[q] = 0.0;
+    for (int l = 0; l < kP; ++l) c[q] += lambda[l] * coefficient(l, q);
   }
+  add_weighted_determinant_hessians(c, x, dfdx);
 }
 
 void LinearDilatationKernel::add_cell_fields(const StateView& s, std::size_t element_count,
