@@ -33,8 +33,17 @@ build: configure
 test: build
 	@cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
 
+# make heart HEART_IMAGE=PATH: a patient's LV label image instead of the phantom
+# (cases/heart/run_image.sh; results in results/heart-image/<the image's folder name> unless
+# HEART_OUT is given). HEART_IMAGE=phantom is the phantom case.
 heart: build
-	@cases/heart/run.sh $(BUILD_DIR)/app/adamss $(HEART_OUT)
+	@if [ -n "$(HEART_IMAGE)" ] && [ "$(HEART_IMAGE)" != phantom ]; then \
+	  out="$(HEART_OUT)"; \
+	  if [ "$(origin HEART_OUT)" = file ]; then out=results/heart-image/$$(basename "$$(dirname "$(HEART_IMAGE)")"); fi; \
+	  cases/heart/run_image.sh $(BUILD_DIR)/app/adamss "$(HEART_IMAGE)" "$$out"; \
+	else \
+	  cases/heart/run.sh $(BUILD_DIR)/app/adamss $(HEART_OUT); \
+	fi
 
 # Benchmarks (issue 9; bench/README.md), never part of `make test`: Release build of the bench
 # targets and the app, STREAM bandwidth, kernel + explicit-step Google Benchmarks, the HybMSS cube,

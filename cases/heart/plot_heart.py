@@ -21,8 +21,9 @@ OUT/scar/globals.csv when the scarred run exists), in the units cardiologists re
                          has a `scar` cell field; bullseye_scar for the scarred run;
                          regional_strain.json holds the numbers
 
-    /usr/bin/python3 cases/heart/plot_heart.py OUT [SIM]
-SIM: the healthy run's folder (default OUT/sim). Needs numpy and matplotlib (Debian
+    /usr/bin/python3 cases/heart/plot_heart.py OUT [SIM] [--no-regional]
+SIM: the healthy run's folder (default OUT/sim). --no-regional: no bull's-eye (its segments assume
+the phantom's long axis along z; cases/heart/run_image.sh passes it for patient images). Needs numpy and matplotlib (Debian
 python3-numpy, python3-matplotlib). Exits non-zero when a column is missing or a plot was not
 written (ctest case.heart.plots runs it on case.heart.quick's results)."""
 import json
@@ -326,7 +327,7 @@ def espvr(g, go, sim, out):
     return fit
 
 
-def main(out, sim=None):
+def main(out, sim=None, regional_plots=True):
     g = read_globals(os.path.join(sim or os.path.join(out, "sim"), "globals.csv"))
     for col in ("lv_volume", "lv_pressure", "lv_aortic_pressure", "lv_atrial_pressure", "lv_phase"):
         if col not in g:
@@ -336,7 +337,7 @@ def main(out, sim=None):
     wiggers(g, out)
     written = ["pv_loop_mmhg", "wiggers"]
     regional = {}
-    r = regional_strain(sim, g)
+    r = regional_strain(sim, g) if regional_plots else None
     if r is not None:
         regional["healthy"] = {"segments_percent": bullseye(r, out, "bullseye", "healthy")}
         if r["scar"] is not None and r["scar"].any():
@@ -379,4 +380,5 @@ def main(out, sim=None):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1], sys.argv[2] if len(sys.argv) > 2 else None)
+    args = [a for a in sys.argv[1:] if a != "--no-regional"]
+    main(args[0], args[1] if len(args) > 1 else None, "--no-regional" not in sys.argv)
