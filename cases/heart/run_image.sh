@@ -75,8 +75,10 @@ scene "$anatomy/sunnybrook-beat.yaml" |
 for f in filling beat; do
   grep -q "image: $image" "$out/$f.yaml" || { echo "run_image.sh: $f.yaml: the image was not put in" >&2; exit 1; }
 done
-grep -q "t_end: 1600 ms" "$out/beat.yaml" && grep -q "period: 800 ms" "$out/beat.yaml" ||
-  { echo "run_image.sh: beat.yaml: the two-beat settings were not put in" >&2; exit 1; }
+if ! grep -q "t_end: 1600 ms" "$out/beat.yaml" || ! grep -q "period: 800 ms" "$out/beat.yaml"; then
+  echo "run_image.sh: beat.yaml: the two-beat settings were not put in" >&2
+  exit 1
+fi
 if [[ ${HEART_DRY_RUN:-0} == 1 ]]; then
   # Scenes only, validated (and the image meshed) by adamss run --check; nothing is simulated.
   "$adamss" run "$out/filling.yaml" --check
