@@ -88,17 +88,25 @@ void add_weighted_determinant_hessians(const Eigen::Matrix<double, kK, 1>& c, co
   }
   Eigen::Matrix<double, 3 * kK, kK> w;
   w.noalias() = a * stacked_gradients();
+  // Block (n, b) from w_nb with b > n, block (b, n) its transpose: the matrix stays symmetric to the
+  // last bit (w_bn = -w_nb only to rounding), so symmetric loads keep symmetric Newton iterates.
   for (int n = 0; n < kK; ++n) {
-    for (int b = 0; b < kK; ++b) {
-      if (b == n) continue;
+    for (int b = n + 1; b < kK; ++b) {
       const Eigen::Vector3d u = w.block<3, 1>(3 * n, b);  // w_nb
       auto blk = dfdx.block<3, 3>(3 * n, 3 * b);
+      auto tr = dfdx.block<3, 3>(3 * b, 3 * n);
       blk(0, 1) -= u.z();
       blk(0, 2) += u.y();
       blk(1, 0) += u.z();
       blk(1, 2) -= u.x();
       blk(2, 0) -= u.y();
       blk(2, 1) += u.x();
+      tr(1, 0) -= u.z();
+      tr(2, 0) += u.y();
+      tr(0, 1) += u.z();
+      tr(2, 1) -= u.x();
+      tr(0, 2) -= u.y();
+      tr(1, 2) += u.x();
     }
   }
 }
