@@ -9,6 +9,7 @@
 // static solvers refuse it by name (require_jacobians) -- a missing tangent is
 // never silently zero.
 #include <Eigen/Core>
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <string>
@@ -62,6 +63,11 @@ class ForceTerm {
   /// taken (s). Terms with internal state (the LMS-adaptive volume springs, eq. 2.81)
   /// update it here; the default does nothing.
   virtual void end_step(const StateView& /*s*/, double /*dt*/) {}
+  /// Called once when the scene's boundary conditions are complete, with the per-node mask of
+  /// fixed or prescribed coordinates (bit k: axis k; solver/core/boundary.hpp). Terms whose
+  /// formulation depends on which nodes can move (the nodal volume term with
+  /// constrain_fixed_nodes: false) read it here; the default ignores it.
+  virtual void set_boundary_mask(const std::vector<std::uint8_t>& /*mask*/) {}
   /// Adds per-element output fields (e.g. "active_tension" in Pa) for the result frames:
   /// `fields[name]` has one value per mesh element (resize it to `element_count` with zeros if
   /// absent) and the term writes its elements' values. The default adds nothing.

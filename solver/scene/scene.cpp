@@ -350,6 +350,7 @@ LoadedScene assemble(const YAML::Node& root_yaml, const fs::path& origin, const 
   const double max_c2 = load_materials(root.list("materials", true), sc);
   load_loads(root, sc, base);
   load_boundary(root.list("boundary"), sc, base);
+  for (const auto& term : model.terms) term->set_boundary_mask(model.constraints.mask());
   const bool check_dt = load_integrator(root.map("integrator"), sc.run);
   load_run(root.map("run"), sc.run);
   load_output(root, sc.run, model);

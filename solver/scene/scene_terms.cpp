@@ -189,10 +189,22 @@ void build_volume(SceneNode& node, MaterialContext& ctx) {
     al->finish();
     check_augmented_lagrangian(p.augmented, node.at("augmented_lagrangian"));
   }
+  // constrain_fixed_nodes (nodal only): false releases the constraints of fully fixed nodes.
+  bool constrain_fixed = true;
+  if (node.has("constrain_fixed_nodes")) {
+    if (dist != "nodal") {
+      throw InputError(node.at("constrain_fixed_nodes") +
+                       ": only with distribution nodal (the node-patch term); "
+                       "distribution is " +
+                       dist);
+    }
+    constrain_fixed = node.flag("constrain_fixed_nodes", true);
+  }
   node.finish();
   ctx.bulk_modulus += 2.0 * p.p;  // every form has bulk modulus 2 p
   if (dist == "nodal") {
-    ctx.model.terms.push_back(make_nodal_volume_term(ctx.mesh, {{p.form, p.p}, p.ratio, p.augmented}, &ctx.elements));
+    ctx.model.terms.push_back(
+        make_nodal_volume_term(ctx.mesh, {{p.form, p.p}, p.ratio, p.augmented, constrain_fixed}, &ctx.elements));
     return;
   }
   if (dist == "linear") {  // Q2-P1disc on hex27 (solver/terms/fem/volume_p1disc.hpp)

@@ -5,8 +5,12 @@
 //   E = sum_c V0_c (U(J_c; r) + lambda_c (J_c - r))       (U: solver/terms/fem/volume_penalty.hpp)
 // and the augmented-Lagrangian multipliers lambda_c (solver/core/augmented_lagrangian.hpp). A derived
 // term measures J_c (ratios) and builds its forces and Jacobian from slopes() = U'(J_c) + lambda_c.
+// A constraint can be inactive (the tet4/hex8 term with constrain_fixed_nodes: false, a fixed node
+// that gave its volume shares away): it leaves the energy, its slope is 0, it has no curvature
+// and no multiplier update.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -21,7 +25,10 @@ class NodalConstraintTerm : public ForceTerm {
  public:
   /// `label` names the term in checkpoint messages.
   NodalConstraintTerm(const NodalVolumeParams& params, std::string label)
-      : penalty_(params.penalty), ratio_(params.ratio), label_(std::move(label)) {
+      : penalty_(params.penalty),
+        ratio_(params.ratio),
+        constrain_fixed_(params.constrain_fixed_nodes),
+        label_(std::move(label)) {
     mult_.settings = params.augmented;
   }
 
@@ -32,7 +39,9 @@ class NodalConstraintTerm : public ForceTerm {
     const std::vector<double> j = ratios(s.x);
     const double r = ratio_(s.t);
     double e = 0.0;
-    for (std::size_t c = 0; c < j.size(); ++c) e += volume0_[c] * (penalty_.value(j[c], r) + mult_[c] * (j[c] - r));
+    for (std::size_t c = 0; c < j.size(); ++c) {
+      if (active_[c] != 0) e += volume0_[c] * (penalty_.value(j[c], r) + mult_[c] * (j[c] - r));
+    }
     return e;
   }
 
@@ -41,14 +50,18 @@ class NodalConstraintTerm : public ForceTerm {
     const std::vector<double> j = ratios(s.x);
     const double r = ratio_(s.t);
     double worst = 0.0;
-    for (const double jc : j) worst = std::max(worst, std::abs(jc - r));
+    for (std::size_t c = 0; c < j.size(); ++c) {
+      if (active_[c] != 0) worst = std::max(worst, std::abs(j[c] - r));
+    }
     return worst;
   }
   void update_multipliers(const StateView& s) override {
     if (mult_.lambda.empty()) return;
     const std::vector<double> j = ratios(s.x);
     const double r = ratio_(s.t);
-    for (std::size_t c = 0; c < j.size(); ++c) mult_.lambda[c] += penalty_.slope(j[c], r);
+    for (std::size_t c = 0; c < j.size(); ++c) {
+      if (active_[c] != 0) mult_.lambda[c] += penalty_.slope(j[c], r);
+    }
   }
   [[nodiscard]] std::vector<double> multipliers() const override { return mult_.lambda; }
   void set_multipliers(const std::vector<double>& lambda) override { mult_.assign(lambda); }
@@ -62,16 +75,30 @@ class NodalConstraintTerm : public ForceTerm {
   [[nodiscard]] std::vector<double> slopes(const Eigen::Matrix3Xd& x, double t) const {
     std::vector<double> j = ratios(x);
     const double r = ratio_(t);
-    for (std::size_t c = 0; c < j.size(); ++c) j[c] = penalty_.slope(j[c], r) + mult_[c];
+    for (std::size_t c = 0; c < j.size(); ++c) j[c] = active_[c] != 0 ? penalty_.slope(j[c], r) + mult_[c] : 0.0;
     return j;
   }
-  /// Sizes the multipliers once volume0_ holds every constraint node.
-  void constraints_built() { mult_.resize(volume0_.size()); }
+  /// Sizes the multipliers and the active flags once volume0_ and constraint_node_ hold every
+  /// constraint node.
+  void constraints_built() {
+    mult_.resize(volume0_.size());
+    active_.assign(volume0_.size(), 1);
+  }
+  /// False for a released constraint (its curvature term is left out of the Jacobian).
+  [[nodiscard]] bool active(std::size_t c) const { return active_[c] != 0; }
+  /// ", N fixed nodes released" for describe(), empty when none is.
+  [[nodiscard]] std::string released_note() const {
+    const auto n = std::count(active_.begin(), active_.end(), 0);
+    return n == 0 ? std::string() : ", " + std::to_string(n) + " fixed nodes released";
+  }
 
   VolumePenalty penalty_;
   TimeCourse ratio_;
-  VolumeMultipliers mult_;       ///< lambda_c (augmented Lagrangian), empty for the plain penalty
-  std::vector<double> volume0_;  ///< V0_c (m^3)
+  VolumeMultipliers mult_;              ///< lambda_c (augmented Lagrangian), empty for the plain penalty
+  std::vector<double> volume0_;         ///< V0_c (m^3)
+  std::vector<Index> constraint_node_;  ///< mesh node of constraint c
+  bool constrain_fixed_ = true;         ///< NodalVolumeParams::constrain_fixed_nodes
+  std::vector<char> active_;            ///< 1: constraint c in the energy; 0: released (set_boundary_mask)
 
  private:
   std::string label_;

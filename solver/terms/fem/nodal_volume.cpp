@@ -28,12 +28,18 @@ class NodalVolumeTerm final : public NodalConstraintTerm {
 
   [[nodiscard]] std::string describe() const override {
     return "nodal, " + std::to_string(nodes_.size()) + " nodes on " + std::to_string(elements_.size()) +
-           " elements, U " + volume_penalty_name(penalty_.form);
+           " elements, U " + volume_penalty_name(penalty_.form) + released_note();
   }
 
   void add_forces(const StateView& s, Eigen::Matrix3Xd& f) const override;
   void add_jacobian(const StateView& s, JacobianSink& sink) const override;
   void add_couplings(std::vector<std::vector<Index>>& adj) const override;
+  /// constrain_fixed_nodes: false. A node whose three coordinates are fixed or prescribed gives its
+  /// share of each element's volume to the element's other nodes (w_ea = 0 for it, 1 / (number of
+  /// free nodes of e) for those), so it carries no constraint, V_n = sum_e w_en V_e still sums to
+  /// the total volume, and the free nodes' constraints hold the whole volume. An element with no
+  /// free node (it cannot move) leaves the sum.
+  void set_boundary_mask(const std::vector<std::uint8_t>& mask) override;
   /// `volumetric_stress` (Pa, positive in tension) per element: c_e = sum_{n in e} U'_n / K, the
   /// hydrostatic Cauchy stress that the element's forces -c_e dV_e/dx carry (the result writer
   /// adds it to the stress tensors; solver/run/results.hpp).
@@ -57,6 +63,8 @@ class NodalVolumeTerm final : public NodalConstraintTerm {
   std::vector<std::size_t> around_start_, around_, patch_start_;
   std::vector<int> patch_;
   std::vector<std::array<int, K>> place_;
+  std::vector<double> element_volume0_;       ///< V0_e (m^3)
+  std::vector<std::array<double, K>> share_;  ///< w_ea: node a's share of V_e (1/K; see set_boundary_mask)
 };
 
 template <int K>
@@ -85,10 +93,15 @@ NodalVolumeTerm<K>::NodalVolumeTerm(const preprocess::Mesh& mesh, const NodalVol
                        std::to_string(v0) + " m^3 (must be > 0: an inverted or flat element)");
     }
     for (const int loc : l) volume0_[static_cast<std::size_t>(loc)] += v0 / K;
+    element_volume0_.push_back(v0);
+    std::array<double, K> w{};
+    w.fill(1.0 / K);
+    share_.push_back(w);
     elements_.push_back(g);
     local_.push_back(l);
     mesh_element_.push_back(e);
   }
+  constraint_node_ = nodes_;
   constraints_built();
   build_patches();
 }
@@ -130,9 +143,11 @@ std::vector<double> NodalVolumeTerm<K>::ratios(const Eigen::Matrix3Xd& x) const 
   std::vector<double> jn(nodes_.size(), 0.0);
   for (std::size_t e = 0; e < elements_.size(); ++e) {
     const double ve = element_volume_of<K>(element_positions<K>(x, elements_[e].data()));
-    for (const int n : local_[e]) jn[static_cast<std::size_t>(n)] += ve / K;
+    for (std::size_t a = 0; a < K; ++a) {
+      jn[static_cast<std::size_t>(local_[e][a])] += share_[e][a] * ve;
+    }
   }
-  for (std::size_t n = 0; n < nodes_.size(); ++n) jn[n] /= volume0_[n];
+  for (std::size_t n = 0; n < nodes_.size(); ++n) jn[n] = active(n) ? jn[n] / volume0_[n] : 1.0;
   return jn;
 }
 
@@ -140,8 +155,10 @@ template <int K>
 void NodalVolumeTerm<K>::add_forces(const StateView& s, Eigen::Matrix3Xd& f) const {
   const std::vector<double> jn = slopes(s.x, s.t);  // U'_n + lambda_n
   for (std::size_t e = 0; e < elements_.size(); ++e) {
-    double c = 0.0;  // c_e = sum_{n in e} U'_n / K
-    for (const int n : local_[e]) c += jn[static_cast<std::size_t>(n)] / K;
+    double c = 0.0;  // c_e = sum_{n in e} w_en U'_n
+    for (std::size_t a = 0; a < K; ++a) {
+      c += share_[e][a] * jn[static_cast<std::size_t>(local_[e][a])];
+    }
     const Mat3N<K> dv = element_volume_gradient<K>(element_positions<K>(s.x, elements_[e].data()));
     for (int a = 0; a < K; ++a) f.col(elements_[e][static_cast<std::size_t>(a)]) -= c * dv.col(a);
   }
@@ -157,9 +174,9 @@ void NodalVolumeTerm<K>::add_jacobian(const StateView& s, JacobianSink& sink) co
   MatJ<K> hess;
   for (std::size_t e = 0; e < elements_.size(); ++e) {
     double c = 0.0, v = 0.0;
-    for (const int n : local_[e]) {
-      const auto un = static_cast<std::size_t>(n);
-      c += (penalty_.slope(jn[un], r) + mult_[un]) / K;
+    for (int a = 0; a < K; ++a) {
+      const auto un = static_cast<std::size_t>(local_[e][static_cast<std::size_t>(a)]);
+      if (active(un)) c += share_[e][static_cast<std::size_t>(a)] * (penalty_.slope(jn[un], r) + mult_[un]);
     }
     element_volume_derivatives<K>(element_positions<K>(s.x, elements_[e].data()), v, dv[e], hess);
     for (int a = 0; a < K; ++a) {
@@ -176,11 +193,16 @@ void NodalVolumeTerm<K>::add_jacobian(const StateView& s, JacobianSink& sink) co
     const std::size_t p0 = patch_start_[n], m = patch_start_[n + 1] - p0;
     g.assign(m, Eigen::Vector3d::Zero());
     for (std::size_t j = around_start_[n]; j < around_start_[n + 1]; ++j) {
+      const std::size_t e = around_[j];
+      const auto& le = local_[e];
+      const double wn =
+          share_[e][static_cast<std::size_t>(std::find(le.begin(), le.end(), static_cast<int>(n)) - le.begin())];
       for (int a = 0; a < K; ++a) {
         const auto at = static_cast<std::size_t>(place_[j][static_cast<std::size_t>(a)]);
-        g[at] += dv[around_[j]].col(a) / K;
+        g[at] += wn * dv[e].col(a);
       }
     }
+    if (!active(n)) continue;  // a released constraint (constrain_fixed_nodes: false)
     const double w = penalty_.curvature(jn[n], r) / volume0_[n];
     for (std::size_t p = 0; p < m; ++p) {
       const Index np = nodes_[static_cast<std::size_t>(patch_[p0 + p])];
@@ -192,6 +214,26 @@ void NodalVolumeTerm<K>::add_jacobian(const StateView& s, JacobianSink& sink) co
 }
 
 template <int K>
+void NodalVolumeTerm<K>::set_boundary_mask(const std::vector<std::uint8_t>& mask) {
+  if (constrain_fixed_) return;
+  const auto fixed = [&](int local) {
+    const auto n = static_cast<std::size_t>(nodes_[static_cast<std::size_t>(local)]);
+    return n < mask.size() && (mask[n] & 7U) == 7U;
+  };
+  std::fill(volume0_.begin(), volume0_.end(), 0.0);
+  for (std::size_t e = 0; e < elements_.size(); ++e) {
+    int free = 0;
+    for (const int l : local_[e]) free += fixed(l) ? 0 : 1;
+    for (int a = 0; a < K; ++a) {
+      const auto ua = static_cast<std::size_t>(a);
+      share_[e][ua] = free == 0 || fixed(local_[e][ua]) ? 0.0 : 1.0 / free;
+      volume0_[static_cast<std::size_t>(local_[e][ua])] += share_[e][ua] * element_volume0_[e];
+    }
+  }
+  for (std::size_t n = 0; n < nodes_.size(); ++n) active_[n] = volume0_[n] > 0.0 ? 1 : 0;
+}
+
+template <int K>
 void NodalVolumeTerm<K>::add_cell_fields(const StateView& s, std::size_t element_count,
                                          std::map<std::string, Eigen::VectorXd>& fields) const {
   Eigen::VectorXd& q = fields["volumetric_stress"];
@@ -200,7 +242,9 @@ void NodalVolumeTerm<K>::add_cell_fields(const StateView& s, std::size_t element
   const std::vector<double> jn = slopes(s.x, s.t);  // U'_n + lambda_n
   for (std::size_t e = 0; e < elements_.size(); ++e) {
     double c = 0.0;
-    for (const int m : local_[e]) c += jn[static_cast<std::size_t>(m)] / K;
+    for (std::size_t a = 0; a < K; ++a) {
+      c += share_[e][a] * jn[static_cast<std::size_t>(local_[e][a])];
+    }
     q[static_cast<Eigen::Index>(mesh_element_[e])] += c;
   }
 }

@@ -39,6 +39,11 @@ struct NodalVolumeParams {
   VolumePenalty penalty;                         ///< U(J; r) and p (Pa), p > 0
   TimeCourse ratio = TimeCourse::constant(1.0);  ///< r(t) = V_target / V0 (dimensionless), > 0
   AugmentedLagrangian augmented;                 ///< multipliers on J_n = r (solver/core/augmented_lagrangian.hpp)
+  /// False: a node whose three coordinates are all fixed or prescribed carries no constraint of
+  /// its own (set_boundary_mask). Its patch's elements stay constrained through their free nodes'
+  /// patches; what goes is the surplus of constraints over unknowns along a clamped boundary,
+  /// which stiffens the linear tetrahedra (Land problem 2, cases/benchmarks/README.md).
+  bool constrain_fixed_nodes = true;
 };
 
 /// The nodal volume term over the elements in `element_subset` (all when null) of a tetrahedral or

@@ -6,11 +6,13 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <cstdint>
 #include <set>
 #include <utility>
 
 #include "common/error.hpp"
 #include "force_term_harness.hpp"
+#include "preprocess/mesh/quadratic.hpp"
 #include "preprocess/meshers/box_mesh.hpp"
 #include "solver/terms/adamss/volume_preservation.hpp"
 #include "solver/terms/fem/nodal_volume.hpp"
@@ -154,4 +156,59 @@ TEST(NodalVolume, RefusesBadInput) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("element 0"), std::string::npos) << e.what();
   }
+}
+
+TEST(NodalVolume, FixedNodesGiveTheirVolumeToFreeOnesWhenAsked) {
+  // constrain_fixed_nodes: false. The nodes on the face x = 0 are fixed in all three axes (and
+  // the nodes of x = 1.5 mm in one axis only, which keep their constraints). The fixed nodes carry
+  // no constraint; their shares of each element's volume go to its free nodes, so the nodal
+  // volumes still sum to the total volume (a uniform dilatation still costs V0 U(lambda^3)); the
+  // forces and the Jacobian stay the exact derivatives of the energy; the tet10 corner projection
+  // refuses the option.
+  for (const std::string topo : {"tet6m", "hex"}) {
+    SCOPED_TRACE(topo);
+    const preprocess::Mesh mesh = box(topo);
+    std::vector<std::uint8_t> mask(mesh.node_count(), 0);
+    int fixed = 0;
+    for (std::size_t n = 0; n < mesh.node_count(); ++n) {
+      if (mesh.nodes(0, static_cast<Eigen::Index>(n)) < 1e-12) {
+        mask[n] = 7;
+        ++fixed;
+      } else if (mesh.nodes(0, static_cast<Eigen::Index>(n)) > 1.5e-3 - 1e-12) {
+        mask[n] = 1;
+      }
+    }
+    ASSERT_GT(fixed, 0);
+    solver::NodalVolumeParams released = params(VolumePenaltyForm::Quadratic);
+    released.constrain_fixed_nodes = false;
+    const auto term = solver::make_nodal_volume_term(mesh, released);
+    const auto kept = solver::make_nodal_volume_term(mesh, params(VolumePenaltyForm::Quadratic));
+    const Eigen::Matrix3Xd x = test::perturbed(mesh.nodes, 0.5e-3, 0.06);
+    const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, x.cols());
+    const double before = term->energy({x, v, 0.0});
+    EXPECT_NEAR(before, kept->energy({x, v, 0.0}), 1e-12 * before) << "nothing changes before the mask";
+    term->set_boundary_mask(mask);
+    kept->set_boundary_mask(mask);
+    EXPECT_NEAR(kept->energy({x, v, 0.0}), before, 1e-12 * before) << "the default keeps every constraint";
+    const double after = term->energy({x, v, 0.0});
+    EXPECT_GT(after, 0.0);
+    EXPECT_GT(std::abs(after / before - 1.0), 1e-3) << "the patches did change";
+    EXPECT_NE(term->describe().find(std::to_string(fixed) + " fixed nodes released"), std::string::npos)
+        << term->describe();
+    const double lambda = 1.04;
+    const Eigen::Matrix3Xd xd = lambda * mesh.nodes;
+    const double expect =
+        1.5e-9 * VolumePenalty{VolumePenaltyForm::Quadratic, 5e3}.value(lambda * lambda * lambda, 1.0);
+    EXPECT_NEAR(term->energy({xd, v, 0.0}), expect, 1e-12 * expect) << "the free nodes hold the whole volume";
+    test::HarnessOptions opt;
+    opt.tolerance = 2e-6;
+    test::check_force_term(*term, x, v, 0.5e-3, opt);
+    // Every node fixed: nothing can move and no constraint is left.
+    term->set_boundary_mask(std::vector<std::uint8_t>(mesh.node_count(), 7));
+    EXPECT_EQ(term->energy({x, v, 0.0}), 0.0);
+    EXPECT_EQ(test::forces_of(*term, x, v).cwiseAbs().maxCoeff(), 0.0);
+  }
+  solver::NodalVolumeParams released = params(VolumePenaltyForm::Quadratic);
+  released.constrain_fixed_nodes = false;
+  EXPECT_THROW((void)solver::make_nodal_volume_term(preprocess::make_quadratic(box("tet6m")), released), InputError);
 }
