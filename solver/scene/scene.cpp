@@ -350,7 +350,21 @@ LoadedScene assemble(const YAML::Node& root_yaml, const fs::path& origin, const 
   const double max_c2 = load_materials(root.list("materials", true), sc);
   load_loads(root, sc, base);
   load_boundary(root.list("boundary"), sc, base);
-  for (const auto& term : model.terms) term->set_boundary_mask(model.constraints.mask());
+  // The terms learn which nodes the boundary fixes; a term whose description changes with it (the
+  // nodal volume term's released nodes) gets its summary line updated.
+  for (const auto& term : model.terms) {
+    const std::string before = term->describe();
+    term->set_boundary_mask(model.constraints.mask());
+    const std::string after = term->describe();
+    if (after == before) continue;
+    for (std::string& line : sc.term_summary) {
+      const std::string tail = ": " + before;
+      if (line.size() >= tail.size() && line.compare(line.size() - tail.size(), tail.size(), tail) == 0) {
+        line.replace(line.size() - before.size(), before.size(), after);
+        break;
+      }
+    }
+  }
   const bool check_dt = load_integrator(root.map("integrator"), sc.run);
   load_run(root.map("run"), sc.run);
   load_output(root, sc.run, model);
