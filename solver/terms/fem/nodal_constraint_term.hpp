@@ -78,8 +78,7 @@ class NodalConstraintTerm : public ForceTerm {
     for (std::size_t c = 0; c < j.size(); ++c) j[c] = active_[c] != 0 ? penalty_.slope(j[c], r) + mult_[c] : 0.0;
     return j;
   }
-  /// Sizes the multipliers and the active flags once volume0_ and constraint_node_ hold every
-  /// constraint node.
+  /// Sizes the multipliers and the active flags once volume0_ holds every constraint node.
   void constraints_built() {
     mult_.resize(volume0_.size());
     active_.assign(volume0_.size(), 1);
@@ -94,11 +93,10 @@ class NodalConstraintTerm : public ForceTerm {
 
   VolumePenalty penalty_;
   TimeCourse ratio_;
-  VolumeMultipliers mult_;              ///< lambda_c (augmented Lagrangian), empty for the plain penalty
-  std::vector<double> volume0_;         ///< V0_c (m^3)
-  std::vector<Index> constraint_node_;  ///< mesh node of constraint c
-  bool constrain_fixed_ = true;         ///< NodalVolumeParams::constrain_fixed_nodes
-  std::vector<char> active_;            ///< 1: constraint c in the energy; 0: released (set_boundary_mask)
+  VolumeMultipliers mult_;       ///< lambda_c (augmented Lagrangian), empty for the plain penalty
+  std::vector<double> volume0_;  ///< V0_c (m^3)
+  bool constrain_fixed_ = true;  ///< NodalVolumeParams::constrain_fixed_nodes
+  std::vector<char> active_;     ///< 1: constraint c in the energy; 0: released (set_boundary_mask)
 
  private:
   std::string label_;

@@ -51,6 +51,8 @@ class NodalVolumeTerm final : public NodalConstraintTerm {
   [[nodiscard]] std::vector<double> ratios(const Eigen::Matrix3Xd& x) const override;
   /// Node patches (elements around each node and their nodes' places in the patch).
   void build_patches();
+  /// V0_n = sum_e w_en V0_e (volume0_) from the shares.
+  void sum_reference_volumes();
 
   std::vector<std::array<Index, K>> elements_;  ///< global node indices
   std::vector<std::array<int, K>> local_;       ///< local node indices of each element
@@ -92,7 +94,6 @@ NodalVolumeTerm<K>::NodalVolumeTerm(const preprocess::Mesh& mesh, const NodalVol
       throw InputError(std::string(kTerm) + ": element " + std::to_string(e) + " has reference volume " +
                        std::to_string(v0) + " m^3 (must be > 0: an inverted or flat element)");
     }
-    for (const int loc : l) volume0_[static_cast<std::size_t>(loc)] += v0 / K;
     element_volume0_.push_back(v0);
     std::array<double, K> w{};
     w.fill(1.0 / K);
@@ -101,9 +102,18 @@ NodalVolumeTerm<K>::NodalVolumeTerm(const preprocess::Mesh& mesh, const NodalVol
     local_.push_back(l);
     mesh_element_.push_back(e);
   }
-  constraint_node_ = nodes_;
+  sum_reference_volumes();
   constraints_built();
   build_patches();
+}
+
+template <int K>
+void NodalVolumeTerm<K>::sum_reference_volumes() {
+  std::fill(volume0_.begin(), volume0_.end(), 0.0);
+  for (std::size_t e = 0; e < elements_.size(); ++e) {
+    for (std::size_t a = 0; a < K; ++a)
+      volume0_[static_cast<std::size_t>(local_[e][a])] += share_[e][a] * element_volume0_[e];
+  }
 }
 
 template <int K>
@@ -220,16 +230,12 @@ void NodalVolumeTerm<K>::set_boundary_mask(const std::vector<std::uint8_t>& mask
     const auto n = static_cast<std::size_t>(nodes_[static_cast<std::size_t>(local)]);
     return n < mask.size() && (mask[n] & 7U) == 7U;
   };
-  std::fill(volume0_.begin(), volume0_.end(), 0.0);
   for (std::size_t e = 0; e < elements_.size(); ++e) {
     int free = 0;
     for (const int l : local_[e]) free += fixed(l) ? 0 : 1;
-    for (int a = 0; a < K; ++a) {
-      const auto ua = static_cast<std::size_t>(a);
-      share_[e][ua] = free == 0 || fixed(local_[e][ua]) ? 0.0 : 1.0 / free;
-      volume0_[static_cast<std::size_t>(local_[e][ua])] += share_[e][ua] * element_volume0_[e];
-    }
+    for (std::size_t a = 0; a < K; ++a) share_[e][a] = free == 0 || fixed(local_[e][a]) ? 0.0 : 1.0 / free;
   }
+  sum_reference_volumes();
   for (std::size_t n = 0; n < nodes_.size(); ++n) active_[n] = volume0_[n] > 0.0 ? 1 : 0;
 }
 

@@ -60,7 +60,7 @@ class QuadraticNodalVolumeTerm final : public NodalConstraintTerm {
 
   [[nodiscard]] std::string describe() const override {
     return "nodal (P1 on the corners of tet10), " + std::to_string(volume0_.size()) + " corner nodes on " +
-           std::to_string(elements_.size()) + " elements, U " + volume_penalty_name(penalty_.form) + released_note();
+           std::to_string(elements_.size()) + " elements, U " + volume_penalty_name(penalty_.form);
   }
   void add_forces(const StateView& s, Eigen::Matrix3Xd& f) const override;
   void add_jacobian(const StateView& s, JacobianSink& sink) const override;
@@ -116,7 +116,6 @@ QuadraticNodalVolumeTerm::QuadraticNodalVolumeTerm(const preprocess::Mesh& mesh,
     mesh_element_.push_back(e);
   }
   const std::size_t nc = corner_node_.size();
-  constraint_node_ = corner_node_;
   constraints_built();
   around_start_.assign(nc + 1, 0);
   for (const auto& l : corner_)
@@ -180,7 +179,7 @@ void QuadraticNodalVolumeTerm::add_jacobian(const StateView& s, JacobianSink& si
       double pq = 0.0;
       for (std::size_t c = 0; c < 4; ++c) {
         const auto lc = static_cast<std::size_t>(corner_[e][c]);
-        if (active(lc)) pq += rule().wl[q][c] * (penalty_.slope(jc[lc], r) + mult_[lc]);
+        pq += rule().wl[q][c] * (penalty_.slope(jc[lc], r) + mult_[lc]);
       }
       add_determinant_term<10>(pq, rule().gamma[q], x, unused, unused_g, &hess);
     }
@@ -206,7 +205,6 @@ void QuadraticNodalVolumeTerm::add_jacobian(const StateView& s, JacobianSink& si
         g[at] += dv[e][lc].col(static_cast<Eigen::Index>(a));
       }
     }
-    if (!active(c)) continue;  // a released constraint (constrain_fixed_nodes: false)
     const double w = penalty_.curvature(jc[c], r) / volume0_[c];
     for (std::size_t p = 0; p < m; ++p) {
       for (std::size_t q = 0; q < m; ++q) {

@@ -53,6 +53,13 @@ Eigen::Matrix<double, kP, 1> moments(const PointDets& pd) {
   return b;
 }
 
+/// [v]_x, with [v]_x d = v x d.
+Eigen::Matrix3d cross_matrix(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  return m;
+}
+
 /// Gamma stacked by point: G(3q + j, b) = d N_b / d xi_j at Gauss point q (81 x 27), the same for
 /// every element.
 const Eigen::Matrix<double, 3 * kK, kK>& stacked_gradients() {
@@ -81,9 +88,7 @@ void add_weighted_determinant_hessians(const Eigen::Matrix<double, kK, 1>& c, co
     const Eigen::Matrix3d cf = c[q] * (x * gamma);
     for (int n = 0; n < kK; ++n) {
       const Eigen::Vector3d g = gamma.row(n).transpose();
-      Eigen::Matrix3d s;  // [g]_x
-      s << 0.0, -g.z(), g.y(), g.z(), 0.0, -g.x(), -g.y(), g.x(), 0.0;
-      a.block<3, 3>(3 * n, 3 * q).noalias() = cf * s;
+      a.block<3, 3>(3 * n, 3 * q).noalias() = cf * cross_matrix(g);
     }
   }
   Eigen::Matrix<double, 3 * kK, kK> w;
@@ -92,21 +97,9 @@ void add_weighted_determinant_hessians(const Eigen::Matrix<double, kK, 1>& c, co
   // last bit (w_bn = -w_nb only to rounding), so symmetric loads keep symmetric Newton iterates.
   for (int n = 0; n < kK; ++n) {
     for (int b = n + 1; b < kK; ++b) {
-      const Eigen::Vector3d u = w.block<3, 1>(3 * n, b);  // w_nb
-      auto blk = dfdx.block<3, 3>(3 * n, 3 * b);
-      auto tr = dfdx.block<3, 3>(3 * b, 3 * n);
-      blk(0, 1) -= u.z();
-      blk(0, 2) += u.y();
-      blk(1, 0) += u.z();
-      blk(1, 2) -= u.x();
-      blk(2, 0) -= u.y();
-      blk(2, 1) += u.x();
-      tr(1, 0) -= u.z();
-      tr(2, 0) += u.y();
-      tr(0, 1) += u.z();
-      tr(2, 1) -= u.x();
-      tr(0, 2) -= u.y();
-      tr(1, 2) += u.x();
+      const Eigen::Matrix3d h = cross_matrix(w.block<3, 1>(3 * n, b));  // [w_nb]_x
+      dfdx.block<3, 3>(3 * n, 3 * b) += h;
+      dfdx.block<3, 3>(3 * b, 3 * n) += h.transpose();
     }
   }
 }
