@@ -24,6 +24,7 @@ namespace adamss::solver {
 using preprocess::Index;
 
 class CavityConstraintTerm;  // solver/terms/loads/cavity_constraint.hpp
+class PenaltyContinuation;   // solver/core/penalty_continuation.hpp
 
 /// What a term reads: positions (m), velocities (m/s), time (s), all 3 x n.
 struct StateView {
@@ -97,6 +98,9 @@ class ForceTerm {
   /// The cavity volume constraint this term is, or nullptr (every other term, the default). The
   /// integrators find the constraints' pressure unknowns through it (cavity_constraints below).
   [[nodiscard]] virtual CavityConstraintTerm* cavity_constraint() { return nullptr; }
+  /// The penalty continuation this term is (a stiff penalty reached in stages by the static
+  /// solver), or nullptr (every other term, the default).
+  [[nodiscard]] virtual PenaltyContinuation* penalty_continuation() { return nullptr; }
   /// Augmented Lagrangian (solver/core/augmented_lagrangian.hpp): the settings of a volume term
   /// that carries multipliers; enabled == false (the default) for every other term.
   [[nodiscard]] virtual AugmentedLagrangian augmented_lagrangian() const { return {}; }

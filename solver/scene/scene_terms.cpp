@@ -13,6 +13,7 @@
 #include "materials/uncoupled.hpp"
 #include "preprocess/fibres/fibre_field.hpp"
 #include "preprocess/mesh/mesh_quality.hpp"
+#include "solver/core/penalty_continuation.hpp"
 #include "solver/terms/adamss/active_tension.hpp"
 #include "solver/terms/adamss/axial_springs.hpp"
 #include "solver/terms/adamss/hourglass.hpp"
@@ -189,6 +190,22 @@ void build_volume(SceneNode& node, MaterialContext& ctx) {
     al->finish();
     check_augmented_lagrangian(p.augmented, node.at("augmented_lagrangian"));
   }
+  // continuation: {from, factor} (solver/core/penalty_continuation.hpp): p reached in stages.
+  std::optional<ContinuationSettings> continuation;
+  if (std::optional<SceneNode> c = node.optional_map("continuation")) {
+    ContinuationSettings cs;
+    const double from = c->positive("from", Dimension::Pressure);
+    cs.start = from / p.p;
+    cs.factor = c->positive("factor", Dimension::Dimensionless, cs.factor);
+    c->finish();
+    if (p.augmented.enabled) {
+      throw InputError(node.at("continuation") +
+                       ": not together with augmented_lagrangian (the continuation ends on the penalty's answer, the "
+                       "multipliers on the incompressible one; choose one)");
+    }
+    check_continuation(cs, node.at("continuation"));
+    continuation = cs;
+  }
   // constrain_fixed_nodes (nodal only): false releases the constraints of fully fixed nodes.
   bool constrain_fixed = true;
   if (node.has("constrain_fixed_nodes")) {
@@ -202,14 +219,16 @@ void build_volume(SceneNode& node, MaterialContext& ctx) {
   }
   node.finish();
   ctx.bulk_modulus += 2.0 * p.p;  // every form has bulk modulus 2 p
+  const auto add = [&](std::unique_ptr<ForceTerm> term) {
+    if (continuation) term = std::make_unique<PenaltyContinuation>(std::move(term), *continuation);
+    ctx.model.terms.push_back(std::move(term));
+  };
   if (dist == "nodal") {
-    ctx.model.terms.push_back(
-        make_nodal_volume_term(ctx.mesh, {{p.form, p.p}, p.ratio, p.augmented, constrain_fixed}, &ctx.elements));
+    add(make_nodal_volume_term(ctx.mesh, {{p.form, p.p}, p.ratio, p.augmented, constrain_fixed}, &ctx.elements));
     return;
   }
   if (dist == "linear") {  // Q2-P1disc on hex27 (solver/terms/fem/volume_p1disc.hpp)
-    ctx.model.terms.push_back(
-        make_linear_dilatation_term(ctx.mesh, {p.form, p.p}, p.ratio, &ctx.elements, p.augmented));
+    add(make_linear_dilatation_term(ctx.mesh, {p.form, p.p}, p.ratio, &ctx.elements, p.augmented));
     return;
   }
   p.distribution = dist == "anisotropic" ? VolumeDistribution::Anisotropic : VolumeDistribution::Isotropic;
@@ -221,7 +240,7 @@ void build_volume(SceneNode& node, MaterialContext& ctx) {
                           : "tet10 takes distribution nodal (P2-P1) or isotropic (P2-P0)"));
   }
   const AxisFrames* frames = p.distribution == VolumeDistribution::Anisotropic ? &ctx.frames() : nullptr;
-  ctx.model.terms.push_back(make_volume_term(ctx.mesh, frames, p, &ctx.elements));
+  add(make_volume_term(ctx.mesh, frames, p, &ctx.elements));
 }
 
 void build_volume_springs(SceneNode& node, MaterialContext& ctx) {

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "common/error.hpp"
+#include "solver/core/penalty_continuation.hpp"
 #include "solver/core/stop_flag.hpp"
 #include "solver/terms/loads/cavity_constraint.hpp"
 #include "solver/time/bordered_newton.hpp"
@@ -39,6 +40,11 @@ ImplicitIntegrator::ImplicitIntegrator(System& system, Kind kind, const Implicit
   if (kind_ != Kind::Static && !augmented_.empty()) {
     throw InputError(label + " cannot update the augmented-Lagrangian multipliers of " + augmented_.front()->name() +
                      " (they are updated between the solves of a load step); use the integrator type static");
+  }
+  continued_ = continued_terms(sys_.model().terms);
+  if (kind_ != Kind::Static && !continued_.empty()) {
+    throw InputError(label + " cannot stage the penalty of " + continued_.front()->name() +
+                     " (continuation raises it between the solves of a load step); use the integrator type static");
   }
   if (kind_ == Kind::BackwardEuler && !constraints_.empty()) {
     throw InputError(label + " (the linearised one-solve step) cannot hold a cavity volume (" +
@@ -94,6 +100,7 @@ bool ImplicitIntegrator::attempt(State& s, double h, StepReport& rep) {
   last_linear_ = 0;
   linear_->reset_iterations();
   rep.augmentations = 0;  // of this attempt only
+  rep.continuation_solves = 0;
   rep.constraint_violation = 0.0;
   const double t0 = s.t;
   x0_ = s.x;
@@ -112,11 +119,14 @@ bool ImplicitIntegrator::attempt(State& s, double h, StepReport& rep) {
     s.t = t0;
     for (std::size_t k = 0; k < constraints_.size(); ++k) constraints_[k]->set_multiplier(cavity_p[k]);
     for (std::size_t k = 0; k < augmented_.size(); ++k) augmented_[k]->set_multipliers(lambda[k]);
+    for (PenaltyContinuation* c : continued_) c->finish();
   };
   bool ok = false;
   try {
     if (kind_ == Kind::Static) {
+      for (PenaltyContinuation* c : continued_) c->restart();
       ok = constraints_.empty() ? static_step(s, h, rep) : static_bordered_step(s, h, rep);
+      if (ok && !continued_.empty()) ok = continue_penalty(s, h, rep);
       if (ok && !augmented_.empty()) ok = augment(s, h, rep);
     } else {
       ok = backward_euler_step(s, h, rep);
@@ -156,6 +166,25 @@ bool ImplicitIntegrator::static_step(State& s, double h, StepReport& rep) {
   if (!damped_newton(eq, *linear_, cur.x, std::move(dpres), set_, record_)) return false;
   s = cur;
   return true;
+}
+
+bool ImplicitIntegrator::continue_penalty(State& s, double h, StepReport& rep) {
+  double power = 1.0;  // the raise is factor^power; halved after a failed re-solve
+  std::vector<double> scales(continued_.size());
+  for (;;) {
+    for (std::size_t k = 0; k < continued_.size(); ++k) scales[k] = continued_[k]->scale();
+    bool raised = false;
+    for (PenaltyContinuation* c : continued_) raised = c->raise(power) || raised;
+    if (!raised) return true;
+    ++rep.continuation_solves;
+    const Eigen::Matrix3Xd before = s.x;
+    if (resolve(s, h, rep)) continue;
+    throw_if_stop_requested("static penalty continuation");
+    s.x = before;  // undo the failed re-solve and try a shorter raise
+    for (std::size_t k = 0; k < continued_.size(); ++k) continued_[k]->set_scale(scales[k]);
+    power *= 0.5;
+    if (power < 1.0 / 16.0) return false;
+  }
 }
 
 bool ImplicitIntegrator::augment(State& s, double h, StepReport& rep) {

@@ -31,6 +31,10 @@
 // step the terms with multipliers update them while max |J - r| exceeds their tolerance, and Newton
 // solves again from the converged state; a failed or interrupted attempt puts the state, the
 // multipliers and the cavity pressures back as they were at the step's start.
+// Penalty continuation (static only; solver/core/penalty_continuation.hpp): each load step starts
+// with the continued penalty terms softened to from / p, and after convergence raises them by their
+// factor, solving again at the same load each time, until the full penalty; before the
+// augmented-Lagrangian loop.
 // A term without a Jacobian makes these integrators refuse the scene by name (require_jacobians).
 // Cavity constraints (solver/terms/loads/cavity_constraint.hpp: a held volume, or a circulation's
 // phase condition -- given pressure, held volume, Windkessel ejection V = V*(P)) are enforced by
@@ -76,6 +80,7 @@ struct NewtonRecord {
 };
 
 class CavityConstraintTerm;
+class PenaltyContinuation;
 class JacobianSolver;
 
 class ImplicitIntegrator : public Integrator {
@@ -118,6 +123,10 @@ class ImplicitIntegrator : public Integrator {
   /// exceeds its tolerance and solves again from s, until all are within tolerance or each has made
   /// max_updates updates. Reports the updates and the last violation in rep. False if a re-solve fails.
   bool augment(State& s, double h, StepReport& rep);
+  /// The penalty continuation of a static step (solver/core/penalty_continuation.hpp): at the
+  /// converged state s raises every continued term's scale by its factor and solves again at the
+  /// same load, until all are at their full penalty. False if a re-solve fails.
+  bool continue_penalty(State& s, double h, StepReport& rep);
   /// Newton at fixed load from s (time t1 = s.t, step h), its iterations added to record_.
   bool resolve(State& s, double h, StepReport& rep);
 
@@ -126,6 +135,7 @@ class ImplicitIntegrator : public Integrator {
   ImplicitSettings set_;
   std::vector<CavityConstraintTerm*> constraints_;  ///< cavity constraints (bordered Newton)
   std::vector<ForceTerm*> augmented_;               ///< terms with augmented-Lagrangian multipliers
+  std::vector<PenaltyContinuation*> continued_;     ///< penalty terms reached in stages (static)
   std::unique_ptr<JacobianSolver> linear_;
   NewtonRecord record_;
   int last_linear_ = 0;

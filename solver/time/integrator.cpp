@@ -140,6 +140,11 @@ std::unique_ptr<Integrator> make_integrator(const std::string& name, System& sys
         throw InputError(name + " cannot update the augmented-Lagrangian multipliers of " + t->name() +
                          "; use the integrator type static (or drop augmented_lagrangian)");
       }
+      if (t->penalty_continuation() != nullptr) {
+        throw InputError(name + " cannot stage the penalty of " + t->name() +
+                         " (continuation raises it between the solves of a static load step); use the integrator "
+                         "type static (or drop continuation)");
+      }
     }
   }
   const ImplicitSettings defaults;

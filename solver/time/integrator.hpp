@@ -67,6 +67,7 @@ struct StepReport {
   int newton_iterations = 0;          ///< implicit/static: Newton iterations of the accepted attempt
   int linear_iterations = 0;          ///< implicit/static: Krylov iterations of the accepted attempt
   int augmentations = 0;              ///< static: augmented-Lagrangian multiplier updates of the accepted attempt
+  int continuation_solves = 0;        ///< static: re-solves after raising a continued penalty, accepted attempt
   double constraint_violation = 0.0;  ///< static with multipliers: max |J - r| after the last update
 };
 
