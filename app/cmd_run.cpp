@@ -15,6 +15,7 @@
 #include "app/commands.hpp"
 #include "common/error.hpp"
 #include "common/units.hpp"
+#include "solver/core/penalty_continuation.hpp"
 #include "solver/run/checkpoint.hpp"
 #include "solver/run/output_lock.hpp"
 #include "solver/run/results.hpp"
@@ -119,6 +120,9 @@ nlohmann::json summary_json(const solver::LoadedScene& sc, const solver::RunOutc
   if (!solver::augmented_terms(m.terms).empty()) {  // also when no update was needed
     j["augmented_lagrangian"] = {{"updates", out.augmentations},
                                  {"max_volume_ratio_violation", out.max_constraint_violation}};
+  }
+  if (!solver::continued_terms(m.terms).empty()) {
+    j["penalty_continuation"] = {{"re_solves", out.continuation_solves}};
   }
   // Resident memory (MB; null = not sampled, e.g. a run shorter than a quarter of t_end).
   const auto mb = [](double v) { return v >= 0.0 ? nlohmann::json(v) : nlohmann::json(nullptr); };

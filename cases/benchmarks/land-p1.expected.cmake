@@ -9,4 +9,5 @@
 set(EXPECT_VALUES
   "tip z (m)|probes,tip,2|4.17e-3|0.834e-5"
   "tip y (m), symmetry plane|probes,tip,1|0.5e-3|1e-9"
-  "max relative volume change|total_volume_m3,max_abs_relative_change|0|1e-4")
+  "max relative volume change|total_volume_m3,max_abs_relative_change|0|1e-4"
+  "penalty continuation re-solves (one raise)|penalty_continuation,re_solves|1|0")

@@ -66,11 +66,15 @@ struct Loader {
 
 void save_loop_state(const RunLoopState& loop, StateArchive& archive) {
   visit_fields(loop, Saver{archive});
+  archive.put_int("continuation_solves", static_cast<std::int64_t>(loop.continuation_solves));
 }
 
 RunLoopState load_loop_state(const StateArchive& archive, Eigen::Index nodes) {
   RunLoopState loop;
   visit_fields(loop, Loader{archive, nodes});
+  // Added after the list above: a checkpoint written before it has no count (it restarts at 0).
+  if (archive.has("continuation_solves"))
+    loop.continuation_solves = static_cast<std::size_t>(archive.integer("continuation_solves"));
   return loop;
 }
 

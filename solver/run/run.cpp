@@ -197,6 +197,7 @@ void RunLoop::count(const StepReport& rep) {
   loop_.newton_iterations += static_cast<std::size_t>(rep.newton_iterations);
   loop_.linear_iterations += static_cast<std::size_t>(rep.linear_iterations);
   loop_.augmentations += static_cast<std::size_t>(rep.augmentations);
+  loop_.continuation_solves += static_cast<std::size_t>(rep.continuation_solves);
   loop_.max_constraint_violation = std::max(loop_.max_constraint_violation, rep.constraint_violation);
   loop_.dt_min_used = std::min(loop_.dt_min_used, rep.dt);
   loop_.dt_max_used = std::max(loop_.dt_max_used, rep.dt);
@@ -382,6 +383,7 @@ RunOutcome RunLoop::finish(State& s) {
   out.newton_iterations = loop_.newton_iterations;
   out.linear_iterations = loop_.linear_iterations;
   out.augmentations = loop_.augmentations;
+  out.continuation_solves = loop_.continuation_solves;
   out.max_constraint_violation = loop_.max_constraint_violation;
   out.dt_min_used = std::isfinite(loop_.dt_min_used) ? loop_.dt_min_used : 0.0;
   out.dt_max_used = loop_.dt_max_used;

@@ -74,6 +74,7 @@ struct RunOutcome {
   std::size_t rejected_steps = 0;
   std::size_t newton_iterations = 0;      ///< implicit/static, summed over accepted steps
   std::size_t augmentations = 0;          ///< static: augmented-Lagrangian multiplier updates, summed
+  std::size_t continuation_solves = 0;    ///< static: re-solves after raising a continued penalty, summed
   double max_constraint_violation = 0.0;  ///< static with multipliers: the largest max |J - r| accepted
   std::size_t linear_iterations = 0;      ///< implicit/static, summed over accepted steps
   double dt_min_used = 0.0, dt_max_used = 0.0;

@@ -31,6 +31,7 @@ RunLoopState sample() {
   l.newton_iterations = 321;
   l.linear_iterations = 4321;
   l.augmentations = 55;
+  l.continuation_solves = 66;
   l.max_constraint_violation = 1.0 / 31.0 * 1e-6;
   l.dt_min_used = 1.0 / 3.0 * 1e-6;
   l.dt_max_used = 2.0 / 7.0 * 1e-4;
@@ -65,6 +66,7 @@ void expect_same(const RunLoopState& a, const RunLoopState& b) {
   EXPECT_EQ(a.newton_iterations, b.newton_iterations);
   EXPECT_EQ(a.linear_iterations, b.linear_iterations);
   EXPECT_EQ(a.augmentations, b.augmentations);
+  EXPECT_EQ(a.continuation_solves, b.continuation_solves);
   EXPECT_EQ(a.max_constraint_violation, b.max_constraint_violation);
   // EXPECT_EQ on doubles: bit for bit, not approximately.
   EXPECT_EQ(a.dt_min_used, b.dt_min_used);
@@ -120,12 +122,13 @@ TEST(RunLoopState, EveryFieldIsStoredByNameAndAMissingOneIsRefusedByName) {
   StateArchive run = full.child("run");
   solver::save_loop_state(sample(), run);
   const auto keys = run.keys();
-  // 6 counters, 2 dt extrema, the largest volume violation, the kinetic-energy flag, next dt, 5
+  // 7 counters, 2 dt extrema, the largest volume violation, the kinetic-energy flag, next dt, 5
   // output times, good x/v/t/step, 9 report values, wall seconds: one dataset each, no positional arrays.
-  EXPECT_EQ(keys.size(), 30u);
+  EXPECT_EQ(keys.size(), 31u);
   for (const char* name : {"steps", "next_dt", "next_checkpoint_t", "good/step", "last_report/rejected"})
     EXPECT_NE(std::find(keys.begin(), keys.end(), name), keys.end()) << name;
   for (const auto& key : keys) {
+    if (key == "continuation_solves") continue;  // optional: below
     StateArchive a;
     StateArchive r = a.child("run");
     solver::save_loop_state(sample(), r);
@@ -138,4 +141,13 @@ TEST(RunLoopState, EveryFieldIsStoredByNameAndAMissingOneIsRefusedByName) {
       EXPECT_NE(what.find("/run/" + key + " is missing"), std::string::npos) << what;
     }
   }
+}
+
+TEST(RunLoopState, ACheckpointWrittenBeforeTheContinuationCountLoadsWithZero) {
+  StateArchive run;
+  solver::save_loop_state(sample(), run);
+  run.erase("continuation_solves");
+  const RunLoopState back = solver::load_loop_state(run, kNodes);
+  EXPECT_EQ(back.continuation_solves, 0u);
+  EXPECT_EQ(back.augmentations, 55u);
 }
