@@ -18,6 +18,9 @@
 // step does (the step is halved). The load step therefore ends on the equilibrium of the full penalty -- the
 // same answer as the plain term, to the Newton tolerance -- but reaches it from a state whose
 // large motion the soft penalty has already taken; each raise only corrects the volumes.
+// It pays for large load steps (Land problem 1 in one step: 29 Newton iterations against 44 in four
+// plain steps); with many small steps each one softens and re-stiffens for nothing (problem 3: 212
+// against 107), so it is opt-in per term.
 // Outside a static step s = 1: every other integrator, the energy and the frames see the term
 // as written. The multiplier interface of the augmented Lagrangian is not combined with it (the
 // scene refuses both on one term: a scaled multiplier would no longer be the pressure).
