@@ -30,8 +30,9 @@ while read -r problem model topo levels; do
   # PARETO_MODELS="m1 m2": only these models (e.g. to add the new elements to a sweep).
   if [[ -n ${PARETO_MODELS:-} && " $PARETO_MODELS " != *" $model "* ]]; then continue; fi
   for solver in static implicit explicit; do
-    # The augmented Lagrangian updates its multipliers between static solves only.
-    if [[ $model == fem_q1p0 || $model == fem_nodal || $model == fem_p2p* || $model == fem_q2p1 ]] && [[ $solver != static ]]; then continue; fi
+    # The augmented Lagrangian updates its multipliers, and the continuation raises its penalty,
+    # between static solves only.
+    if [[ $model == fem_q1p0* || $model == fem_nodal || $model == fem_p2p* || $model == fem_q2p1 ]] && [[ $solver != static ]]; then continue; fi
     cap_var=cap_$solver
     skip=""
     for level in $levels; do
