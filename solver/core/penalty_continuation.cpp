@@ -60,6 +60,8 @@ PenaltyContinuation::PenaltyContinuation(std::unique_ptr<ForceTerm> inner, const
 bool PenaltyContinuation::raise(double power) {
   if (scale_ >= 1.0) return false;
   scale_ = std::min(1.0, scale_ * std::pow(set_.factor, power));
+  // Shortened raises multiply roundings: a scale within 1e-12 of 1 is 1 (no extra re-solve for it).
+  if (scale_ > 1.0 - 1e-12) scale_ = 1.0;
   return true;
 }
 

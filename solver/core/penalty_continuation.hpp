@@ -14,7 +14,8 @@
 // (solver/time/implicit.hpp) sets s = from / p at the start of every load step attempt, solves,
 // then raises s by `factor` (capped at 1) and solves again at the same load from the converged
 // state, until s = 1. A re-solve that fails is undone (state and s) and the raise retried with
-// the square root of its factor, down to factor^(1/16); then the attempt fails as any other static
+// the square root of its factor, down to factor^(1/16) (after a shortened raise succeeds, the
+// next one's exponent doubles again, up to the full factor; a scale within 1e-12 of 1 is 1); then the attempt fails as any other static
 // step does (the step is halved). The load step therefore ends on the equilibrium of the full penalty -- the
 // same answer as the plain term, to the Newton tolerance -- but reaches it from a state whose
 // large motion the soft penalty has already taken; each raise only corrects the volumes.

@@ -84,7 +84,9 @@ StepReport ImplicitIntegrator::step(State& s, double dt) {
     // one that needed 10 or more halves it (quadratic convergence from a good predictor takes
     // 2-4 iterations; 10 means the step left the region where Newton converges fast).
     // The augmented-Lagrangian re-solves at fixed load do not count: they say nothing about the step.
-    const int load_iterations = rep.newton_iterations - resolve_iterations_;
+    // With a penalty continuation the step is as hard as its hardest solve, the first (soft) one or
+    // a re-solve after a raise (the stiff penalty is where large steps cost).
+    const int load_iterations = std::max(rep.newton_iterations - resolve_iterations_, hardest_raise_);
     const bool easy =
         kind_ == Kind::BackwardEuler ? rep.linear_iterations <= set_.ksp_max_it / 4 : load_iterations <= 4;
     if (easy && rep.rejected == 0) next = std::min(1.5 * h, set_.dt_max);
@@ -106,6 +108,7 @@ bool ImplicitIntegrator::attempt(State& s, double h, StepReport& rep) {
   x0_ = s.x;
   v0_ = s.v;
   resolve_iterations_ = 0;
+  hardest_raise_ = 0;
   // What a failed or interrupted attempt must put back besides the state: the multipliers of the
   // cavities and of the augmented terms (the bordered solve restores the former only on its own
   // failure, and a re-solve of the augmented Lagrangian works on s itself).
@@ -178,7 +181,13 @@ bool ImplicitIntegrator::continue_penalty(State& s, double h, StepReport& rep) {
     if (!raised) return true;
     ++rep.continuation_solves;
     const Eigen::Matrix3Xd before = s.x;
-    if (resolve(s, h, rep)) continue;
+    const int done = record_.iterations;
+    const bool ok = resolve(s, h, rep);
+    hardest_raise_ = std::max(hardest_raise_, record_.iterations - done);
+    if (ok) {
+      power = std::min(1.0, 2.0 * power);  // a shortened raise that worked: try a longer one next
+      continue;
+    }
     throw_if_stop_requested("static penalty continuation");
     s.x = before;  // undo the failed re-solve and try a shorter raise
     for (std::size_t k = 0; k < continued_.size(); ++k) continued_[k]->set_scale(scales[k]);

@@ -26,7 +26,8 @@
 // adapt, the next step grows by 1.5 (up to dt_max) after an easy step taken without a
 // rejection -- Newton schemes: at most 4 Newton iterations; backward_euler: linear iterations
 // at most ksp_max_it / 4 -- and a Newton scheme halves it (down to dt_min) after 10 or more
-// (not counting the augmented Lagrangian's re-solves at the same load, below).
+// (not counting the augmented Lagrangian's re-solves at the same load, below; with a penalty
+// continuation the count is that of the step's hardest solve, the first or a re-solve).
 // Augmented Lagrangian (static only; solver/core/augmented_lagrangian.hpp): after a converged load
 // step the terms with multipliers update them while max |J - r| exceeds their tolerance, and Newton
 // solves again from the converged state; a failed or interrupted attempt puts the state, the
@@ -139,8 +140,10 @@ class ImplicitIntegrator : public Integrator {
   std::unique_ptr<JacobianSolver> linear_;
   NewtonRecord record_;
   int last_linear_ = 0;
-  int resolve_iterations_ = 0;  ///< Newton iterations of the augmented-Lagrangian re-solves of the attempt
-  Eigen::Matrix3Xd x0_, v0_;    // the state at the start of the attempt
+  int resolve_iterations_ =
+      0;                   ///< Newton iterations of the re-solves (augmented Lagrangian, continuation) of the attempt
+  int hardest_raise_ = 0;  ///< the most Newton iterations of one continuation re-solve of the attempt
+  Eigen::Matrix3Xd x0_, v0_;  // the state at the start of the attempt
   // Static predictor: the state before the last converged load step and its length.
   Eigen::Matrix3Xd prev_x_;
   double prev_h_ = 0.0;

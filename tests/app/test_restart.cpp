@@ -150,6 +150,38 @@ TEST(Restart, StaticWithPredictorIsBitwiseIdentical) {
   check_restarts(dir, scene.string(), {1, 2});
 }
 
+TEST(Restart, StaticWithPenaltyContinuationIsBitwiseIdentical) {
+  // Land problem 1's beam, coarse (10 x 1 x 2 Q1/P0), four load steps each solved at a soft penalty
+  // and again at the full one: the resumed run's steps and the re-solve count equal the full run's.
+  const auto dir = scratch_dir("restart_continuation");
+  const auto scene = write_scene(dir, R"(name: beam
+mesh: {box: [10 mm, 1 mm, 1 mm], divisions: [10, 1, 2], topology: hex, fibre: [1, 0, 0], sheet: [0, 1, 0]}
+materials:
+  - name: beam
+    labels: [1]
+    density: 1000 kg/m^3
+    terms:
+      - virtual_hexahedron: {law: guccione_land_problem1, quadrature: gauss, uncoupled: true}
+      - volume: {p: 2000 kPa, distribution: isotropic, continuation: {from: 40 kPa, factor: 50}}
+loads:
+  pressure:
+    - name: bottom
+      surface: {region: {plane: {point: [0, 0, 0], normal: [0, 0, 1], tolerance: 0.001 mm}}}
+      pressure: {ramp: {to: 4 Pa, duration: 1 s}}
+boundary:
+  - select: {region: {plane: {point: [0, 0, 0], normal: [1, 0, 0], tolerance: 0.001 mm}}}
+    fix: xyz
+integrator: {type: static, dt: 0.2 s, adapt: false, newton_rtol: 1e-8, max_newton: 30}
+run: {t_end: 1 s}
+output:
+  frame_interval: 0.2 s
+  probes:
+    - {name: tip, point: [10 mm, 0.5 mm, 1 mm]}
+)");
+  check_restarts(dir, scene.string(), {1, 2});
+  EXPECT_EQ(summary_without_wall(dir / "full")["penalty_continuation"]["re_solves"], 5);
+}
+
 TEST(Restart, BackwardEulerNewtonIsBitwiseIdentical) {
   const auto dir = scratch_dir("restart_ben");
   const auto scene = write_scene(dir, slab_scene("{type: backward_euler_newton, dt: 0.1 ms}", "2.5 ms"));
@@ -252,7 +284,6 @@ TEST(Restart, SigtermInsideALongStaticStepStopsAtOnce) {
   ss << in.rdbuf();
   std::string text = ss.str();
   for (const auto& [from, to] : {std::pair<std::string, std::string>{", continuation: {from: 40 kPa, factor: 50}", ""},
-                                 {"dt: 1 s", "dt: 1 s"},
                                  {"frame_interval: 0.25 s", "frame_interval: 1 s"}}) {
     const auto at = text.find(from);
     ASSERT_NE(at, std::string::npos) << from;

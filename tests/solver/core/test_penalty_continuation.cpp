@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <csignal>
 #include <memory>
 #include <string>
 #include <vector>
@@ -19,6 +20,7 @@
 #include "solver/core/mass.hpp"
 #include "solver/core/model.hpp"
 #include "solver/core/penalty_continuation.hpp"
+#include "solver/core/stop_flag.hpp"
 #include "solver/terms/adamss/volume_preservation.hpp"
 #include "solver/terms/fem/fem_element.hpp"
 #include "solver/time/implicit.hpp"
@@ -100,36 +102,49 @@ struct BeamRun {
 };
 
 /// A 10 x 1 x 1 mm uncoupled Guccione beam (10 x 1 x 2 hexahedra, Q1/P0 at p = 2 MPa = 1000 C),
-/// clamped at x = 0, its free end lifted 3 mm in `steps` static load steps; with the volume term
-/// staged from `start` p when start < 1.
-BeamRun lift(double start, double factor, int steps, int max_newton = 40) {
-  auto mesh = std::make_shared<preprocess::Mesh>(preprocess::make_box_mesh({10e-3, 1e-3, 1e-3}, {10, 1, 2}, "hex"));
+/// clamped at x = 0, its free end lifted 3 mm over t in [0, 1]; with the volume term staged from
+/// `start` p when start < 1.
+struct Beam {
   solver::Model model;
-  model.mesh = mesh;
-  model.x_ref = mesh->nodes;
-  model.mass = solver::voronoi_masses(*mesh, std::vector<double>(mesh->element_count(), 1000.0));
-  model.constraints = solver::Constraints(mesh->node_count());
-  const auto law = std::make_shared<materials::UncoupledLaw>(materials::make_law("guccione_land_problem1", {}));
-  model.terms.push_back(solver::make_gauss_point_term(*mesh, law, nullptr, "fem_element"));
-  auto volume = element_volume(*mesh, 2e6);
-  if (start < 1.0)
-    volume = std::make_unique<PenaltyContinuation>(std::move(volume), ContinuationSettings{start, factor});
-  model.terms.push_back(std::move(volume));
-  for (Eigen::Index i = 0; i < model.x_ref.cols(); ++i) {
-    const auto n = static_cast<preprocess::Index>(i);
-    if (model.x_ref(0, i) < 1e-9) model.constraints.fix(n, 7, "clamp");
-    if (model.x_ref(0, i) > 10e-3 - 1e-9)
-      model.constraints.control(n, 2, solver::TimeCourse::ramp(0.0, 3e-3, 0.0, 1.0), false, "lift");
+  Beam(double start, double factor) {
+    auto mesh = std::make_shared<preprocess::Mesh>(preprocess::make_box_mesh({10e-3, 1e-3, 1e-3}, {10, 1, 2}, "hex"));
+    model.mesh = mesh;
+    model.x_ref = mesh->nodes;
+    model.mass = solver::voronoi_masses(*mesh, std::vector<double>(mesh->element_count(), 1000.0));
+    model.constraints = solver::Constraints(mesh->node_count());
+    const auto law = std::make_shared<materials::UncoupledLaw>(materials::make_law("guccione_land_problem1", {}));
+    model.terms.push_back(solver::make_gauss_point_term(*mesh, law, nullptr, "fem_element"));
+    auto volume = element_volume(*mesh, 2e6);
+    if (start < 1.0)
+      volume = std::make_unique<PenaltyContinuation>(std::move(volume), ContinuationSettings{start, factor});
+    model.terms.push_back(std::move(volume));
+    for (Eigen::Index i = 0; i < model.x_ref.cols(); ++i) {
+      const auto n = static_cast<preprocess::Index>(i);
+      if (model.x_ref(0, i) < 1e-9) model.constraints.fix(n, 7, "clamp");
+      if (model.x_ref(0, i) > 10e-3 - 1e-9)
+        model.constraints.control(n, 2, solver::TimeCourse::ramp(0.0, 3e-3, 0.0, 1.0), false, "lift");
+    }
   }
-  solver::System sys(model);
+  [[nodiscard]] const PenaltyContinuation* staged() { return model.terms[1]->penalty_continuation(); }
+  [[nodiscard]] solver::State rest() const { return {model.x_ref, Eigen::Matrix3Xd::Zero(3, model.x_ref.cols()), 0.0}; }
+};
+
+solver::ImplicitSettings tight(int max_newton) {
   solver::ImplicitSettings set;
   set.adapt = false;
   set.newton_rtol = 1e-10;
   set.newton_atol = 1e-14;
   set.newton_xtol = 1e-14;
   set.max_newton = max_newton;
-  solver::ImplicitIntegrator integ(sys, solver::ImplicitIntegrator::Kind::Static, set);
-  solver::State s{model.x_ref, Eigen::Matrix3Xd::Zero(3, model.x_ref.cols()), 0.0};
+  return set;
+}
+
+/// The beam lifted in `steps` static load steps.
+BeamRun lift(double start, double factor, int steps, int max_newton = 40) {
+  Beam beam(start, factor);
+  solver::System sys(beam.model);
+  solver::ImplicitIntegrator integ(sys, solver::ImplicitIntegrator::Kind::Static, tight(max_newton));
+  solver::State s = beam.rest();
   BeamRun out;
   for (int k = 0; k < steps; ++k) {
     const solver::StepReport rep = integ.step(s, 1.0 / steps);
@@ -137,7 +152,7 @@ BeamRun lift(double start, double factor, int steps, int max_newton = 40) {
     out.continuation_solves += rep.continuation_solves;
   }
   EXPECT_NEAR(s.t, 1.0, 1e-12);
-  if (const PenaltyContinuation* c = model.terms[1]->penalty_continuation()) {
+  if (const PenaltyContinuation* c = beam.staged()) {
     EXPECT_EQ(c->scale(), 1.0) << "a finished step leaves the full penalty";
   }
   out.x = s.x;
@@ -170,6 +185,63 @@ TEST(PenaltyContinuation, AFailedRaiseIsRetriedShorter) {
   std::printf("lift: one raise of 1e4: %d re-solves, %d Newton\n", far.continuation_solves, far.newton);
   EXPECT_GT(far.continuation_solves, 1);
   EXPECT_LT((far.x - plain.x).cwiseAbs().maxCoeff(), 1e-10);
+}
+
+TEST(PenaltyContinuation, AFailedOrInterruptedStepLeavesTheFullPenaltyAndTheStepStart) {
+  {  // Every raise fails within 3 Newton iterations and dt_min forbids halving: NumericalError.
+    Beam beam(1e-4, 1e4);
+    solver::System sys(beam.model);
+    solver::ImplicitSettings set = tight(3);
+    set.dt_min = 0.6;
+    solver::ImplicitIntegrator integ(sys, solver::ImplicitIntegrator::Kind::Static, set);
+    solver::State s = beam.rest();
+    EXPECT_THROW((void)integ.step(s, 1.0), NumericalError);
+    EXPECT_EQ(beam.staged()->scale(), 1.0);
+    EXPECT_TRUE(s.x == beam.model.x_ref);
+    EXPECT_EQ(s.t, 0.0);
+  }
+  {  // A stop request inside the first re-solve after a raise: StepInterrupted, nothing half done.
+    Beam beam(0.01, 10.0);
+    solver::System sys(beam.model);
+    solver::ImplicitSettings set = tight(40);
+    const PenaltyContinuation* staged = beam.staged();
+    bool requested = false;
+    set.on_iteration = [&](int it, double /*r*/) {
+      if (!requested && it == 1 && staged->scale() > 0.01) {
+        requested = true;
+        solver::request_stop(SIGTERM);
+      }
+    };
+    solver::ImplicitIntegrator integ(sys, solver::ImplicitIntegrator::Kind::Static, set);
+    solver::State s = beam.rest();
+    solver::clear_stop();
+    EXPECT_THROW((void)integ.step(s, 1.0), solver::StepInterrupted);
+    solver::clear_stop();
+    EXPECT_TRUE(requested);
+    EXPECT_EQ(staged->scale(), 1.0);
+    EXPECT_TRUE(s.x == beam.model.x_ref);
+    EXPECT_EQ(s.t, 0.0);
+    // The same step again from there: completes, as an uninterrupted one does.
+    solver::ImplicitIntegrator again(sys, solver::ImplicitIntegrator::Kind::Static, tight(40));
+    const solver::StepReport rep = again.step(s, 1.0);
+    EXPECT_EQ(rep.continuation_solves, 2);
+    EXPECT_LT((s.x - lift(0.01, 10.0, 1).x).cwiseAbs().maxCoeff(), 1e-12);
+  }
+}
+
+TEST(PenaltyContinuation, ShortenedRaisesEndExactlyOnTheFullPenalty) {
+  // 0.01 raised by 10^0.25 eight times is 0.9999999999999998 in floating point: snapped to 1.
+  PenaltyContinuation staged(element_volume(preprocess::make_box_mesh({2e-3, 1e-3, 1e-3}, {2, 1, 1}, "hex"), 4e4),
+                             {0.01, 10.0});
+  staged.restart();
+  int raises = 0;
+  while (staged.raise(0.25)) ++raises;
+  EXPECT_EQ(raises, 8);
+  EXPECT_EQ(staged.scale(), 1.0);
+  // A raise past 1 stops at 1.
+  staged.restart();
+  EXPECT_TRUE(staged.raise(4.0));
+  EXPECT_EQ(staged.scale(), 1.0);
 }
 
 TEST(PenaltyContinuation, OnlyTheStaticIntegratorStagesThePenalty) {
@@ -230,7 +302,7 @@ run: {t_end: 1 s}
   };
   refused("continuation: {from: 2000 kPa}", "below p");
   refused("continuation: {from: 20 kPa, factor: 1}", "factor");
-  refused("continuation: {from: -20 kPa}", "from");
+  refused("continuation: {from: -20 kPa}", "continuation.from");
   refused("continuation: {from: 20 kPa, step: 3}", "step");
   refused("continuation: {from: 20 kPa}, augmented_lagrangian: {tolerance: 1e-6}", "augmented_lagrangian");
 }
