@@ -32,7 +32,7 @@ while read -r problem model topo levels; do
   for solver in static implicit explicit; do
     # The augmented Lagrangian updates its multipliers, and the continuation raises its penalty,
     # between static solves only.
-    if [[ $model == fem_q1p0* || $model == fem_nodal || $model == fem_p2p* || $model == fem_q2p1 ]] && [[ $solver != static ]]; then continue; fi
+    if [[ $model == fem_q1p0 || $model == fem_staged || $model == fem_nodal || $model == fem_p2p* || $model == fem_q2p1 ]] && [[ $solver != static ]]; then continue; fi
     cap_var=cap_$solver
     skip=""
     for level in $levels; do

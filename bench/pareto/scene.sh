@@ -7,8 +7,8 @@
 #            only): fem_q1p0 (hex, element mean dilatation), fem_nodal (tet, nodal volume),
 #            fem_p2p0 / fem_p2p1 (the tet mesh raised to tet10; element mean / corner P1 dilatation),
 #            fem_q2p1 (the hex mesh raised to hex27; the dilatation projected on a linear field per element),
-#            fem_q1p0_staged (hex Q1/P0, uncoupled law, the plain penalty p = 1000 C reached by the static
-#            solver's continuation in large load steps: the configuration of land-p1.yaml / land-p2.yaml)
+#            fem_staged (hex, element volume penalty p = 1000 C reached by the static solver's continuation
+#            in large load steps, the law uncoupled for p1 and coupled for p2: land-p1.yaml / land-p2.yaml)
 #   TOPOLOGY hex | tet5m | tet6m (boxes) ; hex | tet (ellipsoid, Kuhn tetrahedra)
 #   LEVEL    p1: NXxNYxNZ divisions of the beam; p2: NVxNUxNT of the ellipsoid; p3: n (n^3 cubes)
 #   SOLVER   static | implicit (backward_euler_newton) | explicit (symplectic_euler)
@@ -28,7 +28,7 @@ case $problem in
   p1) IFS=x read -r nx ny nz <<< "$level"
       mesh=$(box_mesh "[10 mm, 1 mm, 1 mm]" "$nx" "$ny" "$nz")
       law=guccione_land_problem1; params="{}"; vol="2000 kPa"; E=18000; nu=0.49
-      staged="{from: 40 kPa, factor: 50}"; dt_staged=1
+      staged="{from: 40 kPa, factor: 50}"; dt_staged=1; staged_uncoupled=true
       h=$(awk -v n="$nx" 'BEGIN{print 1e-2 / n}')
       ramp=0.1; t_dyn=2; rate=80; ke=1e-15; dt_static=0.1
       loads="  pressure:
@@ -43,7 +43,7 @@ case $problem in
   divisions: [$nv, $nu_, $nt]
   topology: $topo"
       law=guccione_land_problem2; params="{}"; vol="10000 kPa"; E=15000; nu=0.49; h=0
-      staged="{from: 100 kPa}"; dt_staged=0.5
+      staged="{from: 100 kPa}"; dt_staged=0.5; staged_uncoupled=false
       ramp=0.02; t_dyn=0.5; rate=300; ke=1e-11; dt_static=0.05
       loads="  pressure:
     - name: lv
@@ -87,8 +87,8 @@ case $model in
   fem_q1p0 | fem_p2p0) terms="      - fem_element: {law: $law, parameters: $params, uncoupled: true}$(al_volume isotropic)" ;;
   fem_nodal | fem_p2p1) terms="      - fem_element: {law: $law, parameters: $params, uncoupled: true}$(al_volume nodal)" ;;
   fem_q2p1)  terms="      - fem_element: {law: $law, parameters: $params, uncoupled: true}$(al_volume linear)" ;;
-  fem_q1p0_staged)
-             terms="      - fem_element: {law: $law, parameters: $params, uncoupled: true}
+  fem_staged)
+             terms="      - fem_element: {law: $law, parameters: $params, uncoupled: $staged_uncoupled}
       - volume: {p: $vol, distribution: isotropic, continuation: $staged}"
              dt_static=$dt_staged ;;
   fem)       terms="      - fem_element: {law: $law, parameters: $params}$volume_term" ;;
