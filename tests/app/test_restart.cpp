@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli_runner.hpp"
@@ -94,6 +95,23 @@ std::vector<std::string> column(const fs::path& csv, const std::string& name) {
   return v;
 }
 
+/// cases/benchmarks/land-p1.yaml with each `from` replaced by its `to` (each must occur in it).
+std::string land_p1_scene(const std::vector<std::pair<std::string, std::string>>& edits) {
+  std::ifstream in(std::string(ADAMSS_SOURCE_DIR) + "/cases/benchmarks/land-p1.yaml");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string text = ss.str();
+  for (const auto& [from, to] : edits) {
+    const auto at = text.find(from);
+    if (at == std::string::npos) {
+      ADD_FAILURE() << "land-p1.yaml has no '" << from << "'";
+      continue;
+    }
+    text.replace(at, from.size(), to);
+  }
+  return text;
+}
+
 /// Runs `scene` uninterrupted into dir/full, then for each N (`stops`, the middle step and the
 /// last but one): stop after N steps, resume, compare.
 void check_restarts(const fs::path& dir, const std::string& scene, std::vector<int> stops) {
@@ -151,33 +169,12 @@ TEST(Restart, StaticWithPredictorIsBitwiseIdentical) {
 }
 
 TEST(Restart, StaticWithPenaltyContinuationIsBitwiseIdentical) {
-  // Land problem 1's beam, coarse (10 x 1 x 2 Q1/P0), four load steps each solved at a soft penalty
+  // land-p1.yaml's beam, coarse (10 x 1 x 2 Q1/P0), five load steps each solved at a soft penalty
   // and again at the full one: the resumed run's steps and the re-solve count equal the full run's.
   const auto dir = scratch_dir("restart_continuation");
-  const auto scene = write_scene(dir, R"(name: beam
-mesh: {box: [10 mm, 1 mm, 1 mm], divisions: [10, 1, 2], topology: hex, fibre: [1, 0, 0], sheet: [0, 1, 0]}
-materials:
-  - name: beam
-    labels: [1]
-    density: 1000 kg/m^3
-    terms:
-      - virtual_hexahedron: {law: guccione_land_problem1, quadrature: gauss, uncoupled: true}
-      - volume: {p: 2000 kPa, distribution: isotropic, continuation: {from: 40 kPa, factor: 50}}
-loads:
-  pressure:
-    - name: bottom
-      surface: {region: {plane: {point: [0, 0, 0], normal: [0, 0, 1], tolerance: 0.001 mm}}}
-      pressure: {ramp: {to: 4 Pa, duration: 1 s}}
-boundary:
-  - select: {region: {plane: {point: [0, 0, 0], normal: [1, 0, 0], tolerance: 0.001 mm}}}
-    fix: xyz
-integrator: {type: static, dt: 0.2 s, adapt: false, newton_rtol: 1e-8, max_newton: 30}
-run: {t_end: 1 s}
-output:
-  frame_interval: 0.2 s
-  probes:
-    - {name: tip, point: [10 mm, 0.5 mm, 1 mm]}
-)");
+  const auto scene = write_scene(dir, land_p1_scene({{"divisions: [40, 4, 4]", "divisions: [10, 1, 2]"},
+                                                     {"dt: 1 s", "dt: 0.2 s"},
+                                                     {"frame_interval: 0.25 s", "frame_interval: 0.2 s"}}));
   check_restarts(dir, scene.string(), {1, 2});
   EXPECT_EQ(summary_without_wall(dir / "full")["penalty_continuation"]["re_solves"], 5);
 }
@@ -279,17 +276,8 @@ TEST(Restart, SigtermInsideALongStaticStepStopsAtOnce) {
   // inside that step; the run must stop there (status interrupted, 0 steps, the checkpoint of t = 0) instead of
   // finishing the step, and the resumed run's first step must equal that of an uninterrupted run bit for bit.
   const auto dir = scratch_dir("restart_sigterm_newton");
-  std::ifstream in(std::string(ADAMSS_SOURCE_DIR) + "/cases/benchmarks/land-p1.yaml");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  std::string text = ss.str();
-  for (const auto& [from, to] : {std::pair<std::string, std::string>{", continuation: {from: 40 kPa, factor: 50}", ""},
-                                 {"frame_interval: 0.25 s", "frame_interval: 1 s"}}) {
-    const auto at = text.find(from);
-    ASSERT_NE(at, std::string::npos) << from;
-    text.replace(at, from.size(), to);
-  }
-  const auto scene = write_scene(dir, text);
+  const auto scene = write_scene(dir, land_p1_scene({{", continuation: {from: 40 kPa, factor: 50}", ""},
+                                                     {"frame_interval: 0.25 s", "frame_interval: 1 s"}}));
   const std::string cmd = "OMP_NUM_THREADS=1 timeout --preserve-status -s TERM 1.5 " + std::string(ADAMSS_BINARY) +
                           " run " + scene.string() + " -o " + (dir / "out").string() + cache_arg(dir) + " -q";
   const int rc = std::system(cmd.c_str());

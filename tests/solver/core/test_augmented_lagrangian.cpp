@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "beam_fixtures.hpp"
 #include "common/error.hpp"
 #include "force_term_harness.hpp"
 #include "materials/factory.hpp"
@@ -158,25 +159,14 @@ struct BendRun {
 };
 
 BendRun bend(double p, const AugmentedLagrangian& al) {
-  auto mesh = std::make_shared<preprocess::Mesh>(preprocess::make_box_mesh({10e-3, 1e-3, 1e-3}, {8, 1, 2}, "hex"));
-  solver::Model model;
-  model.mesh = mesh;
-  model.x_ref = mesh->nodes;
-  model.mass = solver::voronoi_masses(*mesh, std::vector<double>(mesh->element_count(), 1000.0));
-  model.constraints = solver::Constraints(mesh->node_count());
-  const auto law = std::make_shared<materials::UncoupledLaw>(materials::make_law("guccione_land_problem1", {}));
-  model.terms.push_back(solver::make_gauss_point_term(*mesh, law, nullptr, "fem_element"));
-  solver::VolumeParams vp;
-  vp.p = p;
-  vp.distribution = solver::VolumeDistribution::Isotropic;
-  vp.augmented = al;
-  model.terms.push_back(solver::make_volume_term(*mesh, nullptr, vp));
-  for (Eigen::Index i = 0; i < model.x_ref.cols(); ++i) {
-    const auto n = static_cast<preprocess::Index>(i);
-    if (model.x_ref(0, i) < 1e-9) model.constraints.fix(n, 7, "clamp");
-    if (model.x_ref(0, i) > 10e-3 - 1e-9)
-      model.constraints.control(n, 2, solver::TimeCourse::ramp(0.0, 2e-3, 0.0, 1.0), false, "lift");
-  }
+  solver::Model model = test::lifted_guccione_beam({8, 1, 2}, 2e-3, [&](const preprocess::Mesh& m) {
+    solver::VolumeParams vp;
+    vp.p = p;
+    vp.distribution = solver::VolumeDistribution::Isotropic;
+    vp.augmented = al;
+    return solver::make_volume_term(m, nullptr, vp);
+  });
+  const preprocess::Mesh& mesh = *model.mesh;
   solver::System sys(model);
   solver::ImplicitSettings set;
   set.adapt = false;
@@ -192,8 +182,8 @@ BendRun bend(double p, const AugmentedLagrangian& al) {
     out.violation = rep.constraint_violation;
   }
   out.x = s.x;
-  for (std::size_t e = 0; e < mesh->element_count(); ++e) {
-    const double j = solver::element_volume_at(*mesh, s.x, e) / solver::element_volume_at(*mesh, model.x_ref, e);
+  for (std::size_t e = 0; e < mesh.element_count(); ++e) {
+    const double j = solver::element_volume_at(mesh, s.x, e) / solver::element_volume_at(mesh, model.x_ref, e);
     out.max_element_change = std::max(out.max_element_change, std::abs(j - 1.0));
   }
   return out;

@@ -11,10 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "beam_fixtures.hpp"
 #include "common/error.hpp"
 #include "force_term_harness.hpp"
-#include "materials/factory.hpp"
-#include "materials/uncoupled.hpp"
 #include "preprocess/meshers/box_mesh.hpp"
 #include "scene_fixtures.hpp"
 #include "solver/core/mass.hpp"
@@ -22,7 +21,6 @@
 #include "solver/core/penalty_continuation.hpp"
 #include "solver/core/stop_flag.hpp"
 #include "solver/terms/adamss/volume_preservation.hpp"
-#include "solver/terms/fem/fem_element.hpp"
 #include "solver/time/implicit.hpp"
 #include "solver/time/integrator.hpp"
 
@@ -106,25 +104,13 @@ struct BeamRun {
 /// `start` p when start < 1.
 struct Beam {
   solver::Model model;
-  Beam(double start, double factor) {
-    auto mesh = std::make_shared<preprocess::Mesh>(preprocess::make_box_mesh({10e-3, 1e-3, 1e-3}, {10, 1, 2}, "hex"));
-    model.mesh = mesh;
-    model.x_ref = mesh->nodes;
-    model.mass = solver::voronoi_masses(*mesh, std::vector<double>(mesh->element_count(), 1000.0));
-    model.constraints = solver::Constraints(mesh->node_count());
-    const auto law = std::make_shared<materials::UncoupledLaw>(materials::make_law("guccione_land_problem1", {}));
-    model.terms.push_back(solver::make_gauss_point_term(*mesh, law, nullptr, "fem_element"));
-    auto volume = element_volume(*mesh, 2e6);
-    if (start < 1.0)
-      volume = std::make_unique<PenaltyContinuation>(std::move(volume), ContinuationSettings{start, factor});
-    model.terms.push_back(std::move(volume));
-    for (Eigen::Index i = 0; i < model.x_ref.cols(); ++i) {
-      const auto n = static_cast<preprocess::Index>(i);
-      if (model.x_ref(0, i) < 1e-9) model.constraints.fix(n, 7, "clamp");
-      if (model.x_ref(0, i) > 10e-3 - 1e-9)
-        model.constraints.control(n, 2, solver::TimeCourse::ramp(0.0, 3e-3, 0.0, 1.0), false, "lift");
-    }
-  }
+  Beam(double start, double factor)
+      : model(test::lifted_guccione_beam({10, 1, 2}, 3e-3, [&](const preprocess::Mesh& m) {
+          auto volume = element_volume(m, 2e6);
+          if (start < 1.0)
+            volume = std::make_unique<PenaltyContinuation>(std::move(volume), ContinuationSettings{start, factor});
+          return volume;
+        })) {}
   [[nodiscard]] const PenaltyContinuation* staged() { return model.terms[1]->penalty_continuation(); }
   [[nodiscard]] solver::State rest() const { return {model.x_ref, Eigen::Matrix3Xd::Zero(3, model.x_ref.cols()), 0.0}; }
 };
