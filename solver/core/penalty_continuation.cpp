@@ -85,11 +85,6 @@ void PenaltyContinuation::add_jacobian(const StateView& s, JacobianSink& sink) c
   inner_->add_jacobian(s, scaled);
 }
 
-void PenaltyContinuation::add_cell_fields(const StateView& s, std::size_t element_count,
-                                          std::map<std::string, Eigen::VectorXd>& fields) const {
-  inner_->add_cell_fields(s, element_count, fields);  // frames are written at s = 1
-}
-
 std::string PenaltyContinuation::describe() const {
   std::ostringstream os;
   os << inner_->describe() << ", penalty continuation from " << set_.start << " p (x" << set_.factor

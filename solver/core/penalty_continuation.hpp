@@ -15,16 +15,15 @@
 // then raises s by `factor` (capped at 1) and solves again at the same load from the converged
 // state, until s = 1. A re-solve that fails is undone (state and s) and the raise retried with
 // the square root of its factor, down to factor^(1/16) (after a shortened raise succeeds, the
-// next one's exponent doubles again, up to the full factor; a scale within 1e-12 of 1 is 1); then the attempt fails as any other static
-// step does (the step is halved). The load step therefore ends on the equilibrium of the full penalty -- the
-// same answer as the plain term, to the Newton tolerance -- but reaches it from a state whose
-// large motion the soft penalty has already taken; each raise only corrects the volumes.
-// It pays for large load steps (Land problem 1 in one step: 29 Newton iterations against 44 in four
-// plain steps); with many small steps each one softens and re-stiffens for nothing (problem 3: 212
-// against 107), so it is opt-in per term.
-// Outside a static step s = 1: every other integrator, the energy and the frames see the term
-// as written. The multiplier interface of the augmented Lagrangian is not combined with it (the
-// scene refuses both on one term: a scaled multiplier would no longer be the pressure).
+// next one's exponent doubles again, up to the full factor; a scale within 1e-12 of 1 is 1); then the attempt fails as
+// any other static step does (the step is halved). The load step therefore ends on the equilibrium of the full penalty
+// -- the same answer as the plain term, to the Newton tolerance -- but reaches it from a state whose large motion the
+// soft penalty has already taken; each raise only corrects the volumes. It pays for large load steps (Land problem 1 in
+// one step: 29 Newton iterations against 44 in four plain steps); with many small steps each one softens and
+// re-stiffens for nothing (problem 3: 212 against 107), so it is opt-in per term. Outside a static step s = 1: every
+// other integrator, the energy and the frames see the term as written. The multiplier interface of the augmented
+// Lagrangian is not combined with it (the scene refuses both on one term: a scaled multiplier would no longer be the
+// pressure).
 #include <memory>
 #include <string>
 #include <vector>
@@ -68,7 +67,9 @@ class PenaltyContinuation final : public ForceTerm {
   void end_step(const StateView& s, double dt) override { inner_->end_step(s, dt); }
   void set_boundary_mask(const std::vector<std::uint8_t>& mask) override { inner_->set_boundary_mask(mask); }
   void add_cell_fields(const StateView& s, std::size_t element_count,
-                       std::map<std::string, Eigen::VectorXd>& fields) const override;
+                       std::map<std::string, Eigen::VectorXd>& fields) const override {
+    inner_->add_cell_fields(s, element_count, fields);  // frames are written at s = 1
+  }
   void add_cell_tensors(const StateView& s, std::size_t element_count,
                         std::map<std::string, Eigen::Matrix<double, 9, Eigen::Dynamic>>& fields) const override {
     inner_->add_cell_tensors(s, element_count, fields);

@@ -7,7 +7,8 @@ namespace adamss::solver {
 namespace {
 
 /// The one list of the loop's fields with their checkpoint names: calls visit(name, member) for
-/// each. Loop is RunLoopState (load) or const RunLoopState (save), so both read the same list.
+/// each, visit.optional(name, member) for those an older checkpoint may lack. Loop is RunLoopState
+/// (load) or const RunLoopState (save), so both read the same list.
 template <class Loop, class Visit>
 void visit_fields(Loop& loop, const Visit& visit) {
   visit("steps", loop.steps);
@@ -40,6 +41,8 @@ void visit_fields(Loop& loop, const Visit& visit) {
   visit("last_report/augmentations", loop.last_report.augmentations);
   visit("last_report/constraint_violation", loop.last_report.constraint_violation);
   visit("wall_seconds", loop.wall_seconds);
+  // Added later: a checkpoint written before them lacks these, which then keep their defaults.
+  visit.optional("continuation_solves", loop.continuation_solves);
 }
 
 /// Floats as float64, counters and flags as int64, matrices n x 3.
@@ -50,6 +53,10 @@ struct Saver {
   void operator()(const char* key, int value) const { archive.put_int(key, value); }
   void operator()(const char* key, bool value) const { archive.put_int(key, value ? 1 : 0); }
   void operator()(const char* key, const Eigen::Matrix3Xd& m) const { archive.put(key, m); }
+  template <class T>
+  void optional(const char* key, const T& value) const {
+    (*this)(key, value);
+  }
 };
 
 struct Loader {
@@ -60,21 +67,21 @@ struct Loader {
   void operator()(const char* key, int& value) const { value = static_cast<int>(archive.integer(key)); }
   void operator()(const char* key, bool& value) const { value = archive.integer(key) != 0; }
   void operator()(const char* key, Eigen::Matrix3Xd& m) const { m = archive.matrix(key, nodes); }
+  template <class T>
+  void optional(const char* key, T& value) const {
+    if (archive.has(key)) (*this)(key, value);
+  }
 };
 
 }  // namespace
 
 void save_loop_state(const RunLoopState& loop, StateArchive& archive) {
   visit_fields(loop, Saver{archive});
-  archive.put_int("continuation_solves", static_cast<std::int64_t>(loop.continuation_solves));
 }
 
 RunLoopState load_loop_state(const StateArchive& archive, Eigen::Index nodes) {
   RunLoopState loop;
   visit_fields(loop, Loader{archive, nodes});
-  // Added after the list above: a checkpoint written before it has no count (it restarts at 0).
-  if (archive.has("continuation_solves"))
-    loop.continuation_solves = static_cast<std::size_t>(archive.integer("continuation_solves"));
   return loop;
 }
 
