@@ -22,6 +22,7 @@
 #include "solver/run/run.hpp"
 #include "solver/run/summary.hpp"
 #include "solver/scene/scene.hpp"
+#include "solver/time/petsc/petsc_env.hpp"
 
 namespace adamss::app {
 namespace {
@@ -41,6 +42,7 @@ struct RunArgs {
   bool resume_modified = false;
   std::string progress_interval;  ///< --progress-interval (a time; empty: the default, 10 s)
   double t_load = 0.0;            ///< seconds the scene took to load (for the model summary)
+  int rank = 0, ranks = 1;        ///< this process's MPI rank and the number of ranks
 };
 
 nlohmann::json vec(const Eigen::Vector3d& v) {
@@ -208,6 +210,10 @@ void log_header(solver::RunLog& log, const solver::LoadedScene& sc, const RunArg
   if (!a.reference.empty()) cmd += " --reference " + a.reference;
   log.line(cmd);
   for (const std::string& l : model_lines(sc, a.t_load)) log.line(l);
+  if (a.ranks > 1) {
+    log.line("  MPI: " + std::to_string(a.ranks) +
+             " ranks (each holds the model; the Jacobian's rows and the linear solve are distributed)");
+  }
   for (const auto& w : sc.warnings) log.line("warning: " + w);
 }
 
@@ -239,6 +245,8 @@ solver::RunOutcome run_into(solver::LoadedScene& sc, const RunArgs& a, const fs:
     for (const std::string& c : changes) std::cerr << "adamss: warning: --resume-modified: " << c << "\n";
   }
   solver::ResultsWriter writer(output, sc.model, writer_state ? &*writer_state : nullptr);
+  const bool writes = a.rank == 0;  // several MPI ranks: rank 0 writes, the others hold the same state
+  if (!writes) writer.mute();
   solver::State s = sc.initial;
   const solver::State initial = s;
   sc.run.progress = !a.quiet;
@@ -252,8 +260,10 @@ solver::RunOutcome run_into(solver::LoadedScene& sc, const RunArgs& a, const fs:
   for (const std::string& c : changes) writer.log().line("warning: --resume-modified: " + c);
   try {
     solver::RunOutcome out = solver::run_simulation(sc.model, s, sc.run, writer, checkpoint ? &*checkpoint : nullptr);
+    if (!writes) return out;
     nlohmann::json j = summary_json(sc, out, solver::summarize_run(sc.model, out, initial, writer));
     if (!changes.empty()) j["resume_modified"] = changes;
+    j["mpi_ranks"] = a.ranks;
     write_json(writer.dir() / "summary.json", j);
     std::ostringstream done;
     done << out.status << " (" << out.reason << "): " << out.steps << " steps to t = " << out.t << " s in "
@@ -285,14 +295,53 @@ std::uint64_t mesh_file_hash(const solver::LoadedScene& sc, const RunArgs& a) {
   return h;
 }
 
+/// Loads the scene; on several MPI ranks rank 0 first (it may build the scene's mesh into the
+/// cache), then the others, which find it there.
+solver::LoadedScene load_on_ranks(const RunArgs& a, const solver::SceneOptions& so) {
+  if (a.ranks == 1) return solver::load_scene(a.scene, so);
+  if (a.rank > 0) MPI_Barrier(PETSC_COMM_WORLD);
+  solver::LoadedScene sc = solver::load_scene(a.scene, so);
+  if (a.rank == 0) MPI_Barrier(PETSC_COMM_WORLD);
+  return sc;
+}
+
+/// On several MPI ranks an error may be this rank's alone (rank 0's disk): it is printed here,
+/// naming the rank, and every rank ends (MPI_Abort) with the exit status main() would give it.
+/// Nothing happens on one rank (main() reports the error).
+void abort_ranks_after(const std::exception& e) {
+  if (solver::mpi_size() <= 1) return;
+  int code = 1;
+  const char* kind = "internal error";
+  if (dynamic_cast<const InputError*>(&e) != nullptr) {
+    code = 2;
+    kind = "error";
+  } else if (dynamic_cast<const NumericalError*>(&e) != nullptr) {
+    code = 3;
+    kind = "numerical error";
+  } else if (dynamic_cast<const IoError*>(&e) != nullptr) {
+    code = 4;
+    kind = "I/O error";
+  }
+  std::cerr << "adamss: " << kind << " (MPI rank " << solver::mpi_rank() << " of " << solver::mpi_size()
+            << "): " << e.what() << std::endl;
+  solver::abort_other_ranks(code);
+}
+
 int run_scene(RunArgs a) {
+  // Under mpirun every rank runs this; rank 0 prints and writes (solver/time/petsc/petsc_env.hpp).
+  a.rank = solver::mpi_rank();
+  a.ranks = solver::mpi_size();
+  if (a.rank > 0) a.quiet = true;
   solver::SceneOptions so;
   so.cache_dir = a.cache;
   so.reference_file = a.reference;
   const auto t0 = std::chrono::steady_clock::now();
-  solver::LoadedScene sc = solver::load_scene(a.scene, so);
+  solver::LoadedScene sc = load_on_ranks(a, so);
   const double t_load = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (!a.quiet || a.check_only) print_model(sc, t_load);
+  if ((!a.quiet || a.check_only) && a.rank == 0) {
+    print_model(sc, t_load);
+    if (a.ranks > 1) std::cout << "  MPI: " << a.ranks << " ranks\n";
+  }
   a.t_load = t_load;
   if (!a.petsc.empty()) sc.run.implicit.petsc_options += " " + a.petsc;
   if (a.check_only) return 0;
@@ -301,7 +350,8 @@ int run_scene(RunArgs a) {
   sc.run.mesh_hash = mesh_file_hash(sc, a);
   sc.run.resume_modified = a.resume_modified;
   const fs::path output = output_folder(a);
-  const solver::OutputLock lock(output);  // one run per folder; released when this run ends
+  std::optional<solver::OutputLock> lock;  // one run per folder; released when this run ends
+  if (a.rank == 0) lock.emplace(output);
   const solver::RunOutcome out = run_into(sc, a, output);
   if (out.status == "unstable" || out.status == "failed") {
     throw NumericalError("run " + out.status + ": " + out.reason);
@@ -346,7 +396,13 @@ void add_run_command(CLI::App& app) {
                   "Wall time between progress lines when stderr is not a terminal (batch logs) and between the "
                   "progress lines of OUT/run.log, e.g. 30s; 0: every step (default 10 s)");
   sub->callback([args]() {
-    const int rc = run_scene(*args);
+    int rc = 0;
+    try {
+      rc = run_scene(*args);
+    } catch (const std::exception& e) {
+      abort_ranks_after(e);
+      throw;
+    }
     if (rc != 0) throw CLI::RuntimeError(rc);
   });
 }

@@ -43,6 +43,10 @@ class JacobianSink {
   /// default hands them on block by block (add_block); a sparse-matrix sink scatters the whole
   /// stencil through its precomputed positions (solver/time/petsc/petsc_matrix.hpp).
   virtual void add_stencil(const Index* nodes, int n, const double* dfdx, const double* dfdv);
+  /// False when the sink keeps none of the stencil's blocks (on several MPI ranks, a stencil with
+  /// none of this rank's particles: its rows belong to other ranks), so that the term may skip
+  /// computing it. A term that ignores this only wastes the work: the sink drops such blocks.
+  [[nodiscard]] virtual bool accepts(const Index* /*nodes*/, int /*n*/) const { return true; }
 };
 
 class ForceTerm {

@@ -36,6 +36,7 @@
 #include <vector>
 
 #include "solver/core/force_term.hpp"
+#include "solver/core/owned_nodes.hpp"
 
 namespace adamss::solver {
 
@@ -146,25 +147,28 @@ class StencilTerm final : public ForceTerm {
   }
 
   /// The generic path: the kernel's forces() item by item (what add_forces does for kernels
-  /// without add_forces_bulk; tests compare the two).
+  /// without add_forces_bulk; tests compare the two). Inside an OwnedForceScope only the items
+  /// touching the owned particles, summed into those particles only (solver/core/owned_nodes.hpp).
   void add_forces_per_item(const StateView& s, Eigen::Matrix3Xd& f) const {
     const std::size_t n = kernel_.size();
     if (n == 0) return;
-    prepare_scatter();
-    local_.resize(3 * N, static_cast<Eigen::Index>(n));
-    const auto ni = static_cast<std::ptrdiff_t>(n);
-    const bool par = n >= kParallelMin;
+    const OwnedNodes* owned = owned_force_nodes();
+    prepare_scatter(owned);
+    const std::size_t m = owned != nullptr ? items_.size() : n;
+    local_.resize(3 * N, static_cast<Eigen::Index>(m));
+    const auto ni = static_cast<std::ptrdiff_t>(m);
+    const bool par = m >= kParallelMin;
     LowestFailure failure;
 #pragma omp parallel for schedule(static) if (par)
     for (std::ptrdiff_t ii = 0; ii < ni; ++ii) {
-      const auto i = static_cast<std::size_t>(ii);
+      const std::size_t i = owned != nullptr ? items_[static_cast<std::size_t>(ii)] : static_cast<std::size_t>(ii);
       Mat3N<N> x, v, fl;
       gather(s, kernel_.stencil(i), x, v);
       fl.setZero();
       try {
         kernel_.forces(i, x, v, s.t, fl);
       } catch (...) {
-        failure.record(ii);
+        failure.record(static_cast<std::ptrdiff_t>(i));
       }
       local_.col(ii) = Eigen::Map<const Eigen::Matrix<double, 3 * N, 1>>(fl.data());
     }
@@ -175,7 +179,7 @@ class StencilTerm final : public ForceTerm {
       Eigen::Vector3d acc = Eigen::Vector3d::Zero();
       for (std::size_t k = scatter_begin_[static_cast<std::size_t>(r)];
            k < scatter_begin_[static_cast<std::size_t>(r) + 1]; ++k) {
-        const std::size_t slot = scatter_slot_[k];  // item * N + a
+        const std::size_t slot = scatter_slot_[k];  // (position in the evaluated items) * N + a
         acc +=
             local_.template block<3, 1>(static_cast<Eigen::Index>(3 * (slot % N)), static_cast<Eigen::Index>(slot / N));
       }
@@ -186,6 +190,7 @@ class StencilTerm final : public ForceTerm {
   /// Jacobian blocks of all items. Items are evaluated in parallel (OpenMP) a chunk at a time
   /// into per-item local matrices, which are then handed to the sink in item order, one
   /// add_stencil per item: the sums are the same bit for bit whatever the number of threads.
+  /// Items the sink does not accept (no particle of this MPI rank) are skipped.
   void add_jacobian(const StateView& s, JacobianSink& sink) const override {
     if constexpr (Kernel::kHasJacobian) {
       const std::size_t n = kernel_.size();
@@ -198,8 +203,10 @@ class StencilTerm final : public ForceTerm {
 #pragma omp parallel for schedule(static) if (count >= kParallelMin)
         for (std::ptrdiff_t c = 0; c < nc; ++c) {
           const auto cu = static_cast<std::size_t>(c);
+          const std::array<Index, N> st = kernel_.stencil(first + cu);
+          if (!sink.accepts(st.data(), N)) continue;  // another MPI rank's rows only
           Mat3N<N> x, v;
-          gather(s, kernel_.stencil(first + cu), x, v);
+          gather(s, st, x, v);
           jac_x_[cu].setZero();
           jac_v_[cu].setZero();
           try {
@@ -211,7 +218,7 @@ class StencilTerm final : public ForceTerm {
         failure.rethrow();
         for (std::size_t c = 0; c < count; ++c) {
           const std::array<Index, N> st = kernel_.stencil(first + c);
-          sink.add_stencil(st.data(), N, jac_x_[c].data(), jac_v_[c].data());
+          if (sink.accepts(st.data(), N)) sink.add_stencil(st.data(), N, jac_x_[c].data(), jac_v_[c].data());
         }
       }
     } else {
@@ -248,16 +255,28 @@ class StencilTerm final : public ForceTerm {
     }
   }
 
-  /// Builds (once) the node -> (item, slot) table used to sum the item forces per node.
-  void prepare_scatter() const {
-    if (scatter_ready_ && scatter_items_ == kernel_.size()) return;
+  /// Builds (once per owned range) the node -> (item, slot) table used to sum the item forces per
+  /// node: over every item, or with `owned` over the items touching it (items_, in item order)
+  /// and for its particles only.
+  void prepare_scatter(const OwnedNodes* owned) const {
+    const Index b = owned != nullptr ? owned->begin : 0, e = owned != nullptr ? owned->end : -1;
+    if (scatter_ready_ && scatter_items_ == kernel_.size() && scatter_begin_node_ == b && scatter_end_node_ == e)
+      return;
     const std::size_t n = kernel_.size();
-    std::vector<std::pair<Index, std::size_t>> pairs;  // (node, item * N + a), in item order
+    items_.clear();
+    std::vector<std::pair<Index, std::size_t>> pairs;  // (node, position * N + a), in item order
     pairs.reserve(n * N);
     for (std::size_t i = 0; i < n; ++i) {
       const std::array<Index, N> st = kernel_.stencil(i);
-      for (int a = 0; a < N; ++a)
-        pairs.emplace_back(st[static_cast<std::size_t>(a)], i * N + static_cast<std::size_t>(a));
+      if (owned != nullptr) {
+        if (std::none_of(st.begin(), st.end(), [&](Index a) { return owned->contains(a); })) continue;
+        items_.push_back(i);
+      }
+      const std::size_t pos = owned != nullptr ? items_.size() - 1 : i;
+      for (int a = 0; a < N; ++a) {
+        const Index node = st[static_cast<std::size_t>(a)];
+        if (owned == nullptr || owned->contains(node)) pairs.emplace_back(node, pos * N + static_cast<std::size_t>(a));
+      }
     }
     std::stable_sort(pairs.begin(), pairs.end(), [](const auto& p, const auto& q) { return p.first < q.first; });
     scatter_node_.clear();
@@ -272,6 +291,8 @@ class StencilTerm final : public ForceTerm {
     }
     scatter_begin_.push_back(pairs.size());
     scatter_items_ = n;
+    scatter_begin_node_ = b;
+    scatter_end_node_ = e;
     scatter_ready_ = true;
   }
 
@@ -283,6 +304,8 @@ class StencilTerm final : public ForceTerm {
   mutable std::vector<Index> scatter_node_;
   mutable std::vector<std::size_t> scatter_begin_, scatter_slot_;
   mutable std::size_t scatter_items_ = 0;
+  mutable Index scatter_begin_node_ = 0, scatter_end_node_ = -1;  ///< the owned range of the table
+  mutable std::vector<std::size_t> items_;                        ///< inside an OwnedForceScope: the items evaluated
   mutable bool scatter_ready_ = false;
   mutable std::vector<MatJ<N>> jac_x_, jac_v_;  ///< a chunk's local Jacobians (add_jacobian)
 };

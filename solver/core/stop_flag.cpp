@@ -8,6 +8,7 @@ namespace adamss::solver {
 namespace {
 std::atomic<bool> g_stop{false};
 std::atomic<int> g_signal{0};
+bool (*g_agree)(bool) = nullptr;
 static_assert(std::atomic<bool>::is_always_lock_free && std::atomic<int>::is_always_lock_free,
               "the stop flag is written from a signal handler");
 }  // namespace
@@ -23,7 +24,15 @@ void clear_stop() noexcept {
 }
 
 bool stop_requested() noexcept {
-  return g_stop.load();
+  const bool local = g_stop.load();
+  if (g_agree == nullptr) return local;
+  const bool agreed = g_agree(local);
+  if (agreed && !local) g_stop.store(true);  // another rank's signal: this rank stops too
+  return agreed;
+}
+
+void set_stop_agreement(bool (*agree)(bool)) {
+  g_agree = agree;
 }
 
 int stop_signal() noexcept {

@@ -17,6 +17,13 @@ void clear_stop() noexcept;
 /// The signal of the request (0 if none).
 [[nodiscard]] int stop_signal() noexcept;
 
+/// On several MPI ranks every rank must abandon a step at the same point, or the others wait in
+/// the next collective solve forever: `agree(local)` turns this process's flag into the ranks'
+/// common answer (a max-reduction; solver/time/petsc/petsc_env.cpp installs it when there are
+/// several ranks). Every rank polls at the same points of the same control flow, so each poll is
+/// one collective call. Null (the default) keeps the local flag.
+void set_stop_agreement(bool (*agree)(bool local));
+
 /// Thrown by an integrator that abandoned a step because a stop was requested. The state handed
 /// to the step is unchanged, so the run loop checkpoints it as if the signal had come before the
 /// step, and a resumed run redoes the step from the same state.

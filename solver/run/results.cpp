@@ -347,6 +347,10 @@ ResultsWriter::ResultsWriter(fs::path out_dir, const Model& model, const StateAr
 void ResultsWriter::open() {
   if (opened_) return;
   opened_ = true;
+  if (muted_) {
+    started_ = true;
+    return;
+  }
   if (resuming_) {
     started_ = true;
     continue_series();
@@ -489,6 +493,10 @@ void ResultsWriter::continue_series() {
 }
 
 void ResultsWriter::write_frame(const State& s, const Eigen::Matrix3Xd& f) {
+  if (muted_) {
+    frames_.emplace_back(s.t, std::string());
+    return;
+  }
   const preprocess::Mesh& mesh = *model_.mesh;
   VtuArrays a;
   a.point_vectors["displacement"] = s.x - model_.x_ref;
@@ -534,6 +542,10 @@ void ResultsWriter::write_pvd() const {
 }
 
 void ResultsWriter::write_globals(const State& s, const GlobalsRow& row) {
+  if (muted_) {
+    ++rows_;
+    return;
+  }
   // Total volume (as total_volume()) and the largest element change max_e |V_e / V0_e - 1| in one pass.
   double vol = 0.0, element_change = 0.0;
   for (std::size_t e = 0; e < element_volume0_.size(); ++e) {
@@ -592,6 +604,7 @@ void ResultsWriter::write_checkpoint(const State& s, std::size_t step) const {
 }
 
 void ResultsWriter::write_checkpoint(const StateArchive& archive, double t, std::size_t step) const {
+  if (muted_) return;
   archive.write_hdf5(dir_ / "checkpoint.h5", {{"t", t}, {"step", static_cast<double>(step)}});
 }
 

@@ -68,6 +68,12 @@ class ResultsWriter {
   /// True once open() has moved the earlier run's files aside (or begun a resume): from then
   /// on summary.json in the folder belongs to this run.
   [[nodiscard]] bool started() const { return started_; }
+  /// An MPI rank other than 0 (which writes the results): from now on nothing is written; frames
+  /// and rows are only counted, as on rank 0.
+  void mute() {
+    muted_ = true;
+    log_.mute();
+  }
 
   /// Writes frame k of the series at state s with total forces f (N).
   void write_frame(const State& s, const Eigen::Matrix3Xd& f);
@@ -110,6 +116,7 @@ class ResultsWriter {
   bool resuming_ = false;
   bool opened_ = false;
   bool started_ = false;
+  bool muted_ = false;
   std::string resume_globals_;  ///< globals.csv as the resume will leave it (header + counted rows)
   std::ofstream globals_;
   std::vector<std::pair<double, std::string>> frames_;

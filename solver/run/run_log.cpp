@@ -23,6 +23,7 @@ std::string stamped(std::string_view text) {
 }  // namespace
 
 void RunLog::line(std::string_view text) {
+  if (muted_) return;
   if (!open_) {
     pending_.push_back(stamped(text));
     return;
@@ -31,7 +32,7 @@ void RunLog::line(std::string_view text) {
 }
 
 void RunLog::open(bool append) {
-  if (open_) return;
+  if (open_ || muted_) return;
   out_.open(file_, append ? std::ios::app : std::ios::trunc);
   if (!out_) throw IoError("cannot write " + file_.string() + ": " + std::strerror(errno));
   open_ = true;

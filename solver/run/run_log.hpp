@@ -21,12 +21,18 @@ class RunLog {
   /// Creates (or with `append`, extends) the file and writes the lines kept so far.
   void open(bool append);
   [[nodiscard]] const std::filesystem::path& file() const { return file_; }
+  /// From now on lines are dropped and open() writes nothing (an MPI rank other than 0).
+  void mute() {
+    muted_ = true;
+    pending_.clear();
+  }
 
  private:
   void write(const std::string& stamped);
   std::filesystem::path file_;
   std::ofstream out_;
   bool open_ = false;
+  bool muted_ = false;
   std::vector<std::string> pending_;
 };
 

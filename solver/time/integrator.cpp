@@ -7,6 +7,7 @@
 #include "solver/simd/node_loops.hpp"
 #include "solver/time/abm3.hpp"
 #include "solver/time/implicit.hpp"
+#include "solver/time/petsc/force_exchange.hpp"
 
 namespace adamss::solver {
 
@@ -24,12 +25,23 @@ System::System(Model& model) : model_(model) {
   inv_mass3_ = per_coordinate(inv_mass_);
   f_.setZero(3, n);
   x_fixed_ = model.x_ref;
+  exchange_ = force_exchange_if_ranks(static_cast<preprocess::Index>(n));
 }
+
+System::~System() = default;
 
 void System::forces(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, double t, Eigen::Matrix3Xd& f) {
   f.setZero(3, x.cols());
   const StateView s{x, v, t};
-  for (const auto& term : model_.terms) term->add_forces(s, f);
+  if (exchange_) {
+    {
+      const OwnedForceScope scope(exchange_->owned());
+      for (const auto& term : model_.terms) term->add_forces(s, f);
+    }
+    exchange_->gather(f);
+  } else {
+    for (const auto& term : model_.terms) term->add_forces(s, f);
+  }
   ++evaluations_;
 }
 

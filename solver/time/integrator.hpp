@@ -24,11 +24,19 @@
 
 namespace adamss::solver {
 
+class ForceExchange;  // solver/time/petsc/force_exchange.hpp
+
 class System {
  public:
   explicit System(Model& model);
+  ~System();
+  System(const System&) = delete;
+  System& operator=(const System&) = delete;
 
-  /// f(x, v, t) summed over the model's terms into `f` (N, 3 x n); counts evaluations.
+  /// f(x, v, t) summed over the model's terms into `f` (N, 3 x n); counts evaluations. On several
+  /// MPI ranks each rank computes its own particles' forces and the ranks exchange them
+  /// (solver/core/owned_nodes.hpp): every rank gets the whole vector, equal bit for bit to one
+  /// rank's.
   void forces(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, double t, Eigen::Matrix3Xd& f);
   /// a = f / m on free coordinates; constrained ones from Constraints::constrain_acceleration.
   /// The raw forces of the last call stay available in last_forces().
@@ -55,6 +63,7 @@ class System {
   Eigen::Matrix3Xd f_;
   Eigen::Matrix3Xd x_fixed_;
   std::size_t evaluations_ = 0;
+  std::unique_ptr<ForceExchange> exchange_;  ///< several MPI ranks only
 };
 
 /// What one call of Integrator::step did.

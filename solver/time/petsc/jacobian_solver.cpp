@@ -4,6 +4,7 @@
 
 #include <cstring>
 
+#include "common/error.hpp"
 #include "solver/core/stop_flag.hpp"
 #include "solver/time/petsc/petsc_env.hpp"
 #include "solver/time/petsc/petsc_matrix.hpp"
@@ -24,18 +25,29 @@ PetscErrorCode converged_or_stopped(KSP ksp, PetscInt it, PetscReal rnorm, KSPCo
 /// Below this many unknowns the default linear solver is a direct LU factorisation.
 constexpr PetscInt kDirectSolveMaxDofs = 60000;
 
+/// This rank's slice of the whole vector m (3 x n, replicated on every rank) into v.
 void to_vec(const Eigen::Matrix3Xd& m, Vec v) {
+  PetscInt lo = 0, hi = 0;
+  petsc_check(VecGetOwnershipRange(v, &lo, &hi), "VecGetOwnershipRange");
   PetscScalar* a = nullptr;
   petsc_check(VecGetArray(v, &a), "VecGetArray");
-  std::memcpy(a, m.data(), sizeof(double) * static_cast<std::size_t>(m.size()));
+  std::memcpy(a, m.data() + lo, sizeof(double) * static_cast<std::size_t>(hi - lo));
   petsc_check(VecRestoreArray(v, &a), "VecRestoreArray");
 }
 
-void from_vec(Vec v, Eigen::Matrix3Xd& m) {
+/// The whole vector v into m on every rank: on one rank a copy, on several a gather through
+/// `all` (VecScatterCreateToAll, made once) into `whole`.
+void from_vec(Vec v, VecScatter all, Vec whole, Eigen::Matrix3Xd& m) {
+  Vec src = v;
+  if (all != nullptr) {
+    petsc_check(VecScatterBegin(all, v, whole, INSERT_VALUES, SCATTER_FORWARD), "VecScatterBegin");
+    petsc_check(VecScatterEnd(all, v, whole, INSERT_VALUES, SCATTER_FORWARD), "VecScatterEnd");
+    src = whole;
+  }
   const PetscScalar* a = nullptr;
-  petsc_check(VecGetArrayRead(v, &a), "VecGetArrayRead");
+  petsc_check(VecGetArrayRead(src, &a), "VecGetArrayRead");
   std::memcpy(m.data(), a, sizeof(double) * static_cast<std::size_t>(m.size()));
-  petsc_check(VecRestoreArrayRead(v, &a), "VecRestoreArrayRead");
+  petsc_check(VecRestoreArrayRead(src, &a), "VecRestoreArrayRead");
 }
 
 }  // namespace
@@ -43,6 +55,8 @@ void from_vec(Vec v, Eigen::Matrix3Xd& m) {
 struct JacobianSolver::Petsc {
   Petsc(const preprocess::Mesh& mesh, const std::vector<std::unique_ptr<ForceTerm>>& terms) : a(mesh, &terms) {}
   ~Petsc() {
+    if (all != nullptr) VecScatterDestroy(&all);
+    if (whole != nullptr) VecDestroy(&whole);
     if (ksp != nullptr) KSPDestroy(&ksp);
     if (u != nullptr) VecDestroy(&u);
     if (b != nullptr) VecDestroy(&b);
@@ -59,10 +73,15 @@ struct JacobianSolver::Petsc {
   std::vector<PetscInt> fixed;
   KSP ksp = nullptr;
   Vec b = nullptr, u = nullptr;
+  VecScatter all = nullptr;  ///< several ranks: u gathered onto every rank
+  Vec whole = nullptr;       ///< several ranks: the gathered u
 };
 
 void JacobianSolver::Petsc::configure(const Eigen::Matrix3Xd& x_ref, double ksp_rtol, int ksp_max_it) {
   petsc_check(MatCreateVecs(a.mat(), &u, &b), "MatCreateVecs");
+  PetscMPIInt ranks = 1;
+  MPI_Comm_size(PETSC_COMM_WORLD, &ranks);
+  if (ranks > 1) petsc_check(VecScatterCreateToAll(u, &all, &whole), "VecScatterCreateToAll");
   petsc_check(KSPCreate(PETSC_COMM_WORLD, &ksp), "KSPCreate");
   petsc_check(KSPSetOperators(ksp, a.mat(), a.mat()), "KSPSetOperators");  // PCSetCoordinates needs them
   PC pc = nullptr;
@@ -76,6 +95,11 @@ void JacobianSolver::Petsc::configure(const Eigen::Matrix3Xd& x_ref, double ksp_
     // -log_view, with OpenBLAS as the BLAS).
     PetscBool mumps = PETSC_FALSE;
     petsc_check(MatGetFactorAvailable(a.mat(), MATSOLVERMUMPS, MAT_FACTOR_LU, &mumps), "MatGetFactorAvailable");
+    if (mumps != PETSC_TRUE && all != nullptr) {
+      throw InputError(
+          "the direct solver on several MPI ranks needs PETSc with MUMPS (PETSc's own LU is serial); "
+          "run on one rank or choose an iterative solver (--petsc \"-ksp_type gmres -pc_type gamg\")");
+    }
     if (mumps == PETSC_TRUE) {
       petsc_check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
       // MUMPS sizes its workspace from the analysis plus ICNTL(14) per cent (default 20) for the
@@ -91,8 +115,8 @@ void JacobianSolver::Petsc::configure(const Eigen::Matrix3Xd& x_ref, double ksp_
   } else {
     petsc_check(KSPSetType(ksp, KSPGMRES), "KSPSetType");
     petsc_check(PCSetType(pc, PCGAMG), "PCSetType");
-    // Particle coordinates: GAMG builds the rigid-body near-null space from them.
-    Eigen::Matrix3Xd xr = x_ref;
+    // Particle coordinates (this rank's): GAMG builds the rigid-body near-null space from them.
+    Eigen::Matrix3Xd xr = x_ref.middleCols(a.owned_begin(), a.owned_end() - a.owned_begin());
     petsc_check(PCSetCoordinates(pc, 3, static_cast<PetscInt>(xr.cols()), xr.data()), "PCSetCoordinates");
   }
   petsc_check(KSPSetTolerances(ksp, ksp_rtol, PETSC_DEFAULT, PETSC_DEFAULT, ksp_max_it), "KSPSetTolerances");
@@ -141,7 +165,7 @@ bool JacobianSolver::solve(const Eigen::Matrix3Xd& rhs, Eigen::Matrix3Xd& u) {
   to_vec(rhs, petsc_->b);
   if (!petsc_->solve(iterations_)) return false;
   u.resize(3, rhs.cols());
-  from_vec(petsc_->u, u);
+  from_vec(petsc_->u, petsc_->all, petsc_->whole, u);
   return true;
 }
 
@@ -152,7 +176,7 @@ bool JacobianSolver::solve_prescribed(const Eigen::Matrix3Xd& rhs, const Eigen::
   petsc_->a.eliminate(petsc_->fixed, petsc_->u, petsc_->b);
   if (!petsc_->solve(iterations_)) return false;
   u.resize(3, rhs.cols());
-  from_vec(petsc_->u, u);
+  from_vec(petsc_->u, petsc_->all, petsc_->whole, u);
   return true;
 }
 

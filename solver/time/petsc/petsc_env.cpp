@@ -1,5 +1,9 @@
 #include "solver/time/petsc/petsc_env.hpp"
 
+#include <omp.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <cstdlib>
 #include <mutex>
 
@@ -8,6 +12,7 @@
 #endif
 
 #include "common/error.hpp"
+#include "solver/core/stop_flag.hpp"
 
 namespace adamss::solver {
 
@@ -24,16 +29,82 @@ bool g_started = false;
 /// setup is most of what remained of MPI_Init: 26 -> 6 ms (a bare MPI_Init/MPI_Finalize program
 /// with these settings, fastest of 3, 2026-11-28).
 void prepare_singleton_mpi() {
-  if (std::getenv("OMPI_COMM_WORLD_SIZE") != nullptr || std::getenv("PMIX_RANK") != nullptr ||
-      std::getenv("PMI_RANK") != nullptr)
-    return;  // launched by mpirun / srun: leave MPI alone
+  if (launched_by_mpi()) return;  // mpirun / srun: leave MPI alone
   setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
   setenv("OMPI_MCA_pml", "ob1", 0);
   setenv("OMPI_MCA_btl", "self", 0);
   setenv("OMPI_MCA_hwloc_base_binding_policy", "none", 0);
   setenv("OMPI_MCA_orte_bound_at_launch", "1", 0);
 }
+/// The ranks' common stop decision: true when any rank's flag is set.
+bool any_rank_stops(bool local) {
+  int mine = local ? 1 : 0, any = 0;
+  MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
+  return any != 0;
+}
+
+/// Several ranks: OpenMP threads per rank = the cores this rank may use (its binding) shared
+/// with the other ranks on the node, at least 1; OMP_NUM_THREADS, when set, decides instead.
+void share_cores_between_ranks() {
+  if (std::getenv("OMP_NUM_THREADS") != nullptr) return;
+  int local = 1;
+  for (const char* v : {"OMPI_COMM_WORLD_LOCAL_SIZE", "MPI_LOCALNRANKS", "SLURM_NTASKS_PER_NODE"}) {
+    if (const char* s = std::getenv(v); s != nullptr && std::atoi(s) > 0) {
+      local = std::atoi(s);
+      break;
+    }
+  }
+  const int procs = omp_get_num_procs();  // the cores of this rank's binding (all if unbound)
+  const bool bound = procs < static_cast<int>(std::max(1L, sysconf(_SC_NPROCESSORS_ONLN)));
+  omp_set_num_threads(std::max(1, bound ? procs : procs / local));
+}
+
+void start_ranks() {
+  PetscMPIInt size = 1;
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  if (size <= 1) return;
+  share_cores_between_ranks();
+  set_stop_agreement(any_rank_stops);
+}
 }  // namespace
+
+bool launched_by_mpi() {
+  return std::getenv("OMPI_COMM_WORLD_SIZE") != nullptr || std::getenv("PMIX_RANK") != nullptr ||
+         std::getenv("PMI_RANK") != nullptr;
+}
+
+int mpi_rank() {
+  if (!launched_by_mpi()) {
+    PetscBool running = PETSC_FALSE;
+    PetscInitialized(&running);
+    if (!running) return 0;
+  }
+  ensure_petsc();
+  PetscMPIInt rank = 0;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  return rank;
+}
+
+int mpi_size() {
+  if (!launched_by_mpi()) {
+    PetscBool running = PETSC_FALSE;
+    PetscInitialized(&running);
+    if (!running) return 1;
+  }
+  ensure_petsc();
+  PetscMPIInt size = 1;
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  return size;
+}
+
+void abort_other_ranks(int code) {
+  PetscBool running = PETSC_FALSE;
+  PetscInitialized(&running);
+  if (running != PETSC_TRUE) return;
+  PetscMPIInt size = 1;
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  if (size > 1) MPI_Abort(PETSC_COMM_WORLD, code);
+}
 
 void petsc_check(PetscErrorCode ierr, const char* what) {
   if (ierr == 0) return;
@@ -65,16 +136,9 @@ void ensure_petsc(const std::string& options) {
     PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
     g_started = true;
     std::atexit(finalize_petsc);
+    start_ranks();
   }
   if (!options.empty()) petsc_check(PetscOptionsInsertString(nullptr, options.c_str()), "PETSc options");
-  // The objects live on PETSC_COMM_WORLD with global numbering, but the assembly is not
-  // distributed (every rank would hold the whole mesh): refuse several ranks clearly.
-  PetscMPIInt size = 1;
-  MPI_Comm_size(PETSC_COMM_WORLD, &size);
-  if (size > 1) {
-    throw InputError("the implicit solvers run on one MPI rank (the mesh is not partitioned yet); got " +
-                     std::to_string(size) + " ranks: run adamss without mpirun, or with -np 1");
-  }
 }
 
 void finalize_petsc() {

@@ -6,6 +6,12 @@
 // PETSC_COMM_WORLD; options come from the scene (`integrator.petsc_options`, a
 // string such as "-ksp_type gmres -pc_type gamg", to which `adamss run --petsc` appends its
 // own) and from the PETSC_OPTIONS environment variable.
+// Several ranks (mpirun -np N): every rank holds the whole model and state and runs the same
+// control flow; the Jacobian's rows, the vectors and the direct or iterative solve are
+// distributed (petsc_matrix.hpp, jacobian_solver.hpp), results are written by rank 0
+// (docs/parallel.md). Each rank then runs one OpenMP thread per core it may use
+// (OMP_NUM_THREADS overrides), and a stop request (SIGINT/SIGTERM) is agreed between the ranks
+// (set_stop_agreement in solver/core/stop_flag.hpp).
 // PETSc errors are turned into adamss::NumericalError carrying PETSc's message; PETSc's own
 // traceback printing is switched off.
 #include <petscsys.h>
@@ -16,6 +22,20 @@ namespace adamss::solver {
 
 /// Initialises PETSc if it is not running yet, then inserts `options` ("-ksp_type cg ...").
 void ensure_petsc(const std::string& options = {});
+
+/// True when a launcher (mpirun, srun) started this process, whatever the number of ranks.
+[[nodiscard]] bool launched_by_mpi();
+
+/// This process's rank on PETSC_COMM_WORLD and the number of ranks. When a launcher started the
+/// process these start PETSc (MPI must be up before the ranks can agree on anything); otherwise
+/// they are 0 and 1 and start nothing (an explicit run never needs PETSc).
+[[nodiscard]] int mpi_rank();
+[[nodiscard]] int mpi_size();
+
+/// Several ranks: ends every rank with `code` (MPI_Abort) after an error one rank may have met
+/// alone (an I/O error on rank 0's output), so that no rank waits forever in a collective call.
+/// Does nothing on one rank.
+void abort_other_ranks(int code);
 
 /// Finalises PETSc if ensure_petsc started it (called at exit by adamss; safe to call twice).
 void finalize_petsc();

@@ -11,11 +11,18 @@ namespace adamss::solver {
 class BlockMatrix::Sink final : public JacobianSink {
  public:
   explicit Sink(BlockMatrix& m) : m_(m) {}
+  [[nodiscard]] bool accepts(const Index* nodes, int n) const override {
+    for (int a = 0; a < n; ++a)
+      if (m_.owned(nodes[a])) return true;
+    return false;
+  }
   void add_block(Index a, Index b, const Eigen::Matrix3d& dfdx, const Eigen::Matrix3d& dfdv) override {
+    if (!m_.owned(a)) return;  // another rank's row
     PetscScalar* v = m_.values();
     const PetscInt k = 3 * m_.block_position(a, b);
+    const std::size_t ra = 3 * static_cast<std::size_t>(a - m_.n0_);
     for (int r = 0; r < 3; ++r) {
-      PetscScalar* row = v + m_.row_start_[static_cast<std::size_t>(3 * a + r)] + k;
+      PetscScalar* row = v + m_.row_start_[ra + static_cast<std::size_t>(r)] + k;
       for (int c = 0; c < 3; ++c) row[c] += cx * dfdx(r, c) + cv * dfdv(r, c);
     }
   }
@@ -24,7 +31,8 @@ class BlockMatrix::Sink final : public JacobianSink {
     const std::size_t ld = 3 * static_cast<std::size_t>(n);
     const bool with_v = cv != 0.0;
     for (int a = 0; a < n; ++a) {
-      const std::size_t ra = static_cast<std::size_t>(3 * nodes[a]);
+      if (!m_.owned(nodes[a])) continue;  // another rank's row
+      const std::size_t ra = 3 * static_cast<std::size_t>(nodes[a] - m_.n0_);
       for (int b = 0; b < n; ++b) {
         const PetscInt k = 3 * m_.block_position(nodes[a], nodes[b]);
         for (int r = 0; r < 3; ++r) {
@@ -49,49 +57,84 @@ class BlockMatrix::Sink final : public JacobianSink {
 BlockMatrix::BlockMatrix(const preprocess::Mesh& mesh, const std::vector<std::unique_ptr<ForceTerm>>* terms)
     : n_(static_cast<PetscInt>(mesh.node_count())) {
   ensure_petsc();
-  // Node adjacency from the elements (sorted, unique), for the block preallocation.
+  PetscMPIInt ranks = 1;
+  MPI_Comm_size(PETSC_COMM_WORLD, &ranks);
+  distributed_ = ranks > 1;
+  nloc_ = PETSC_DECIDE;
+  petsc_check(PetscSplitOwnership(PETSC_COMM_WORLD, &nloc_, &n_), "PetscSplitOwnership");
+  if (MPI_Scan(&nloc_, &n0_, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD) != MPI_SUCCESS)
+    throw NumericalError("BlockMatrix: MPI_Scan of the row ownership failed");
+  n0_ -= nloc_;  // the first particle of this rank
+  // Node adjacency from the elements (sorted, unique), for the block preallocation; only the
+  // owned rows are kept.
   const int k = preprocess::nodes_per_element(mesh.type);
   std::vector<std::vector<Index>> adj(static_cast<std::size_t>(n_));
   for (std::size_t e = 0; e < mesh.element_count(); ++e) {
     const Index* en = mesh.element(e);
-    for (int a = 0; a < k; ++a)
+    for (int a = 0; a < k; ++a) {
+      if (!owned(en[a])) continue;
       for (int b = 0; b < k; ++b) adj[static_cast<std::size_t>(en[a])].push_back(en[b]);
+    }
   }
   if (terms != nullptr) {
     for (const auto& t : *terms) t->add_couplings(adj);
   }
-  std::vector<PetscInt> nnz(static_cast<std::size_t>(n_));
-  brow_.assign(static_cast<std::size_t>(n_) + 1, 0);
-  for (PetscInt i = 0; i < n_; ++i) {
-    auto& row = adj[static_cast<std::size_t>(i)];
-    row.push_back(i);
+  std::vector<PetscInt> dnz(static_cast<std::size_t>(nloc_)), onz(static_cast<std::size_t>(nloc_));
+  brow_.assign(static_cast<std::size_t>(nloc_) + 1, 0);
+  for (PetscInt la = 0; la < nloc_; ++la) {
+    auto& row = adj[static_cast<std::size_t>(n0_ + la)];
+    row.push_back(static_cast<Index>(n0_ + la));
     std::sort(row.begin(), row.end());
     row.erase(std::unique(row.begin(), row.end()), row.end());
-    nnz[static_cast<std::size_t>(i)] = static_cast<PetscInt>(row.size());
-    brow_[static_cast<std::size_t>(i) + 1] = brow_[static_cast<std::size_t>(i)] + static_cast<PetscInt>(row.size());
+    const auto local = std::count_if(row.begin(), row.end(), [&](Index b) { return owned(b); });
+    dnz[static_cast<std::size_t>(la)] = static_cast<PetscInt>(local);
+    onz[static_cast<std::size_t>(la)] = static_cast<PetscInt>(row.size()) - static_cast<PetscInt>(local);
+    brow_[static_cast<std::size_t>(la) + 1] = brow_[static_cast<std::size_t>(la)] + static_cast<PetscInt>(row.size());
   }
   bcol_.reserve(static_cast<std::size_t>(brow_.back()));
-  for (const auto& row : adj) bcol_.insert(bcol_.end(), row.begin(), row.end());
+  for (PetscInt la = 0; la < nloc_; ++la) {
+    const auto& row = adj[static_cast<std::size_t>(n0_ + la)];
+    bcol_.insert(bcol_.end(), row.begin(), row.end());
+  }
   petsc_check(MatCreate(PETSC_COMM_WORLD, &a_), "MatCreate");
-  petsc_check(MatSetSizes(a_, PETSC_DECIDE, PETSC_DECIDE, 3 * n_, 3 * n_), "MatSetSizes");
+  petsc_check(MatSetSizes(a_, 3 * nloc_, 3 * nloc_, 3 * n_, 3 * n_), "MatSetSizes");
   petsc_check(MatSetType(a_, MATAIJ), "MatSetType");
   petsc_check(MatSetBlockSize(a_, 3), "MatSetBlockSize");
-  petsc_check(MatXAIJSetPreallocation(a_, 3, nnz.data(), nnz.data(), nullptr, nullptr), "MatXAIJSetPreallocation");
+  petsc_check(MatXAIJSetPreallocation(a_, 3, dnz.data(), onz.data(), nullptr, nullptr), "MatXAIJSetPreallocation");
   petsc_check(MatSetOption(a_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE), "MatSetOption");
   // Insert explicit zeros on the whole pattern so that it is fixed from the first assembly on.
   std::vector<double> zeros;
-  for (PetscInt i = 0; i < n_; ++i) {
-    const auto& row = adj[static_cast<std::size_t>(i)];
+  for (PetscInt la = 0; la < nloc_; ++la) {
+    const auto& row = adj[static_cast<std::size_t>(n0_ + la)];
     zeros.assign(9 * row.size(), 0.0);
     std::vector<PetscInt> cols(row.begin(), row.end());
+    const PetscInt i = n0_ + la;
     petsc_check(
         MatSetValuesBlocked(a_, 1, &i, static_cast<PetscInt>(cols.size()), cols.data(), zeros.data(), INSERT_VALUES),
         "MatSetValuesBlocked");
   }
   petsc_check(MatAssemblyBegin(a_, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
   petsc_check(MatAssemblyEnd(a_, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
-  record_layout();
+  if (distributed_) {
+    stage_layout();
+  } else {
+    record_layout();
+  }
   sink_ = std::make_unique<Sink>(*this);
+}
+
+void BlockMatrix::stage_layout() {
+  row_start_.resize(3 * static_cast<std::size_t>(nloc_));
+  scol_.clear();
+  scol_.reserve(3 * static_cast<std::size_t>(brow_.back()));
+  for (PetscInt la = 0; la < nloc_; ++la) {
+    const PetscInt b0 = brow_[static_cast<std::size_t>(la)], nb = brow_[static_cast<std::size_t>(la) + 1] - b0;
+    for (PetscInt r = 0; r < 3; ++r) row_start_[static_cast<std::size_t>(3 * la + r)] = 9 * b0 + 3 * nb * r;
+    for (PetscInt kk = 0; kk < nb; ++kk) {
+      for (PetscInt c = 0; c < 3; ++c) scol_.push_back(3 * bcol_[static_cast<std::size_t>(b0 + kk)] + c);
+    }
+  }
+  stage_.assign(9 * static_cast<std::size_t>(brow_.back()), 0.0);
 }
 
 void BlockMatrix::record_layout() {
@@ -127,8 +170,9 @@ BlockMatrix::~BlockMatrix() {
 }
 
 PetscInt BlockMatrix::block_position(Index a, Index b) const {
-  const auto first = bcol_.begin() + brow_[static_cast<std::size_t>(a)];
-  const auto last = bcol_.begin() + brow_[static_cast<std::size_t>(a) + 1];
+  const auto la = static_cast<std::size_t>(a - n0_);
+  const auto first = bcol_.begin() + brow_[la];
+  const auto last = bcol_.begin() + brow_[la + 1];
   const auto it = std::lower_bound(first, last, b);
   if (it == last || *it != b) {
     throw NumericalError("Jacobian block (" + std::to_string(a) + ", " + std::to_string(b) +
@@ -139,11 +183,13 @@ PetscInt BlockMatrix::block_position(Index a, Index b) const {
 }
 
 PetscScalar* BlockMatrix::values() {
+  if (distributed_) return stage_.data();
   if (vals_ == nullptr) petsc_check(MatSeqAIJGetArray(a_, &vals_), "MatSeqAIJGetArray");
   return vals_;
 }
 
 void BlockMatrix::zero() {
+  staged_ = distributed_;
   PetscScalar* v = values();
   std::fill(v, v + 9 * static_cast<std::size_t>(brow_.back()), 0.0);
 }
@@ -156,20 +202,43 @@ JacobianSink& BlockMatrix::sink(double cx, double cv) {
 
 void BlockMatrix::add_diagonal(const Eigen::VectorXd& mass, double c) {
   PetscScalar* v = values();
-  for (PetscInt i = 0; i < n_; ++i) {
-    const PetscInt k = 3 * block_position(i, i);
-    for (PetscInt d = 0; d < 3; ++d) v[row_start_[static_cast<std::size_t>(3 * i + d)] + k + d] += c * mass[i];
+  for (PetscInt la = 0; la < nloc_; ++la) {
+    const PetscInt i = n0_ + la;
+    const PetscInt k = 3 * block_position(static_cast<Index>(i), static_cast<Index>(i));
+    for (PetscInt d = 0; d < 3; ++d) v[row_start_[static_cast<std::size_t>(3 * la + d)] + k + d] += c * mass[i];
   }
 }
 
 void BlockMatrix::assemble() {
+  if (distributed_) {
+    if (!staged_) return;
+    for (PetscInt la = 0; la < nloc_; ++la) {
+      const PetscInt b0 = brow_[static_cast<std::size_t>(la)], nb = brow_[static_cast<std::size_t>(la) + 1] - b0;
+      const PetscInt* cols = scol_.data() + 3 * b0;
+      for (PetscInt r = 0; r < 3; ++r) {
+        const PetscInt row = 3 * (n0_ + la) + r;
+        petsc_check(MatSetValues(a_, 1, &row, 3 * nb, cols,
+                                 stage_.data() + row_start_[static_cast<std::size_t>(3 * la + r)], INSERT_VALUES),
+                    "MatSetValues");
+      }
+    }
+    petsc_check(MatAssemblyBegin(a_, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+    petsc_check(MatAssemblyEnd(a_, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+    staged_ = false;
+    return;
+  }
   if (vals_ != nullptr) petsc_check(MatSeqAIJRestoreArray(a_, &vals_), "MatSeqAIJRestoreArray");
   vals_ = nullptr;
 }
 
 void BlockMatrix::eliminate(const std::vector<PetscInt>& dofs, Vec x, Vec b) {
   assemble();
-  petsc_check(MatZeroRowsColumns(a_, static_cast<PetscInt>(dofs.size()), dofs.data(), 1.0, x, b), "MatZeroRowsColumns");
+  // This rank's rows only (dofs ascending): PETSc zeroes the matching columns on every rank.
+  const auto first = std::lower_bound(dofs.begin(), dofs.end(), 3 * n0_);
+  const auto last = std::lower_bound(first, dofs.end(), 3 * (n0_ + nloc_));
+  petsc_check(
+      MatZeroRowsColumns(a_, static_cast<PetscInt>(last - first), dofs.data() + (first - dofs.begin()), 1.0, x, b),
+      "MatZeroRowsColumns");
 }
 
 std::vector<PetscInt> constrained_dofs(const std::vector<std::uint8_t>& mask) {

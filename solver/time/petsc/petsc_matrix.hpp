@@ -17,8 +17,15 @@
 // sink(cx, cv) adds cx df/dx + cv df/dv for every block or whole stencil a term hands it (a
 // block outside the pattern is a NumericalError naming the two nodes); add_diagonal() adds
 // c m_i I (the mass matrix). eliminate() applies Dirichlet rows and columns
-// (MatZeroRowsColumns, unit diagonal) for fixed and controlled coordinates. One MPI rank only
-// (ensure_petsc refuses more).
+// (MatZeroRowsColumns, unit diagonal) for fixed and controlled coordinates.
+//
+// On several MPI ranks the matrix is a MATMPIAIJ whose rows are split by particle: rank r owns
+// the block rows of particles [begin, end) (PetscSplitOwnership, contiguous ranges in the mesh's
+// numbering). Every rank holds the whole model, so each one computes the element blocks whose
+// stencil touches one of its particles (JacobianSink::accepts) and keeps the rows it owns: no
+// block travels between ranks. Its rows are staged in a CSR array of the same block layout as
+// above (global columns, sorted) and handed to PETSc row by row (MatSetValues, INSERT_VALUES)
+// when the matrix is assembled.
 #include <petscmat.h>
 
 #include <Eigen/Core>
@@ -41,6 +48,9 @@ class BlockMatrix {
 
   [[nodiscard]] Mat mat() const { return a_; }
   [[nodiscard]] PetscInt size() const { return 3 * n_; }
+  /// The particles whose rows this rank owns: [owned_begin, owned_end) (all of them on one rank).
+  [[nodiscard]] Index owned_begin() const { return static_cast<Index>(n0_); }
+  [[nodiscard]] Index owned_end() const { return static_cast<Index>(n0_ + nloc_); }
 
   /// Zeroes the values (the pattern stays) and opens the value array for the sink.
   void zero();
@@ -56,18 +66,26 @@ class BlockMatrix {
 
  private:
   class Sink;
-  /// Position of block (a, b) among the block columns of row a (an index into bcol_);
+  /// Position of block (a, b) among the block columns of row a (an owned particle; an index into bcol_);
   /// NumericalError when the pair is outside the pattern.
   [[nodiscard]] PetscInt block_position(Index a, Index b) const;
-  /// Reads PETSc's row pointers into row_start_ and checks the block layout (constructor).
+  /// Reads PETSc's row pointers into row_start_ and checks the block layout (constructor, one rank).
   void record_layout();
+  /// Several ranks: row_start_ for the staged rows and the global column indices of each block row.
+  void stage_layout();
+  [[nodiscard]] bool owned(Index a) const { return a >= n0_ && a < n0_ + nloc_; }
   /// The value array, opened (MatSeqAIJGetArray) when it is not yet.
   PetscScalar* values();
   Mat a_ = nullptr;
-  PetscInt n_ = 0;
-  std::vector<PetscInt> brow_;       ///< block row pointers (n + 1)
-  std::vector<Index> bcol_;          ///< block columns, sorted per block row
-  std::vector<PetscInt> row_start_;  ///< start of each scalar row in the value array (3n)
+  PetscInt n_ = 0;                   ///< particles
+  PetscInt n0_ = 0, nloc_ = 0;       ///< this rank's particles [n0, n0 + nloc)
+  bool distributed_ = false;         ///< several ranks: values staged in stage_
+  bool staged_ = false;              ///< several ranks: stage_ written since the last assemble()
+  std::vector<PetscInt> brow_;       ///< block row pointers of the owned particles (nloc + 1)
+  std::vector<Index> bcol_;          ///< block columns (global), sorted per block row
+  std::vector<PetscInt> row_start_;  ///< start of each owned scalar row in the value array (3 nloc)
+  std::vector<PetscScalar> stage_;   ///< several ranks: the owned rows' values
+  std::vector<PetscInt> scol_;       ///< several ranks: scalar columns of each block row (3 per block)
   PetscScalar* vals_ = nullptr;      ///< the value array while open (zero() .. assemble())
   std::unique_ptr<Sink> sink_;
 };
