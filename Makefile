@@ -61,6 +61,7 @@ bench: configure
 	  --benchmark_out=$(BENCH_RESULTS)/kernels.json --benchmark_out_format=json
 	@bench/hybmss_cube.sh $(BUILD_DIR)/app/adamss $(BENCH_RESULTS)/hybmss_cube.json
 	@bench/solver.sh $(BUILD_DIR)/app/adamss $(BENCH_RESULTS)/solver.json
+	@if [ "$(BENCH_QUICK)" != 1 ]; then bench/mpi.sh $(BUILD_DIR)/app/adamss $(BENCH_RESULTS)/mpi.json; fi
 	@if [ -f bench/pareto/run.sh ] && [ "$(BENCH_QUICK)" != 1 ]; then \
 	  bash bench/pareto/run.sh $(BUILD_DIR)/app/adamss $(BENCH_RESULTS); fi
 	@bench/make_report.sh $(BENCH_RESULTS) $(BUILD_DIR) $(if $(filter bench/results,$(BENCH_RESULTS)),bench/report.md,$(BENCH_RESULTS)/report.md)

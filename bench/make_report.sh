@@ -359,6 +359,23 @@ PY
     echo "(no solver.json)"
   fi
   echo
+  echo "## MPI ranks (bench/mpi.sh)"
+  echo
+  if [[ -f $res/mpi.json ]]; then
+    echo "Whole commands (mpirun start-up included), median of the repeats; LU = MatLUFactorNum (max over"
+    echo "ranks). docs/parallel.md reads these numbers and gives the scaling model."
+    echo
+    echo "| scene | setting | wall (s) | LU (s) | Newton |"
+    echo "|---|---|---|---|---|"
+    python3 - "$res/mpi.json" <<'PY'
+import json, sys
+for r in json.load(open(sys.argv[1]))["runs"]:
+    print(f"| {r['scene']} | {r['setting']} | {r['wall_s']:.2f} | {r['lu_s']:.2f} | {r['newton']} |")
+PY
+  else
+    echo "(no mpi.json)"
+  fi
+  echo
   if [[ -f $res/pareto.md ]]; then
     # pareto.md (bench/pareto/report.sh) brings its own "## Speed against error" heading.
     sed -E "s#\]\((pareto_[^)]*\.png)\)#]($resrel/\1)#g; s/^# /### /" "$res/pareto.md"
