@@ -260,7 +260,10 @@ solver::RunOutcome run_into(solver::LoadedScene& sc, const RunArgs& a, const fs:
   for (const std::string& c : changes) writer.log().line("warning: --resume-modified: " + c);
   try {
     solver::RunOutcome out = solver::run_simulation(sc.model, s, sc.run, writer, checkpoint ? &*checkpoint : nullptr);
-    if (!writes) return out;
+    if (!writes) {
+      solver::barrier_ranks();  // rank 0 writes the summary (and a failed run's last files) first
+      return out;
+    }
     nlohmann::json j = summary_json(sc, out, solver::summarize_run(sc.model, out, initial, writer));
     if (!changes.empty()) j["resume_modified"] = changes;
     j["mpi_ranks"] = a.ranks;
@@ -270,6 +273,7 @@ solver::RunOutcome run_into(solver::LoadedScene& sc, const RunArgs& a, const fs:
          << out.wall_seconds << " s wall, " << writer.frame_count() << " frames; results in " << output.string();
     writer.log().line(done.str());
     if (!a.quiet) std::cout << done.str() << "\n";
+    solver::barrier_ranks();
     return out;
   } catch (const IoError& e) {
     if (writer.started()) record_io_failure(writer.dir(), sc, e.what());

@@ -1,5 +1,6 @@
 // adamss: anisotropic mass-spring cardiac mechanics. Thin CLI over the libraries.
 #include <CLI/CLI.hpp>
+#include <cstdlib>
 #include <iostream>
 #include <regex>
 #include <sstream>
@@ -67,6 +68,15 @@ std::string describe_parse_error(const CLI::ParseError& e, const CLI::App& sub) 
   return msg;
 }
 
+/// True when a launcher started this process as one of several ranks (Open MPI, MPICH/Hydra,
+/// Slurm's PMI): read from the environment, without starting MPI.
+bool launched_on_several_ranks() {
+  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE"}) {
+    if (const char* s = std::getenv(v); s != nullptr && std::atoi(s) > 1) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 // NOLINTNEXTLINE(bugprone-exception-escape): outside the try only building the option tables throws (a bug: abort)
@@ -95,6 +105,11 @@ int main(int argc, char** argv) {
                 << " (commands: " << joined(commands) << ")\n";
       return 2;
     }
+  }
+  if (const std::string first = argv[1]; first != "run" && first[0] != '-' && launched_on_several_ranks()) {
+    std::cerr << "adamss " << first << ": error: only 'adamss run' runs on several MPI ranks "
+              << "(docs/parallel.md); run 'adamss " << first << "' without mpirun\n";
+    return 2;
   }
   try {
     app.parse(argc, argv);

@@ -153,15 +153,15 @@ class StencilTerm final : public ForceTerm {
     const std::size_t n = kernel_.size();
     if (n == 0) return;
     const OwnedNodes* owned = owned_force_nodes();
-    prepare_scatter(owned);
-    const std::size_t m = owned != nullptr ? items_.size() : n;
+    const ScatterTable& table = prepare_scatter(owned);
+    const std::size_t m = owned != nullptr ? table.items.size() : n;
     local_.resize(3 * N, static_cast<Eigen::Index>(m));
     const auto ni = static_cast<std::ptrdiff_t>(m);
     const bool par = m >= kParallelMin;
     LowestFailure failure;
 #pragma omp parallel for schedule(static) if (par)
     for (std::ptrdiff_t ii = 0; ii < ni; ++ii) {
-      const std::size_t i = owned != nullptr ? items_[static_cast<std::size_t>(ii)] : static_cast<std::size_t>(ii);
+      const std::size_t i = owned != nullptr ? table.items[static_cast<std::size_t>(ii)] : static_cast<std::size_t>(ii);
       Mat3N<N> x, v, fl;
       gather(s, kernel_.stencil(i), x, v);
       fl.setZero();
@@ -173,17 +173,17 @@ class StencilTerm final : public ForceTerm {
       local_.col(ii) = Eigen::Map<const Eigen::Matrix<double, 3 * N, 1>>(fl.data());
     }
     failure.rethrow();
-    const auto rows = static_cast<std::ptrdiff_t>(scatter_node_.size());
+    const auto rows = static_cast<std::ptrdiff_t>(table.node.size());
 #pragma omp parallel for schedule(static) if (par)
     for (std::ptrdiff_t r = 0; r < rows; ++r) {
       Eigen::Vector3d acc = Eigen::Vector3d::Zero();
-      for (std::size_t k = scatter_begin_[static_cast<std::size_t>(r)];
-           k < scatter_begin_[static_cast<std::size_t>(r) + 1]; ++k) {
-        const std::size_t slot = scatter_slot_[k];  // (position in the evaluated items) * N + a
+      for (std::size_t k = table.begin[static_cast<std::size_t>(r)]; k < table.begin[static_cast<std::size_t>(r) + 1];
+           ++k) {
+        const std::size_t slot = table.slot[k];  // (position in the evaluated items) * N + a
         acc +=
             local_.template block<3, 1>(static_cast<Eigen::Index>(3 * (slot % N)), static_cast<Eigen::Index>(slot / N));
       }
-      f.col(scatter_node_[static_cast<std::size_t>(r)]) += acc;
+      f.col(table.node[static_cast<std::size_t>(r)]) += acc;
     }
   }
 
@@ -255,45 +255,57 @@ class StencilTerm final : public ForceTerm {
     }
   }
 
-  /// Builds (once per owned range) the node -> (item, slot) table used to sum the item forces per
-  /// node: over every item, or with `owned` over the items touching it (items_, in item order)
-  /// and for its particles only.
-  void prepare_scatter(const OwnedNodes* owned) const {
+  /// The node -> (item, slot) table that sums the item forces per node, in item order: over every
+  /// item, or for an owned range over the items touching it (`items`) and into its particles only.
+  struct ScatterTable {
+    std::vector<Index> node;
+    std::vector<std::size_t> begin, slot;
+    std::vector<std::size_t> items;  ///< owned range only: the items evaluated
+    std::size_t item_count = 0;      ///< kernel_.size() when built
+    Index first = 0, last = -1;      ///< the owned range it was built for
+    bool ready = false;
+  };
+
+  /// The table for the whole evaluation or for `owned`, built once (one of each is kept: a term
+  /// evaluated both inside and outside a scope, the cavity constraint's unit pressure, does not
+  /// rebuild it at every call).
+  const ScatterTable& prepare_scatter(const OwnedNodes* owned) const {
+    ScatterTable& t = owned != nullptr ? owned_table_ : full_table_;
     const Index b = owned != nullptr ? owned->begin : 0, e = owned != nullptr ? owned->end : -1;
-    if (scatter_ready_ && scatter_items_ == kernel_.size() && scatter_begin_node_ == b && scatter_end_node_ == e)
-      return;
     const std::size_t n = kernel_.size();
-    items_.clear();
+    if (t.ready && t.item_count == n && t.first == b && t.last == e) return t;
+    t.items.clear();
     std::vector<std::pair<Index, std::size_t>> pairs;  // (node, position * N + a), in item order
     pairs.reserve(n * N);
     for (std::size_t i = 0; i < n; ++i) {
       const std::array<Index, N> st = kernel_.stencil(i);
       if (owned != nullptr) {
         if (std::none_of(st.begin(), st.end(), [&](Index a) { return owned->contains(a); })) continue;
-        items_.push_back(i);
+        t.items.push_back(i);
       }
-      const std::size_t pos = owned != nullptr ? items_.size() - 1 : i;
+      const std::size_t pos = owned != nullptr ? t.items.size() - 1 : i;
       for (int a = 0; a < N; ++a) {
         const Index node = st[static_cast<std::size_t>(a)];
         if (owned == nullptr || owned->contains(node)) pairs.emplace_back(node, pos * N + static_cast<std::size_t>(a));
       }
     }
     std::stable_sort(pairs.begin(), pairs.end(), [](const auto& p, const auto& q) { return p.first < q.first; });
-    scatter_node_.clear();
-    scatter_begin_.clear();
-    scatter_slot_.resize(pairs.size());
+    t.node.clear();
+    t.begin.clear();
+    t.slot.resize(pairs.size());
     for (std::size_t k = 0; k < pairs.size(); ++k) {
       if (k == 0 || pairs[k].first != pairs[k - 1].first) {
-        scatter_node_.push_back(pairs[k].first);
-        scatter_begin_.push_back(k);
+        t.node.push_back(pairs[k].first);
+        t.begin.push_back(k);
       }
-      scatter_slot_[k] = pairs[k].second;
+      t.slot[k] = pairs[k].second;
     }
-    scatter_begin_.push_back(pairs.size());
-    scatter_items_ = n;
-    scatter_begin_node_ = b;
-    scatter_end_node_ = e;
-    scatter_ready_ = true;
+    t.begin.push_back(pairs.size());
+    t.item_count = n;
+    t.first = b;
+    t.last = e;
+    t.ready = true;
+    return t;
   }
 
   static constexpr std::size_t kParallelMin = 256;
@@ -301,12 +313,7 @@ class StencilTerm final : public ForceTerm {
   Kernel kernel_;
   // Work space of add_forces (not thread-safe across concurrent calls on the same term).
   mutable Eigen::Matrix<double, 3 * N, Eigen::Dynamic> local_;
-  mutable std::vector<Index> scatter_node_;
-  mutable std::vector<std::size_t> scatter_begin_, scatter_slot_;
-  mutable std::size_t scatter_items_ = 0;
-  mutable Index scatter_begin_node_ = 0, scatter_end_node_ = -1;  ///< the owned range of the table
-  mutable std::vector<std::size_t> items_;                        ///< inside an OwnedForceScope: the items evaluated
-  mutable bool scatter_ready_ = false;
+  mutable ScatterTable full_table_, owned_table_;
   mutable std::vector<MatJ<N>> jac_x_, jac_v_;  ///< a chunk's local Jacobians (add_jacobian)
 };
 

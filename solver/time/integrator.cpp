@@ -1,6 +1,7 @@
 #include "solver/time/integrator.hpp"
 
 #include <cmath>
+#include <exception>
 #include <stdexcept>
 
 #include "common/error.hpp"
@@ -34,10 +35,16 @@ void System::forces(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, double
   f.setZero(3, x.cols());
   const StateView s{x, v, t};
   if (exchange_) {
+    std::exception_ptr error;  // a bad element of this rank: every rank must leave together
     {
       const OwnedForceScope scope(exchange_->owned());
-      for (const auto& term : model_.terms) term->add_forces(s, f);
+      try {
+        for (const auto& term : model_.terms) term->add_forces(s, f);
+      } catch (...) {
+        error = std::current_exception();
+      }
     }
+    ForceExchange::agree(error);
     exchange_->gather(f);
   } else {
     for (const auto& term : model_.terms) term->add_forces(s, f);

@@ -16,6 +16,7 @@ class ScaledSink final : public JacobianSink {
   void add_block(Index a, Index b, const Eigen::Matrix3d& dfdx, const Eigen::Matrix3d& dfdv) override {
     inner_.add_block(a, b, c_ * dfdx, c_ * dfdv);
   }
+  [[nodiscard]] bool accepts(const Index* nodes, int n) const override { return inner_.accepts(nodes, n); }
 
  private:
   JacobianSink& inner_;

@@ -38,6 +38,10 @@ void ForceExchange::gather(Eigen::Matrix3Xd& f) const {
     throw NumericalError("ForceExchange: MPI_Allgatherv of the forces failed");
 }
 
+void ForceExchange::agree(const std::exception_ptr& local) {
+  agree_on_error(local);
+}
+
 std::unique_ptr<ForceExchange> force_exchange_if_ranks(preprocess::Index node_count) {
   if (mpi_size() <= 1) return nullptr;
   return std::make_unique<ForceExchange>(node_count);

@@ -5,6 +5,7 @@
 // with the same whole vector. The particles are split as the Jacobian's rows
 // (PetscSplitOwnership of the particle count, contiguous ranges). PETSc-free header.
 #include <Eigen/Core>
+#include <exception>
 #include <memory>
 #include <vector>
 
@@ -20,6 +21,9 @@ class ForceExchange {
   [[nodiscard]] const OwnedNodes& owned() const { return owned_; }
   /// Replaces the columns of f outside this rank's particles by their owners' (3 x node_count).
   void gather(Eigen::Matrix3Xd& f) const;
+  /// Before gather: when the evaluation failed on any rank (`local`: this rank's error, if any),
+  /// every rank throws the lowest failing rank's error (agree_on_error, petsc_env.hpp).
+  static void agree(const std::exception_ptr& local);
 
  private:
   OwnedNodes owned_;

@@ -3,6 +3,7 @@
 #include <petscksp.h>
 
 #include <cstring>
+#include <exception>
 
 #include "common/error.hpp"
 #include "solver/core/stop_flag.hpp"
@@ -50,6 +51,23 @@ void from_vec(Vec v, VecScatter all, Vec whole, Eigen::Matrix3Xd& m) {
   petsc_check(VecRestoreArrayRead(src, &a), "VecRestoreArrayRead");
 }
 
+/// Several ranks: an LU or Cholesky preconditioner needs a distributed factorisation (MUMPS or
+/// SuperLU_dist); PETSc's own is serial and would fail inside the first solve.
+void require_parallel_factorisation(PC pc) {
+  PCType type = nullptr;
+  petsc_check(PCGetType(pc, &type), "PCGetType");
+  if (type == nullptr || (std::strcmp(type, PCLU) != 0 && std::strcmp(type, PCCHOLESKY) != 0)) return;
+  MatSolverType solver = nullptr;
+  petsc_check(PCFactorGetMatSolverType(pc, &solver), "PCFactorGetMatSolverType");
+  if (solver != nullptr &&
+      (std::strcmp(solver, MATSOLVERMUMPS) == 0 || std::strcmp(solver, MATSOLVERSUPERLU_DIST) == 0))
+    return;
+  throw InputError(std::string("the ") + type + " factorisation on several MPI ranks needs MUMPS or SuperLU_dist (" +
+                   (solver != nullptr ? solver : "PETSc's own") +
+                   " is serial): add -pc_factor_mat_solver_type mumps, choose an iterative solver "
+                   "(--petsc \"-ksp_type gmres -pc_type gamg\") or run on one rank");
+}
+
 }  // namespace
 
 struct JacobianSolver::Petsc {
@@ -95,11 +113,6 @@ void JacobianSolver::Petsc::configure(const Eigen::Matrix3Xd& x_ref, double ksp_
     // -log_view, with OpenBLAS as the BLAS).
     PetscBool mumps = PETSC_FALSE;
     petsc_check(MatGetFactorAvailable(a.mat(), MATSOLVERMUMPS, MAT_FACTOR_LU, &mumps), "MatGetFactorAvailable");
-    if (mumps != PETSC_TRUE && all != nullptr) {
-      throw InputError(
-          "the direct solver on several MPI ranks needs PETSc with MUMPS (PETSc's own LU is serial); "
-          "run on one rank or choose an iterative solver (--petsc \"-ksp_type gmres -pc_type gamg\")");
-    }
     if (mumps == PETSC_TRUE) {
       petsc_check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
       // MUMPS sizes its workspace from the analysis plus ICNTL(14) per cent (default 20) for the
@@ -125,6 +138,7 @@ void JacobianSolver::Petsc::configure(const Eigen::Matrix3Xd& x_ref, double ksp_
   petsc_check(KSPSetConvergenceTest(ksp, converged_or_stopped, conv, KSPConvergedDefaultDestroy),
               "KSPSetConvergenceTest");
   petsc_check(KSPSetFromOptions(ksp), "KSPSetFromOptions");
+  if (all != nullptr) require_parallel_factorisation(pc);
 }
 
 bool JacobianSolver::Petsc::solve(int& its) {
@@ -152,8 +166,14 @@ void JacobianSolver::assemble(const std::vector<std::unique_ptr<ForceTerm>>& ter
                               double cv, const Eigen::VectorXd* mass) {
   BlockMatrix& a = petsc_->a;
   a.zero();
-  for (const auto& term : terms) term->add_jacobian(at, a.sink(cx, cv));
-  if (mass != nullptr) a.add_diagonal(*mass, 1.0);
+  std::exception_ptr error;  // several ranks: a bad element of one rank's rows ends every rank's assembly
+  try {
+    for (const auto& term : terms) term->add_jacobian(at, a.sink(cx, cv));
+    if (mass != nullptr) a.add_diagonal(*mass, 1.0);
+  } catch (...) {
+    error = std::current_exception();
+  }
+  agree_on_error(error);
   a.assemble();
 }
 

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cstdlib>
 #include <mutex>
+#include <string>
+#include <utility>
 
 #if defined(__SANITIZE_ADDRESS__)
 #include <sanitizer/lsan_interface.h>
@@ -66,6 +68,31 @@ void start_ranks() {
   share_cores_between_ranks();
   set_stop_agreement(any_rank_stops);
 }
+bool several_ranks() {
+  PetscBool running = PETSC_FALSE;
+  PetscInitialized(&running);
+  if (running != PETSC_TRUE) return false;
+  PetscMPIInt size = 1;
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  return size > 1;
+}
+
+/// The kind (1 numerical, 2 input, 3 I/O, 4 other) and message of an exception.
+std::pair<int, std::string> classify(const std::exception_ptr& e) {
+  try {
+    std::rethrow_exception(e);
+  } catch (const NumericalError& x) {
+    return {1, x.what()};
+  } catch (const InputError& x) {
+    return {2, x.what()};
+  } catch (const IoError& x) {
+    return {3, x.what()};
+  } catch (const std::exception& x) {
+    return {4, x.what()};
+  } catch (...) {
+    return {4, "unknown error"};
+  }
+}
 }  // namespace
 
 bool launched_by_mpi() {
@@ -98,12 +125,39 @@ int mpi_size() {
 }
 
 void abort_other_ranks(int code) {
-  PetscBool running = PETSC_FALSE;
-  PetscInitialized(&running);
-  if (running != PETSC_TRUE) return;
-  PetscMPIInt size = 1;
+  if (several_ranks()) MPI_Abort(PETSC_COMM_WORLD, code);
+}
+
+void agree_on_error(const std::exception_ptr& local) {
+  if (!several_ranks()) {
+    if (local) std::rethrow_exception(local);
+    return;
+  }
+  PetscMPIInt rank = 0, size = 1;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   MPI_Comm_size(PETSC_COMM_WORLD, &size);
-  if (size > 1) MPI_Abort(PETSC_COMM_WORLD, code);
+  int mine = local ? rank : size, first = size;
+  MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, PETSC_COMM_WORLD);
+  if (first == size) return;  // no rank failed
+  if (first == rank) {
+    auto [kind, text] = classify(local);
+    int head[2] = {kind, static_cast<int>(text.size())};
+    MPI_Bcast(head, 2, MPI_INT, first, PETSC_COMM_WORLD);
+    MPI_Bcast(text.data(), head[1], MPI_CHAR, first, PETSC_COMM_WORLD);
+    std::rethrow_exception(local);
+  }
+  int head[2] = {0, 0};
+  MPI_Bcast(head, 2, MPI_INT, first, PETSC_COMM_WORLD);
+  std::string text(static_cast<std::size_t>(head[1]), '\0');
+  MPI_Bcast(text.data(), head[1], MPI_CHAR, first, PETSC_COMM_WORLD);
+  text += " (on MPI rank " + std::to_string(first) + ")";
+  if (head[0] == 2) throw InputError(text);
+  if (head[0] == 3) throw IoError(text);
+  throw NumericalError(text);
+}
+
+void barrier_ranks() {
+  if (several_ranks()) MPI_Barrier(PETSC_COMM_WORLD);
 }
 
 void petsc_check(PetscErrorCode ierr, const char* what) {

@@ -16,6 +16,7 @@
 // traceback printing is switched off.
 #include <petscsys.h>
 
+#include <exception>
 #include <string>
 
 namespace adamss::solver {
@@ -36,6 +37,17 @@ void ensure_petsc(const std::string& options = {});
 /// alone (an I/O error on rank 0's output), so that no rank waits forever in a collective call.
 /// Does nothing on one rank.
 void abort_other_ranks(int code);
+
+/// Several ranks, at a point every rank reaches (a collective call): when any rank met an error
+/// (`local` set) every rank throws the error of the lowest such rank -- NumericalError, InputError
+/// and IoError keep their kind and message, any other exception becomes a NumericalError with
+/// its message -- so that all ranks take the same way out (a force or Jacobian evaluation split
+/// between the ranks fails on the rank that owns the bad element only). One rank: rethrows
+/// `local` if set.
+void agree_on_error(const std::exception_ptr& local);
+
+/// Several ranks: waits until every rank arrives (MPI_Barrier); nothing on one rank.
+void barrier_ranks();
 
 /// Finalises PETSc if ensure_petsc started it (called at exit by adamss; safe to call twice).
 void finalize_petsc();
