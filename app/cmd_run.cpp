@@ -372,7 +372,8 @@ void add_run_command(CLI::App& app) {
       "run",
       "Run a scene: build the model it describes (mesh, materials and force terms, loads, boundary conditions), "
       "integrate in time and write OUT/summary.json, OUT/globals.csv, OUT/series.pvd with frames. "
-      "Keys of the scene file: docs/scene-reference.md.");
+      "Keys of the scene file: docs/scene-reference.md. Runs on several MPI ranks under mpirun -np N "
+      "(docs/parallel.md).");
   sub->add_option("scene", args->scene, "Scene file (.yaml)")->required();
   sub->add_option("-o,--output", args->output, "Results folder (created)");
   sub->add_option("--cache", args->cache,
