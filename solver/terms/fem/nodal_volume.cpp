@@ -7,6 +7,7 @@
 
 #include "common/error.hpp"
 #include "solver/core/element_subset.hpp"
+#include "solver/core/owned_nodes.hpp"
 #include "solver/core/stencil_term.hpp"
 #include "solver/geometry/axis_frame.hpp"
 #include "solver/terms/adamss/volume_preservation.hpp"
@@ -164,7 +165,13 @@ std::vector<double> NodalVolumeTerm<K>::ratios(const Eigen::Matrix3Xd& x) const 
 template <int K>
 void NodalVolumeTerm<K>::add_forces(const StateView& s, Eigen::Matrix3Xd& f) const {
   const std::vector<double> jn = slopes(s.x, s.t);  // U'_n + lambda_n
+  // On several MPI ranks (solver/core/owned_nodes.hpp) only the elements touching this rank's
+  // particles; their forces are then those of the whole loop, summed in the same element order.
+  const OwnedNodes* owned = owned_force_nodes();
   for (std::size_t e = 0; e < elements_.size(); ++e) {
+    if (owned != nullptr &&
+        std::none_of(elements_[e].begin(), elements_[e].end(), [&](Index n) { return owned->contains(n); }))
+      continue;
     double c = 0.0;  // c_e = sum_{n in e} w_en U'_n
     for (std::size_t a = 0; a < K; ++a) {
       c += share_[e][a] * jn[static_cast<std::size_t>(local_[e][a])];
@@ -190,6 +197,7 @@ void NodalVolumeTerm<K>::add_jacobian(const StateView& s, JacobianSink& sink) co
     }
     element_volume_derivatives<K>(element_positions<K>(s.x, elements_[e].data()), v, dv[e], hess);
     for (int a = 0; a < K; ++a) {
+      if (!sink.accepts(&elements_[e][static_cast<std::size_t>(a)], 1)) continue;  // another MPI rank's row
       for (int b = 0; b < K; ++b) {
         if (a == b) continue;  // H_aa = 0
         sink.add_block(elements_[e][static_cast<std::size_t>(a)], elements_[e][static_cast<std::size_t>(b)],
@@ -216,6 +224,7 @@ void NodalVolumeTerm<K>::add_jacobian(const StateView& s, JacobianSink& sink) co
     const double w = penalty_.curvature(jn[n], r) / volume0_[n];
     for (std::size_t p = 0; p < m; ++p) {
       const Index np = nodes_[static_cast<std::size_t>(patch_[p0 + p])];
+      if (!sink.accepts(&np, 1)) continue;  // another MPI rank's row
       for (std::size_t q = 0; q < m; ++q) {
         sink.add_block(np, nodes_[static_cast<std::size_t>(patch_[p0 + q])], -w * g[p] * g[q].transpose(), zero);
       }
