@@ -302,10 +302,9 @@ std::uint64_t mesh_file_hash(const solver::LoadedScene& sc, const RunArgs& a) {
 /// Loads the scene; on several MPI ranks rank 0 first (it may build the scene's mesh into the
 /// cache), then the others, which find it there.
 solver::LoadedScene load_on_ranks(const RunArgs& a, const solver::SceneOptions& so) {
-  if (a.ranks == 1) return solver::load_scene(a.scene, so);
-  if (a.rank > 0) MPI_Barrier(PETSC_COMM_WORLD);
+  if (a.rank > 0) solver::barrier_ranks();
   solver::LoadedScene sc = solver::load_scene(a.scene, so);
-  if (a.rank == 0) MPI_Barrier(PETSC_COMM_WORLD);
+  if (a.rank == 0) solver::barrier_ranks();
   return sc;
 }
 
@@ -314,21 +313,10 @@ solver::LoadedScene load_on_ranks(const RunArgs& a, const solver::SceneOptions& 
 /// Nothing happens on one rank (main() reports the error).
 void abort_ranks_after(const std::exception& e) {
   if (solver::mpi_size() <= 1) return;
-  int code = 1;
-  const char* kind = "internal error";
-  if (dynamic_cast<const InputError*>(&e) != nullptr) {
-    code = 2;
-    kind = "error";
-  } else if (dynamic_cast<const NumericalError*>(&e) != nullptr) {
-    code = 3;
-    kind = "numerical error";
-  } else if (dynamic_cast<const IoError*>(&e) != nullptr) {
-    code = 4;
-    kind = "I/O error";
-  }
-  std::cerr << "adamss: " << kind << " (MPI rank " << solver::mpi_rank() << " of " << solver::mpi_size()
+  const ErrorReport r = error_report(e);
+  std::cerr << "adamss: " << r.label << " (MPI rank " << solver::mpi_rank() << " of " << solver::mpi_size()
             << "): " << e.what() << std::endl;
-  solver::abort_other_ranks(code);
+  solver::abort_other_ranks(r.exit_status);
 }
 
 int run_scene(RunArgs a) {

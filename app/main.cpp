@@ -122,18 +122,10 @@ int main(int argc, char** argv) {
     const std::string who = chosen.empty() ? "adamss" : "adamss " + sub.get_name();
     std::cerr << who << ": error: " << describe_parse_error(e, sub) << " (" << who << " --help lists the options)\n";
     return 2;
-  } catch (const adamss::InputError& e) {
-    std::cerr << "adamss: error: " << e.what() << "\n";
-    return 2;
-  } catch (const adamss::NumericalError& e) {
-    std::cerr << "adamss: numerical error: " << e.what() << "\n";
-    return 3;
-  } catch (const adamss::IoError& e) {
-    std::cerr << "adamss: I/O error: " << e.what() << "\n";
-    return 4;
   } catch (const std::exception& e) {
-    std::cerr << "adamss: internal error: " << e.what() << "\n";
-    return 1;
+    const adamss::ErrorReport r = adamss::error_report(e);
+    std::cerr << "adamss: " << r.label << ": " << e.what() << "\n";
+    return r.exit_status;
   }
   return 0;
 }

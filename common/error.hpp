@@ -26,4 +26,19 @@ class IoError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// How the command line reports an error (app/main.cpp): its exit status and the words before
+/// the message, "adamss: <label>: ...". InputError 2 "error", NumericalError 3 "numerical error",
+/// IoError 4 "I/O error", anything else 1 "internal error".
+struct ErrorReport {
+  int exit_status;
+  const char* label;
+};
+
+[[nodiscard]] inline ErrorReport error_report(const std::exception& e) {
+  if (dynamic_cast<const InputError*>(&e) != nullptr) return {2, "error"};
+  if (dynamic_cast<const NumericalError*>(&e) != nullptr) return {3, "numerical error"};
+  if (dynamic_cast<const IoError*>(&e) != nullptr) return {4, "I/O error"};
+  return {1, "internal error"};
+}
+
 }  // namespace adamss

@@ -9,26 +9,15 @@
 
 namespace adamss::solver {
 
-ForceExchange::ForceExchange(preprocess::Index node_count) {
-  ensure_petsc();
-  PetscMPIInt ranks = 1;
-  MPI_Comm_size(PETSC_COMM_WORLD, &ranks);
-  PetscInt n = node_count, nloc = PETSC_DECIDE;
-  petsc_check(PetscSplitOwnership(PETSC_COMM_WORLD, &nloc, &n), "PetscSplitOwnership");
-  std::vector<PetscInt> all(static_cast<std::size_t>(ranks));
-  if (MPI_Allgather(&nloc, 1, MPIU_INT, all.data(), 1, MPIU_INT, PETSC_COMM_WORLD) != MPI_SUCCESS)
+ForceExchange::ForceExchange(preprocess::Index node_count) : owned_(particle_split(node_count)) {
+  // Every rank's range, as 3 doubles per particle.
+  const int mine[2] = {3 * owned_.begin, 3 * (owned_.end - owned_.begin)};
+  std::vector<int> all(2 * static_cast<std::size_t>(mpi_size()));
+  if (MPI_Allgather(mine, 2, MPI_INT, all.data(), 2, MPI_INT, PETSC_COMM_WORLD) != MPI_SUCCESS)
     throw NumericalError("ForceExchange: MPI_Allgather of the particle split failed");
-  PetscMPIInt rank = 0;
-  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-  counts_.resize(all.size());
-  displs_.resize(all.size());
-  PetscInt first = 0;
-  for (std::size_t r = 0; r < all.size(); ++r) {
-    if (static_cast<PetscMPIInt>(r) == rank)
-      owned_ = {static_cast<preprocess::Index>(first), static_cast<preprocess::Index>(first + all[r])};
-    counts_[r] = static_cast<int>(3 * all[r]);
-    displs_[r] = static_cast<int>(3 * first);
-    first += all[r];
+  for (std::size_t r = 0; 2 * r < all.size(); ++r) {
+    displs_.push_back(all[2 * r]);
+    counts_.push_back(all[2 * r + 1]);
   }
 }
 

@@ -97,9 +97,7 @@ struct JacobianSolver::Petsc {
 
 void JacobianSolver::Petsc::configure(const Eigen::Matrix3Xd& x_ref, double ksp_rtol, int ksp_max_it) {
   petsc_check(MatCreateVecs(a.mat(), &u, &b), "MatCreateVecs");
-  PetscMPIInt ranks = 1;
-  MPI_Comm_size(PETSC_COMM_WORLD, &ranks);
-  if (ranks > 1) petsc_check(VecScatterCreateToAll(u, &all, &whole), "VecScatterCreateToAll");
+  if (mpi_size() > 1) petsc_check(VecScatterCreateToAll(u, &all, &whole), "VecScatterCreateToAll");
   petsc_check(KSPCreate(PETSC_COMM_WORLD, &ksp), "KSPCreate");
   petsc_check(KSPSetOperators(ksp, a.mat(), a.mat()), "KSPSetOperators");  // PCSetCoordinates needs them
   PC pc = nullptr;

@@ -68,29 +68,31 @@ void start_ranks() {
   share_cores_between_ranks();
   set_stop_agreement(any_rank_stops);
 }
+/// True when MPI is up: PETSc running, or started here when a launcher started the process (the
+/// ranks must agree from the first step on). False for a plain process that needs no PETSc.
+bool world_running() {
+  PetscBool running = PETSC_FALSE;
+  PetscInitialized(&running);
+  if (running == PETSC_TRUE) return true;
+  if (!launched_by_mpi()) return false;
+  ensure_petsc();
+  return true;
+}
+
 bool several_ranks() {
   PetscBool running = PETSC_FALSE;
   PetscInitialized(&running);
-  if (running != PETSC_TRUE) return false;
-  PetscMPIInt size = 1;
-  MPI_Comm_size(PETSC_COMM_WORLD, &size);
-  return size > 1;
+  return running == PETSC_TRUE && mpi_size() > 1;
 }
 
-/// The kind (1 numerical, 2 input, 3 I/O, 4 other) and message of an exception.
+/// An exception's exit status (error_report, common/error.hpp: which kind it is) and message.
 std::pair<int, std::string> classify(const std::exception_ptr& e) {
   try {
     std::rethrow_exception(e);
-  } catch (const NumericalError& x) {
-    return {1, x.what()};
-  } catch (const InputError& x) {
-    return {2, x.what()};
-  } catch (const IoError& x) {
-    return {3, x.what()};
   } catch (const std::exception& x) {
-    return {4, x.what()};
+    return {error_report(x).exit_status, x.what()};
   } catch (...) {
-    return {4, "unknown error"};
+    return {1, "unknown error"};
   }
 }
 }  // namespace
@@ -101,27 +103,24 @@ bool launched_by_mpi() {
 }
 
 int mpi_rank() {
-  if (!launched_by_mpi()) {
-    PetscBool running = PETSC_FALSE;
-    PetscInitialized(&running);
-    if (!running) return 0;
-  }
-  ensure_petsc();
   PetscMPIInt rank = 0;
-  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  if (world_running()) MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   return rank;
 }
 
 int mpi_size() {
-  if (!launched_by_mpi()) {
-    PetscBool running = PETSC_FALSE;
-    PetscInitialized(&running);
-    if (!running) return 1;
-  }
-  ensure_petsc();
   PetscMPIInt size = 1;
-  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  if (world_running()) MPI_Comm_size(PETSC_COMM_WORLD, &size);
   return size;
+}
+
+OwnedNodes particle_split(preprocess::Index node_count) {
+  ensure_petsc();
+  PetscInt n = node_count, nloc = PETSC_DECIDE, end = 0;
+  petsc_check(PetscSplitOwnership(PETSC_COMM_WORLD, &nloc, &n), "PetscSplitOwnership");
+  if (MPI_Scan(&nloc, &end, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD) != MPI_SUCCESS)
+    throw NumericalError("particle_split: MPI_Scan of the particle ranges failed");
+  return {static_cast<preprocess::Index>(end - nloc), static_cast<preprocess::Index>(end)};
 }
 
 void abort_other_ranks(int code) {
@@ -152,7 +151,7 @@ void agree_on_error(const std::exception_ptr& local) {
   MPI_Bcast(text.data(), head[1], MPI_CHAR, first, PETSC_COMM_WORLD);
   text += " (on MPI rank " + std::to_string(first) + ")";
   if (head[0] == 2) throw InputError(text);
-  if (head[0] == 3) throw IoError(text);
+  if (head[0] == 4) throw IoError(text);
   throw NumericalError(text);
 }
 

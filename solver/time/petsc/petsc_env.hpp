@@ -19,6 +19,8 @@
 #include <exception>
 #include <string>
 
+#include "solver/core/owned_nodes.hpp"
+
 namespace adamss::solver {
 
 /// Initialises PETSc if it is not running yet, then inserts `options` ("-ksp_type cg ...").
@@ -32,6 +34,11 @@ void ensure_petsc(const std::string& options = {});
 /// they are 0 and 1 and start nothing (an explicit run never needs PETSc).
 [[nodiscard]] int mpi_rank();
 [[nodiscard]] int mpi_size();
+
+/// This rank's particles [begin, end) of `node_count` in the one split that the Jacobian's rows
+/// (petsc_matrix.hpp) and the force exchange (force_exchange.hpp) share: contiguous ranges of the
+/// mesh's numbering, PetscSplitOwnership's sizes. Collective; starts PETSc if needed.
+[[nodiscard]] OwnedNodes particle_split(preprocess::Index node_count);
 
 /// Several ranks: ends every rank with `code` (MPI_Abort) after an error one rank may have met
 /// alone (an I/O error on rank 0's output), so that no rank waits forever in a collective call.

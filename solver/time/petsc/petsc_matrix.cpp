@@ -56,15 +56,10 @@ class BlockMatrix::Sink final : public JacobianSink {
 
 BlockMatrix::BlockMatrix(const preprocess::Mesh& mesh, const std::vector<std::unique_ptr<ForceTerm>>* terms)
     : n_(static_cast<PetscInt>(mesh.node_count())) {
-  ensure_petsc();
-  PetscMPIInt ranks = 1;
-  MPI_Comm_size(PETSC_COMM_WORLD, &ranks);
-  distributed_ = ranks > 1;
-  nloc_ = PETSC_DECIDE;
-  petsc_check(PetscSplitOwnership(PETSC_COMM_WORLD, &nloc_, &n_), "PetscSplitOwnership");
-  if (MPI_Scan(&nloc_, &n0_, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD) != MPI_SUCCESS)
-    throw NumericalError("BlockMatrix: MPI_Scan of the row ownership failed");
-  n0_ -= nloc_;  // the first particle of this rank
+  const OwnedNodes mine = particle_split(static_cast<preprocess::Index>(n_));
+  n0_ = mine.begin;
+  nloc_ = mine.end - mine.begin;
+  distributed_ = mpi_size() > 1;
   // Node adjacency from the elements (sorted, unique), for the block preallocation; only the
   // owned rows are kept.
   const int k = preprocess::nodes_per_element(mesh.type);
