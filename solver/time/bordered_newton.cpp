@@ -91,6 +91,14 @@ bool CavityBorder::correct(JacobianSolver& linear, const StepEquations& eq, cons
   return true;
 }
 
+bool CavityBorder::pressures_given() const {
+  return std::all_of(cond_.begin(), cond_.end(), [](const CavityCondition& c) { return c.pressure_given; });
+}
+
+void CavityBorder::set_given_pressures() const {
+  for (std::size_t k = 0; k < terms_.size(); ++k) terms_[k]->set_multiplier(cond_[k].pressure);
+}
+
 void CavityBorder::restore() const {
   for (std::size_t k = 0; k < terms_.size(); ++k) terms_[k]->set_multiplier(saved_[k]);
 }

@@ -38,6 +38,11 @@ class CavityBorder {
   /// The conditions over the step of length h ending at t1; remembers the current multipliers.
   CavityBorder(const std::vector<CavityConstraintTerm*>& constraints, double t1, double h);
   [[nodiscard]] bool empty() const { return terms_.empty(); }
+  /// True when every condition of the step gives its pressure (all cavities filling, say): the
+  /// step is then a plain pressure load, solved by damped Newton after set_given_pressures().
+  [[nodiscard]] bool pressures_given() const;
+  /// Sets every multiplier to its given pressure (only when pressures_given()).
+  void set_given_pressures() const;
   /// rv_k = the residual of condition k at positions x: P_given - P_k, or V*_k(P_k) - V_k(x).
   /// True when every one is within the Newton tolerance.
   bool residuals(const Eigen::Matrix3Xd& x, Eigen::VectorXd& rv) const;

@@ -13,7 +13,9 @@
 //                           loads are time courses, so "time" is the load parameter), Jacobian
 //                           -K: Newton damped by a backtracking line search (damped_newton.hpp),
 //                           from the secant extrapolation of the last two load steps; with
-//                           cavity constraints undamped bordered Newton from the last solution
+//                           cavity constraints undamped bordered Newton from the last solution,
+//                           except in steps where every cavity's pressure is given (filling):
+//                           damped Newton on that pressure load
 // Fixed and controlled coordinates are eliminated (rows and columns, unit diagonal) with their
 // prescribed values, not given huge masses. Linear solves: KSP, by default a direct LU
 // factorisation up to 60 000 unknowns and GMRES + GAMG (with the particle coordinates for the
