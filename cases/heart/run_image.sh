@@ -18,7 +18,7 @@
 #   active stress; HEART_CHECK=0 skips the check that the simulated ESV is within 15 % of the
 #   end-systolic blood pool (issue 20); HEART_DRY_RUN=1 writes and checks the scenes (adamss run
 #   --check, which meshes the image) and stops. Only LV images: a label image with an RV cavity is refused
-#   (the biv-me heart does not unload yet, cases/anatomy/README.md).
+#   (the biv-me heart unloads, but its beat is not robust yet: cases/anatomy/README.md).
 set -euo pipefail
 adamss=${1:?usage: run_image.sh ADAMSS_BINARY IMAGE OUTPUT_DIR}
 image=${2:?usage: run_image.sh ADAMSS_BINARY IMAGE OUTPUT_DIR}
@@ -37,7 +37,7 @@ for kv in ${HEART_LABELS:-solid=1 lv=2}; do
     lv=*) lv=${kv#lv=} ;;
     rv=*)
       echo "run_image.sh: HEART_LABELS has an RV ($kv): only LV images run end to end today (the biv-me" \
-        "heart does not unload yet: cases/anatomy/README.md)" >&2
+        "heart's beat is not robust yet: cases/anatomy/README.md, bivme-beat.yaml)" >&2
       exit 2
       ;;
     *)
@@ -66,14 +66,14 @@ echo "== 1/4 image and scenes: $image (wall label $solid, LV label $lv)"
 "$adamss" info "$image" --json > "$out/image_info.json"
 "$adamss" info "$image"
 # Labels other than background, wall and LV (an RV blood pool, say) are refused: the scenes model
-# one cavity, and the biv-me heart does not unload yet (cases/anatomy/README.md).
+# one cavity, and the biv-me beat is not robust yet (cases/anatomy/README.md).
 other=$("$py" -c 'import json, sys
 d = json.load(open(sys.argv[1]))
 print(" ".join(k for k in sorted(d["labels"], key=int) if k not in ("0", sys.argv[2], sys.argv[3])))' \
   "$out/image_info.json" "$solid" "$lv")
 if [[ -n $other ]]; then
   echo "run_image.sh: $image has labels $other besides the wall ($solid) and the LV ($lv): only LV images run" \
-    "end to end today (an RV needs the biventricular scenes; the biv-me heart does not unload yet)" >&2
+    "end to end today (an RV needs the biventricular scenes; the biv-me beat is not robust yet: cases/anatomy/bivme-beat.yaml)" >&2
   exit 2
 fi
 # The recipe's keys of the two Sunnybrook scenes, with this image and its labels.
