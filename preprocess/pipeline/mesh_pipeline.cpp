@@ -188,6 +188,7 @@ MeshBuild build_mesh(const MeshRequest& request) {
     source.image = resample_labels(source.image, request.resample_m, &report);
     out.resample = report;
   }
+  if (request.smooth_m > 0.0) out.smooth = smooth_labels(source.image, request.smooth_m);
   if (request.clean_labels) out.cleanup = clean_labels(source.image, request.solid_labels);
   out.times.read = since(t);
 

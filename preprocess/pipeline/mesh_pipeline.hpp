@@ -8,6 +8,7 @@
 #include "preprocess/fibres/fibre_field.hpp"
 #include "preprocess/image/label_cleanup.hpp"
 #include "preprocess/image/resample.hpp"
+#include "preprocess/image/smooth_labels.hpp"
 #include "preprocess/mesh/mesh_quality.hpp"
 #include "preprocess/pipeline/mesh_request.hpp"
 #include "preprocess/surfaces/anatomical_tags.hpp"
@@ -33,6 +34,7 @@ struct MeshBuild {
   std::optional<FibreReport> image_fibres;  ///< FibreImages or PhantomFibres
   std::optional<RuleFibreReport> rule_fibres;
   std::optional<ResampleReport> resample;     ///< request.resample_m > 0 only
+  std::optional<SmoothReport> smooth;         ///< request.smooth_m > 0 only
   std::optional<LabelCleanupReport> cleanup;  ///< request.clean_labels only
   /// With cavities: the anatomical tags and long axis added (preprocess/surfaces/anatomical_tags.hpp).
   std::optional<AnatomicalTagReport> anatomy;

@@ -72,6 +72,9 @@ struct MeshRequest {
   /// > 0: resample the label image to isotropic voxels of this edge (m) before meshing, by
   /// shape-based interpolation (preprocess/image/resample.hpp); 0: mesh the image as read.
   double resample_m = 0.0;
+  /// > 0: smooth the labels with a Gaussian of this standard deviation (m) on their signed
+  /// distances (preprocess/image/smooth_labels.hpp), after any resampling, before the clean-up.
+  double smooth_m = 0.0;
   /// Keep the largest connected solid component and fill enclosed background holes
   /// (preprocess/image/label_cleanup.hpp), after any resampling.
   bool clean_labels = false;

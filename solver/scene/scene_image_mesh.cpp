@@ -137,6 +137,10 @@ preprocess::Mesh image_recipe_mesh(SceneNode& node, const fs::path& base, const 
     req.resample_m = node.positive("resample", Dimension::Length);
     key << ";resample;" << req.resample_m;  // (no key without it: the earlier cache names stay valid)
   }
+  if (node.has("smooth")) {
+    req.smooth_m = node.positive("smooth", Dimension::Length);
+    key << ";smooth;" << req.smooth_m;
+  }
   if (node.has("clean")) {
     req.clean_labels = node.flag("clean", false);
     if (req.clean_labels) key << ";clean";
