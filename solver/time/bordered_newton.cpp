@@ -48,6 +48,32 @@ Eigen::VectorXd solve_schur(const std::vector<CavityCondition>& cond, const std:
   return schur.fullPivLu().solve(rhs);
 }
 
+/// The damped bordered update (bordered_newton.hpp): u <- u + alpha du, P <- p0 + alpha dp with
+/// the largest alpha in 1, 1/2, ..., 1/256 whose simplified correction (same factorisation and
+/// Schur vectors, at the trial point) is smaller than (1 - alpha/4) |du|; the full step when none
+/// is (what the undamped iteration did). Returns alpha.
+double damped_update(StepEquations& eq, JacobianSolver& linear, const CavityBorder& border, const Eigen::VectorXd& p0,
+                     const Eigen::VectorXd& dp, const Eigen::Matrix3Xd& du, Eigen::Matrix3Xd& u) {
+  const double ndu = du.norm();
+  Eigen::Matrix3Xd trial, r, dub;
+  Eigen::VectorXd rv;
+  for (double alpha = 1.0; alpha >= 1.0 / 256.0 && ndu > 0.0; alpha *= 0.5) {
+    trial = u + alpha * du;
+    border.set_multipliers(p0 + alpha * dp);
+    eq.residual(trial, r);
+    border.residuals(eq.positions(trial), rv);
+    if (!r.allFinite() || !rv.allFinite()) continue;
+    if (!border.simplified_correction(linear, r, rv, dub)) continue;
+    if (dub.norm() <= (1.0 - 0.25 * alpha) * ndu) {
+      u = trial;
+      return alpha;
+    }
+  }
+  u += du;
+  border.set_multipliers(p0 + dp);
+  return 1.0;
+}
+
 }  // namespace
 
 CavityBorder::CavityBorder(const std::vector<CavityConstraintTerm*>& constraints, double t1, double h)
@@ -91,6 +117,27 @@ bool CavityBorder::correct(JacobianSolver& linear, const StepEquations& eq, cons
   return true;
 }
 
+bool CavityBorder::simplified_correction(JacobianSolver& linear, const Eigen::Matrix3Xd& r, const Eigen::VectorXd& rv,
+                                         Eigen::Matrix3Xd& du) const {
+  if (!linear.solve(r, du)) return false;
+  if (!terms_.empty()) {
+    const Eigen::VectorXd dp = solve_schur(cond_, g_, y_, du, rv);
+    if (!dp.allFinite()) return false;
+    for (std::size_t k = 0; k < terms_.size(); ++k) du += dp[static_cast<Eigen::Index>(k)] * y_[k];
+  }
+  zero_dofs(du, linear.fixed_dofs());
+  return du.allFinite();
+}
+
+void CavityBorder::multipliers(Eigen::VectorXd& p) const {
+  p.resize(static_cast<Eigen::Index>(terms_.size()));
+  for (std::size_t k = 0; k < terms_.size(); ++k) p[static_cast<Eigen::Index>(k)] = terms_[k]->multiplier();
+}
+
+void CavityBorder::set_multipliers(const Eigen::VectorXd& p) const {
+  for (std::size_t k = 0; k < terms_.size(); ++k) terms_[k]->set_multiplier(p[static_cast<Eigen::Index>(k)]);
+}
+
 bool CavityBorder::pressures_given() const {
   return std::all_of(cond_.begin(), cond_.end(), [](const CavityCondition& c) { return c.pressure_given; });
 }
@@ -110,7 +157,7 @@ bool bordered_newton(StepEquations& eq, JacobianSolver& linear, CavityBorder& bo
     return false;
   };
   Eigen::Matrix3Xd r, du;
-  Eigen::VectorXd rv;
+  Eigen::VectorXd rv, p0, dp;
   double r0 = 0.0;
   for (int it = 0;; ++it) {
     throw_if_stop_requested("bordered Newton");
@@ -127,9 +174,16 @@ bool bordered_newton(StepEquations& eq, JacobianSolver& linear, CavityBorder& bo
     eq.assemble_operator(u);
     linear.eliminate();
     if (!linear.solve(r, du)) return fail();
+    border.multipliers(p0);
     if (!border.empty() && !border.correct(linear, eq, eq.positions(u), rv, du)) return fail();
     zero_dofs(du, linear.fixed_dofs());
-    u += du;
+    if (border.empty()) {
+      u += du;
+    } else {
+      border.multipliers(dp);
+      dp -= p0;
+      damped_update(eq, linear, border, p0, dp, du, u);
+    }
     ++record.iterations;
     if (!u.allFinite()) return fail();
     if (border.empty() && eq.position_change(du) <= settings.newton_xtol) {
