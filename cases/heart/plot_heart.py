@@ -15,6 +15,8 @@ OUT/scar/globals.csv when the scarred run exists), in the units cardiologists re
   pv_loop_scar_mmhg.png/.svg  healthy and scarred loops (when OUT/scar exists)
   pv_loop_biv_mmhg.png/.svg   LV and RV loops of the biventricular phantom (when OUT/biv exists:
                          biv_beat.yaml), the passive inflation dotted
+  pv_loop_bivme_mmhg.png/.svg LV and RV loops of the biv-me heart (when OUT/bivme exists:
+                         cases/anatomy/bivme-beat.yaml)
   bullseye.png/.svg      AHA 17-segment bull's-eye of the fibre strain from end diastole to end
                          systole of the last beat (frames nearest the mitral and aortic closures),
                          with the mean over the scar segment and over the remote wall when the mesh
@@ -94,8 +96,9 @@ def pv_loop(g, out):
     save(fig, out, "pv_loop_mmhg")
 
 
-def biv_loops(g, out):
-    """Both ventricles' loops of the biventricular run (OUT/biv: biv_beat.yaml), mmHg and ml."""
+def biv_loops(g, out, figure="pv_loop_biv_mmhg", title="Biventricular pressure-volume loops"):
+    """Both ventricles' loops of a biventricular run (OUT/biv: biv_beat.yaml; OUT/bivme: the biv-me
+    heart, cases/anatomy/bivme-beat.yaml), mmHg and ml."""
     fig, ax = plt.subplots(figsize=(5.5, 4.5))
     for name, colour in (("lv", "#c0392b"), ("rv", "#2e6da4")):
         v, p, phase = g[name + "_volume"] * 1e6, g[name + "_pressure"] / MMHG, g[name + "_phase"].astype(int)
@@ -104,10 +107,10 @@ def biv_loops(g, out):
         ax.plot(v[started], p[started], "-", lw=1.6, color=colour, label=name.upper())
     ax.set_xlabel("volume (ml)")
     ax.set_ylabel("pressure (mmHg)")
-    ax.set_title("Biventricular pressure-volume loops")
+    ax.set_title(title)
     ax.legend(loc="upper right", fontsize=8, framealpha=0.9)
     ax.grid(alpha=0.3)
-    save(fig, out, "pv_loop_biv_mmhg")
+    save(fig, out, figure)
 
 
 def wiggers(g, out):
@@ -364,6 +367,10 @@ def main(out, sim=None, regional_plots=True):
                 sys.exit("plot_heart.py: %s has no column %s" % (biv, col))
         biv_loops(gb, out)
         written.append("pv_loop_biv_mmhg")
+    bivme = os.path.join(out, "bivme", "globals.csv")
+    if os.path.exists(bivme):
+        biv_loops(read_globals(bivme), out, "pv_loop_bivme_mmhg", "biv-me patient1: pressure-volume loops")
+        written.append("pv_loop_bivme_mmhg")
     occlusion = os.path.join(out, "occlusion", "globals.csv")
     if os.path.exists(occlusion):
         fit = espvr(g, read_globals(occlusion), sim, out)
