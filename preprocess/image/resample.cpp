@@ -118,6 +118,18 @@ std::vector<double> distance_transform(const Grid& grid, const std::vector<char>
   return d;
 }
 
+std::vector<double> signed_distance(const LabelImage& image, std::int32_t label) {
+  std::vector<char> in(image.labels.size()), not_in(image.labels.size());
+  for (std::size_t v = 0; v < in.size(); ++v) {
+    in[v] = static_cast<char>(image.labels[v] == label);
+    not_in[v] = static_cast<char>(image.labels[v] != label);
+  }
+  std::vector<double> d = distance_transform(image.grid, in);
+  const std::vector<double> e = distance_transform(image.grid, not_in);
+  for (std::size_t v = 0; v < d.size(); ++v) d[v] -= e[v];
+  return d;
+}
+
 LabelImage resample_labels(const LabelImage& image, double h, ResampleReport* report) {
   const auto t0 = std::chrono::steady_clock::now();
   if (!std::isfinite(h) || !(h > 0.0)) throw InputError("resample: the spacing must be a finite length > 0");
@@ -158,18 +170,10 @@ LabelImage resample_labels(const LabelImage& image, double h, ResampleReport* re
   // Signed distances per label, then the argmin at each new voxel centre.
   const auto hist = image.histogram();
   std::vector<std::int32_t> labels;
-  std::vector<std::vector<double>> signed_distance;
+  std::vector<std::vector<double>> signed_distances;
   for (const auto& [label, voxels] : hist) {
-    std::vector<char> in(image.labels.size()), not_in(image.labels.size());
-    for (std::size_t v = 0; v < in.size(); ++v) {
-      in[v] = static_cast<char>(image.labels[v] == label);
-      not_in[v] = static_cast<char>(image.labels[v] != label);
-    }
-    std::vector<double> d = distance_transform(g, in);
-    const std::vector<double> e = distance_transform(g, not_in);
-    for (std::size_t v = 0; v < d.size(); ++v) d[v] -= e[v];
     labels.push_back(label);
-    signed_distance.push_back(std::move(d));
+    signed_distances.push_back(signed_distance(image, label));
   }
   out.labels.assign(out.grid.voxel_count(), 0);
   for (std::int64_t k = 0; k < out.grid.dims[2]; ++k) {
@@ -180,7 +184,7 @@ LabelImage resample_labels(const LabelImage& image, double h, ResampleReport* re
         double best = INFINITY;
         std::int32_t best_label = labels.front();
         for (std::size_t l = 0; l < labels.size(); ++l) {
-          const double d = tricubic(signed_distance[l], g, c);
+          const double d = tricubic(signed_distances[l], g, c);
           if (d < best) {
             best = d;
             best_label = labels[l];

@@ -38,6 +38,10 @@ struct ResampleReport {
 /// are taken as orthogonal); a large finite value (1e30) when no voxel is flagged.
 [[nodiscard]] std::vector<double> distance_transform(const Grid& grid, const std::vector<char>& member);
 
+/// The signed distance d_l (m) of `label` at every voxel centre of `image` (above: < 0 inside,
+/// the two distance_transform calls on the voxels with and without the label).
+[[nodiscard]] std::vector<double> signed_distance(const LabelImage& image, std::int32_t label);
+
 /// The image resampled to spacing h (m) by shape-based interpolation (above). InputError for
 /// h not finite or <= 0, an empty image, a result of more than 2^31 voxels, or an affine whose
 /// axes are not orthogonal within 1e-3 (cosine).

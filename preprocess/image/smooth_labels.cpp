@@ -1,6 +1,7 @@
 #include "preprocess/image/smooth_labels.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <vector>
@@ -63,21 +64,18 @@ SmoothReport smooth_labels(LabelImage& image, double sigma_m) {
   const Eigen::Vector3d h = g.spacing();
   std::vector<double> best(image.labels.size(), INFINITY);
   std::vector<std::int32_t> out(image.labels.size(), hist.begin()->first);
-  std::vector<char> in(image.labels.size()), not_in(image.labels.size());
+  // The transform's "no member" value (1e30, a label absent from the image's rest) would swamp the
+  // blur: distances are clamped to the image's diagonal.
+  const double far = h.cwiseProduct(Eigen::Vector3d(static_cast<double>(g.dims[0]), static_cast<double>(g.dims[1]),
+                                                    static_cast<double>(g.dims[2])))
+                         .norm();
+  std::array<std::vector<double>, 3> weights;
+  for (int ax = 0; ax < 3; ++ax) weights[static_cast<std::size_t>(ax)] = gaussian_weights(sigma_m / h[ax]);
   for (const auto& [label, voxels] : hist) {
-    for (std::size_t v = 0; v < in.size(); ++v) {
-      in[v] = static_cast<char>(image.labels[v] == label);
-      not_in[v] = static_cast<char>(image.labels[v] != label);
-    }
-    std::vector<double> d = distance_transform(g, in);
-    const std::vector<double> e = distance_transform(g, not_in);
-    // The transform's "no member" value (1e30) would swamp the blur: clamp to the image's size.
-    const double far = (h.cwiseProduct(Eigen::Vector3d(static_cast<double>(g.dims[0]), static_cast<double>(g.dims[1]),
-                                                       static_cast<double>(g.dims[2]))))
-                           .norm();
-    for (std::size_t v = 0; v < d.size(); ++v) d[v] = std::min(d[v], far) - std::min(e[v], far);
+    std::vector<double> d = signed_distance(image, label);
+    for (double& x : d) x = std::clamp(x, -far, far);
     for (int ax = 0; ax < 3; ++ax) {
-      if (g.dims[static_cast<std::size_t>(ax)] > 1) blur_axis(d, g, ax, gaussian_weights(sigma_m / h[ax]));
+      if (g.dims[static_cast<std::size_t>(ax)] > 1) blur_axis(d, g, ax, weights[static_cast<std::size_t>(ax)]);
     }
     for (std::size_t v = 0; v < d.size(); ++v) {
       if (d[v] < best[v]) {

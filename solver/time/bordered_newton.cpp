@@ -48,12 +48,14 @@ Eigen::VectorXd solve_schur(const std::vector<CavityCondition>& cond, const std:
   return schur.fullPivLu().solve(rhs);
 }
 
-/// The damped bordered update (bordered_newton.hpp): u <- u + alpha du, P <- p0 + alpha dp with
+/// The damped bordered update (bordered_newton.hpp): u <- u + alpha du, P <- P + alpha dp with
 /// the largest alpha in 1, 1/2, ..., 1/256 whose simplified correction (same factorisation and
 /// Schur vectors, at the trial point) is smaller than (1 - alpha/4) |du|; the full step when none
-/// is (what the undamped iteration did). Returns alpha.
-double damped_update(StepEquations& eq, JacobianSolver& linear, const CavityBorder& border, const Eigen::VectorXd& p0,
-                     const Eigen::VectorXd& dp, const Eigen::Matrix3Xd& du, Eigen::Matrix3Xd& u) {
+/// is (what the undamped iteration did).
+void damped_update(StepEquations& eq, JacobianSolver& linear, const CavityBorder& border, const Eigen::VectorXd& dp,
+                   const Eigen::Matrix3Xd& du, Eigen::Matrix3Xd& u) {
+  Eigen::VectorXd p0;
+  border.multipliers(p0);
   const double ndu = du.norm();
   Eigen::Matrix3Xd trial, r, dub;
   Eigen::VectorXd rv;
@@ -66,12 +68,11 @@ double damped_update(StepEquations& eq, JacobianSolver& linear, const CavityBord
     if (!border.simplified_correction(linear, r, rv, dub)) continue;
     if (dub.norm() <= (1.0 - 0.25 * alpha) * ndu) {
       u = trial;
-      return alpha;
+      return;
     }
   }
   u += du;
   border.set_multipliers(p0 + dp);
-  return 1.0;
 }
 
 }  // namespace
@@ -100,7 +101,7 @@ bool CavityBorder::residuals(const Eigen::Matrix3Xd& x, Eigen::VectorXd& rv) con
 }
 
 bool CavityBorder::correct(JacobianSolver& linear, const StepEquations& eq, const Eigen::Matrix3Xd& x,
-                           const Eigen::VectorXd& rv, Eigen::Matrix3Xd& du) {
+                           const Eigen::VectorXd& rv, Eigen::Matrix3Xd& du, Eigen::VectorXd& dp) {
   for (std::size_t k = 0; k < terms_.size(); ++k) {
     g_[k].setZero(3, x.cols());
     terms_[k]->add_volume_gradient(x, g_[k]);
@@ -108,23 +109,21 @@ bool CavityBorder::correct(JacobianSolver& linear, const StepEquations& eq, cons
     eq.scale_by_dx_du(g_[k]);
     if (!linear.solve(g_[k], y_[k])) return false;
   }
-  const Eigen::VectorXd dp = solve_schur(cond_, g_, y_, du, rv);
+  return add_pressure_part(rv, du, dp);
+}
+
+bool CavityBorder::add_pressure_part(const Eigen::VectorXd& rv, Eigen::Matrix3Xd& du, Eigen::VectorXd& dp) const {
+  dp = solve_schur(cond_, g_, y_, du, rv);
   if (!dp.allFinite()) return false;
-  for (std::size_t k = 0; k < terms_.size(); ++k) {
-    du += dp[static_cast<Eigen::Index>(k)] * y_[k];
-    terms_[k]->set_multiplier(terms_[k]->multiplier() + dp[static_cast<Eigen::Index>(k)]);
-  }
+  for (std::size_t k = 0; k < terms_.size(); ++k) du += dp[static_cast<Eigen::Index>(k)] * y_[k];
   return true;
 }
 
 bool CavityBorder::simplified_correction(JacobianSolver& linear, const Eigen::Matrix3Xd& r, const Eigen::VectorXd& rv,
                                          Eigen::Matrix3Xd& du) const {
   if (!linear.solve(r, du)) return false;
-  if (!terms_.empty()) {
-    const Eigen::VectorXd dp = solve_schur(cond_, g_, y_, du, rv);
-    if (!dp.allFinite()) return false;
-    for (std::size_t k = 0; k < terms_.size(); ++k) du += dp[static_cast<Eigen::Index>(k)] * y_[k];
-  }
+  Eigen::VectorXd dp;
+  if (!terms_.empty() && !add_pressure_part(rv, du, dp)) return false;
   zero_dofs(du, linear.fixed_dofs());
   return du.allFinite();
 }
@@ -157,7 +156,7 @@ bool bordered_newton(StepEquations& eq, JacobianSolver& linear, CavityBorder& bo
     return false;
   };
   Eigen::Matrix3Xd r, du;
-  Eigen::VectorXd rv, p0, dp;
+  Eigen::VectorXd rv, dp;
   double r0 = 0.0;
   for (int it = 0;; ++it) {
     throw_if_stop_requested("bordered Newton");
@@ -174,15 +173,12 @@ bool bordered_newton(StepEquations& eq, JacobianSolver& linear, CavityBorder& bo
     eq.assemble_operator(u);
     linear.eliminate();
     if (!linear.solve(r, du)) return fail();
-    border.multipliers(p0);
-    if (!border.empty() && !border.correct(linear, eq, eq.positions(u), rv, du)) return fail();
+    if (!border.empty() && !border.correct(linear, eq, eq.positions(u), rv, du, dp)) return fail();
     zero_dofs(du, linear.fixed_dofs());
     if (border.empty()) {
       u += du;
     } else {
-      border.multipliers(dp);
-      dp -= p0;
-      damped_update(eq, linear, border, p0, dp, du, u);
+      damped_update(eq, linear, border, dp, du, u);
     }
     ++record.iterations;
     if (!u.allFinite()) return fail();

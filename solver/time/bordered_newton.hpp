@@ -56,10 +56,10 @@ class CavityBorder {
   /// rv_k = the residual of condition k at positions x: P_given - P_k, or V*_k(P_k) - V_k(x).
   /// True when every one is within the Newton tolerance.
   bool residuals(const Eigen::Matrix3Xd& x, Eigen::VectorXd& rv) const;
-  /// Turns du = A^{-1} R into the bordered update (above) and adds dP to the multipliers.
-  /// False if a linear solve fails or dP is not finite.
+  /// Turns du = A^{-1} R into the bordered update (above) and gives the multipliers' change dP
+  /// (the caller applies it). False if a linear solve fails or dP is not finite.
   bool correct(JacobianSolver& linear, const StepEquations& eq, const Eigen::Matrix3Xd& x, const Eigen::VectorXd& rv,
-               Eigen::Matrix3Xd& du);
+               Eigen::Matrix3Xd& du, Eigen::VectorXd& dp);
   /// The simplified Newton correction at another point with the factorisation and the Schur
   /// vectors of the last correct(): du = A^{-1} r plus the bordered part for the residuals rv
   /// (the multipliers are not changed). False if the solve fails or a value is not finite.
@@ -76,6 +76,10 @@ class CavityBorder {
   std::vector<double> saved_;
   std::vector<CavityCondition> cond_;
   std::vector<Eigen::Matrix3Xd> g_, y_;  // scaled gradients G_k and A^{-1} G_k
+
+  /// dP from the Schur system for the residuals rv and du (= A^{-1} R on entry), then du += sum_k
+  /// dP_k y_k, with the y_k of the last correct(). False if dP is not finite.
+  bool add_pressure_part(const Eigen::VectorXd& rv, Eigen::Matrix3Xd& du, Eigen::VectorXd& dp) const;
 };
 
 /// Newton on R(u, P) = 0 from the start value u (updated in place); `r0_floor` bounds |R_0|
