@@ -60,17 +60,22 @@ else
   echo "skipped (HEART_ESPVR=0)"
 fi
 
+# unload_and_beat UNLOAD_SCENE TOLERANCE BEAT_SCENE NAME PROGRESS: `adamss unload` of the end-diastolic
+# image's scene into OUT/NAME_unload, then the beat from that unloaded reference into OUT/NAME.
+unload_and_beat() {
+  rm -rf "$out/$4_unload"
+  OMP_NUM_THREADS=${OMP_NUM_THREADS:-1} "$adamss" unload "$1" -o "$out/$4_unload" --tolerance "$2" --max-iterations 12
+  OMP_NUM_THREADS=${OMP_NUM_THREADS:-1} "$adamss" run "$3" -o "$out/$4" --progress-interval "$5" \
+    --reference "$out/$4_unload/unloaded_mesh.h5"
+}
+
 echo "== 4c/6 simulation, biventricular: the biv phantom (CGAL mesh) unloaded from end-diastole, then two beats, LV and RV each with a Windkessel; see biv_unload.yaml, biv_beat.yaml"
 t_biv=0
 if [[ "${HEART_BIV:-1}" == 1 ]]; then
   t_biv=$SECONDS
   # The phantom is the end-diastolic image: unload it first (biv_unload.yaml), then beat from the
   # unloaded reference, so that the filling ends at the image's volumes.
-  rm -rf "$out/biv_unload"
-  OMP_NUM_THREADS=${OMP_NUM_THREADS:-1} "$adamss" unload "$here/biv_unload.yaml" -o "$out/biv_unload" \
-    --tolerance 0.05mm --max-iterations 12
-  OMP_NUM_THREADS=${OMP_NUM_THREADS:-1} "$adamss" run "$here/biv_beat.yaml" -o "$out/biv" --progress-interval 10s \
-    --reference "$out/biv_unload/unloaded_mesh.h5"
+  unload_and_beat "$here/biv_unload.yaml" 0.05mm "$here/biv_beat.yaml" biv 10s
   t_biv=$((SECONDS - t_biv))
 else
   rm -rf "$out/biv" "$out/biv_unload"  # no stale loops from an earlier run in the plots and the report
@@ -85,11 +90,7 @@ bivme=0
 if [[ "${HEART_BIVME:-1}" == 1 && -f "$bivme_image" ]]; then
   bivme=1
   t_bivme=$SECONDS
-  rm -rf "$out/bivme_unload"
-  OMP_NUM_THREADS=${OMP_NUM_THREADS:-1} "$adamss" unload "$anatomy/bivme-filling.yaml" -o "$out/bivme_unload" \
-    --tolerance 0.2mm --max-iterations 12
-  OMP_NUM_THREADS=${OMP_NUM_THREADS:-1} "$adamss" run "$anatomy/bivme-beat.yaml" -o "$out/bivme" --progress-interval 20s \
-    --reference "$out/bivme_unload/unloaded_mesh.h5"
+  unload_and_beat "$anatomy/bivme-filling.yaml" 0.2mm "$anatomy/bivme-beat.yaml" bivme 20s
   t_bivme=$((SECONDS - t_bivme))
 else
   rm -rf "$out/bivme" "$out/bivme_unload"
@@ -250,19 +251,16 @@ if [[ "${HEART_CHECK:-1}" == 1 ]]; then
     cmake -DHEALTHY="$out/summary.json" -DSCARRED="$out/scar/summary.json" -DEXPECTED="$here/expected.cmake" \
       -P "$here/check_scar.cmake"
   fi
-  if [[ "${HEART_BIV:-1}" == 1 ]]; then
-    cmake -DUNLOAD="$out/biv_unload/unload.json" -DSUMMARY="$out/biv/summary.json" -P "$here/check_unloaded_edv.cmake"
+  # check_biv NAME EXPECTED_PREFIX: OUT/NAME's end-diastolic volumes against the image's and both
+  # cavities against EXPECTED_PREFIX_lv.cmake / _rv.cmake.
+  check_biv() {
+    cmake -DUNLOAD="$out/$1_unload/unload.json" -DSUMMARY="$out/$1/summary.json" -P "$here/check_unloaded_edv.cmake"
     for cav in lv rv; do
-      cmake -DSUMMARY="$out/biv/summary.json" -DCAVITY=$cav -DEXPECTED="$here/biv_expected_$cav.cmake" -P "$here/check.cmake"
+      cmake -DSUMMARY="$out/$1/summary.json" -DCAVITY=$cav -DEXPECTED="$2_$cav.cmake" -P "$here/check.cmake"
     done
-  fi
-  if [[ "$bivme" == 1 ]]; then
-    cmake -DUNLOAD="$out/bivme_unload/unload.json" -DSUMMARY="$out/bivme/summary.json" -P "$here/check_unloaded_edv.cmake"
-    for cav in lv rv; do
-      cmake -DSUMMARY="$out/bivme/summary.json" -DCAVITY=$cav -DEXPECTED="$anatomy/bivme-beat_expected_$cav.cmake" \
-        -P "$here/check.cmake"
-    done
-  fi
+  }
+  if [[ "${HEART_BIV:-1}" == 1 ]]; then check_biv biv "$here/biv_expected"; fi
+  if [[ "$bivme" == 1 ]]; then check_biv bivme "$anatomy/bivme-beat_expected"; fi
 else
   echo "skipped (HEART_CHECK=0)"
 fi
