@@ -54,6 +54,7 @@ struct MeshArgs {
   bool cgal_no_exude = false;
   bool cgal_lloyd = false;
   bool cgal_odt = false;
+  std::string cgal_min_node_elements;
   std::string seed;
 };
 
@@ -135,6 +136,12 @@ preprocess::CgalMeshOptions cgal_options(const MeshArgs& a) {
   o.exude = !a.cgal_no_exude;
   o.lloyd = a.cgal_lloyd;
   o.odt = a.cgal_odt;
+  if (!a.cgal_min_node_elements.empty()) {
+    const std::string& v = a.cgal_min_node_elements;
+    if (v.size() != 1 || v[0] < '0' || v[0] > '4' || v[0] == '1')
+      throw InputError("--cgal-min-node-elements: '" + v + "': give 2, 3 or 4, or 0 for none");
+    o.min_node_elements = v[0] - '0';
+  }
   if (!a.seed.empty()) {
     try {
       std::size_t used = 0;
@@ -171,6 +178,7 @@ std::string first_cgal_option(const MeshArgs& a) {
                                                 {a.cgal_no_exude, "--cgal-no-exude"},
                                                 {a.cgal_lloyd, "--cgal-lloyd"},
                                                 {a.cgal_odt, "--cgal-odt"},
+                                                {!a.cgal_min_node_elements.empty(), "--cgal-min-node-elements"},
                                                 {!a.seed.empty(), "--seed"}};
   for (const auto& [yes, name] : given)
     if (yes) return name;
@@ -269,6 +277,14 @@ std::string cgal_report(const preprocess::CgalMeshResult& r, const preprocess::C
      << "  surface patches (label inside-outside: faces):";
   for (const auto& [pr, n] : pairs) os << " " << pr.first << "-" << pr.second << ": " << n;
   os << "\n";
+  if (r.weak_nodes) {
+    const preprocess::WeakNodeReport& w = *r.weak_nodes;
+    os << "  weak nodes (in fewer than " << w.min_elements << " elements): " << w.weak_nodes << " in " << w.rounds
+       << " rounds; removed " << w.elements_removed << " elements (" << 100.0 * w.volume_fraction
+       << " % of the volume) and " << w.nodes_removed << " nodes";
+    if (w.weak_nodes_left > 0) os << "; " << w.weak_nodes_left << " weak nodes left after the last round";
+    os << "\n";
+  }
   if (r.inconsistent_patch_faces > 0) {
     os << "  warning: " << r.inconsistent_patch_faces
        << " boundary faces had no matching CGAL surface patch (outside label taken from the neighbour)\n";
@@ -461,6 +477,10 @@ void add_mesh_command(CLI::App& app) {
   sub->add_flag("--cgal-no-exude", args->cgal_no_exude, "cgal: skip the sliver exudation");
   sub->add_flag("--cgal-lloyd", args->cgal_lloyd, "cgal: Lloyd smoothing before perturbation");
   sub->add_flag("--cgal-odt", args->cgal_odt, "cgal: ODT smoothing before perturbation");
+  sub->add_option("--cgal-min-node-elements", args->cgal_min_node_elements,
+                  "cgal: remove, in rounds, the elements holding a node in fewer than N elements (3: no surface node "
+                  "left in one or two elements, which soft laws leave almost unsupported); 0 (default) keeps the mesh")
+      ->type_name("N");
   sub->add_option("--seed", args->seed, "cgal: random seed (default 0); the same seed gives the same mesh");
   sub->callback([args]() { run_mesh(*args); });
 }

@@ -470,6 +470,12 @@ CgalCriteria resolve_cgal_criteria(const Grid& grid, const CgalMeshOptions& opti
     throw InputError(os.str());
   }
   if (options.max_smoothing_iterations < 1) throw InputError("mesh_cgal: max_smoothing_iterations must be >= 1");
+  if (options.min_node_elements != 0 && (options.min_node_elements < 2 || options.min_node_elements > 4)) {
+    throw InputError(
+        "--cgal-min-node-elements: give 2, 3 or 4 (3 removes the surface nodes in one or two elements), "
+        "or 0 for none; got " +
+        std::to_string(options.min_node_elements));
+  }
   return c;
 }
 
@@ -508,6 +514,14 @@ CgalMeshResult mesh_cgal(const LabelImage& image, const CgalMeshOptions& options
   mesh.type = ElementType::Tet4;
   const NodeOf node_of = extract_nodes(c3t3, frame, mesh);
   extract_elements(c3t3, node_of, not_solid, result);
+  if (options.min_node_elements > 0) {
+    result.weak_nodes = remove_weak_nodes(mesh, result.patches, options.min_node_elements);
+    const WeakNodeReport& w = *result.weak_nodes;
+    mesh.attributes["cgal_weak_node_repair"] =
+        "min_node_elements=" + std::to_string(w.min_elements) + " rounds=" + std::to_string(w.rounds) +
+        " elements_removed=" + std::to_string(w.elements_removed) +
+        " nodes_removed=" + std::to_string(w.nodes_removed) + " volume_fraction=" + std::to_string(w.volume_fraction);
+  }
   mesh.voxel_size_m = h;
   mesh.attributes["topology"] = "cgal";
   mesh.attributes["cgal_criteria"] = criteria_attribute(crit, options);

@@ -65,6 +65,8 @@
 
 #include "preprocess/image/image.hpp"
 #include "preprocess/mesh/mesh.hpp"
+#include "preprocess/meshers/surface_patch.hpp"
+#include "preprocess/meshers/weak_node_repair.hpp"
 
 namespace adamss::preprocess {
 
@@ -84,6 +86,10 @@ struct CgalMeshOptions {
   /// (a deterministic stand-in for CGAL's wall-clock time limit).
   std::size_t perturb_attempts_per_vertex = 5;
   std::uint32_t seed = 0;
+  /// > 0: after extraction, remove the elements holding a node in fewer than this many elements
+  /// (2..4; 3 removes the surface nodes in one or two elements), in rounds, and update the
+  /// surface patches (weak_node_repair.hpp). 0: the mesh as Mesh_3 made it.
+  int min_node_elements = 0;
 };
 
 /// The criteria actually used (defaults resolved), SI.
@@ -101,14 +107,6 @@ struct CgalCriteria {
   double max_axis_cosine = 0.0;
 };
 
-/// A boundary or interface triangle of the mesh, see the header comment.
-struct SurfacePatchFace {
-  std::array<Index, 3> nodes{};  ///< normal (b-a)x(c-a) points from label_in to label_out
-  std::uint32_t element = 0;     ///< the element (label label_in) the face belongs to
-  std::int32_t label_in = 0;
-  std::int32_t label_out = 0;
-};
-
 struct CgalMeshResult {
   Mesh mesh;
   std::vector<SurfacePatchFace> patches;
@@ -122,9 +120,10 @@ struct CgalMeshResult {
   double smooth_seconds = 0.0;  ///< ODT + Lloyd
   double perturb_seconds = 0.0;
   double exude_seconds = 0.0;
-  std::size_t perturb_attempts = 0;  ///< vertex perturbation attempts made
-  bool perturb_capped = false;       ///< stopped by perturb_attempts_per_vertex
-  double perturb_bound_deg = 0.0;    ///< last dihedral-angle bound the perturber worked on
+  std::size_t perturb_attempts = 0;          ///< vertex perturbation attempts made
+  bool perturb_capped = false;               ///< stopped by perturb_attempts_per_vertex
+  double perturb_bound_deg = 0.0;            ///< last dihedral-angle bound the perturber worked on
+  std::optional<WeakNodeReport> weak_nodes;  ///< options.min_node_elements > 0 only
 };
 
 /// Meshes the solid labels of `image` (see the header comment). InputError (one line naming

@@ -102,10 +102,18 @@ preprocess::CgalMeshOptions cgal_options(SceneNode& node, std::ostringstream& ke
   const long long seed = c->integer("seed", 0);
   if (seed < 0 || seed > 0xffffffffLL) throw InputError(c->at("seed") + ": an integer in [0, 4294967295]");
   o.seed = static_cast<std::uint32_t>(seed);
+  const long long min_node = c->integer("min_node_elements", 0);
+  if (min_node != 0 && (min_node < 2 || min_node > 4)) {
+    throw InputError(c->at("min_node_elements") +
+                     ": 2, 3 or 4 (every node in at least that many elements; 3 removes the surface nodes in one or "
+                     "two elements), or 0 for none");
+  }
+  o.min_node_elements = static_cast<int>(min_node);
   c->finish();
   key << ";cgal;" << o.facet_angle_deg << ';' << o.facet_size_m.value_or(-1.0) << ';'
       << o.facet_distance_m.value_or(-1.0) << ';' << o.cell_size_m.value_or(-1.0) << ';' << o.cell_radius_edge_ratio
       << ';' << o.seed;
+  if (o.min_node_elements > 0) key << ";min_node_elements;" << o.min_node_elements;  // none: earlier names stay
   return o;
 }
 

@@ -415,3 +415,45 @@ TEST(CgalMesher, AffinesOrthogonalToRoundingAreAcceptedRealShearIsNot) {
     EXPECT_NE(std::string(e.what()).find("> 1e-3"), std::string::npos) << e.what();
   }
 }
+
+TEST(CgalMesher, MinNodeElementsLeavesNoSurfaceNodeInFewerElements) {
+  // The 1 mm lv phantom as lv_result(), with min_node_elements = 3 (weak_node_repair.hpp): every
+  // node then lies in three or more elements, the mesh stays conforming and closed, the patches
+  // are its surface with the cavity and background labels, and little volume goes.
+  const auto counts = [](const Mesh& m) {
+    std::vector<int> c(m.node_count(), 0);
+    for (std::size_t e = 0; e < m.element_count(); ++e)
+      for (int j = 0; j < 4; ++j) ++c[static_cast<std::size_t>(m.element(e)[j])];
+    return c;
+  };
+  const std::vector<int> c0 = counts(lv_result().mesh);
+  const auto weak0 = std::count_if(c0.begin(), c0.end(), [](int c) { return c < 3; });
+  ASSERT_GT(weak0, 0) << "the unrepaired mesh has no weak node: the test would check nothing";
+  CgalMeshOptions o = coarse_options();
+  o.min_node_elements = 3;
+  const CgalMeshResult r = mesh_cgal(lv_phantom().image, o);
+  ASSERT_TRUE(r.weak_nodes.has_value());
+  const WeakNodeReport& w = *r.weak_nodes;
+  EXPECT_GE(static_cast<long>(w.weak_nodes), static_cast<long>(weak0));
+  EXPECT_EQ(w.weak_nodes_left, 0u);
+  EXPECT_EQ(r.mesh.element_count(), lv_result().mesh.element_count() - w.elements_removed);
+  EXPECT_LT(w.volume_fraction, 0.01);
+  for (const int c : counts(r.mesh)) ASSERT_GE(c, 3);
+  const ConformityReport conf = check_conformity(r.mesh);
+  EXPECT_EQ(conf.overshared_faces, 0u);
+  EXPECT_EQ(r.patches.size(), conf.boundary_faces);
+  EXPECT_NEAR(enclosed_volume(r.mesh, r.patches) / summarize_quality(r.mesh).volume_m3, 1.0, 1e-9);
+  EXPECT_NEAR(summarize_quality(r.mesh).volume_m3 / summarize_quality(lv_result().mesh).volume_m3,
+              1.0 - w.volume_fraction, 1e-9);
+  std::size_t to_cavity = 0;
+  for (const auto& f : r.patches) {
+    ASSERT_TRUE(f.label_out == kBackground || f.label_out == kLvCavity) << f.label_out;
+    to_cavity += static_cast<std::size_t>(f.label_out == kLvCavity);
+  }
+  EXPECT_GT(to_cavity, 50u);
+  EXPECT_NE(r.mesh.attributes.at("cgal_weak_node_repair").find("min_node_elements=3"), std::string::npos);
+  for (const int bad : {1, 5, -1}) {
+    o.min_node_elements = bad;
+    EXPECT_THROW((void)mesh_cgal(lv_phantom().image, o), adamss::InputError) << bad;
+  }
+}
