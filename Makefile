@@ -33,16 +33,25 @@ build: configure
 test: build
 	@cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
 
-# make heart HEART_IMAGE=PATH: a patient's LV label image instead of the phantom
-# (cases/heart/run_image.sh; results in results/heart-image/<the image's folder name> unless
-# HEART_OUT is given). HEART_IMAGE=phantom is the phantom case.
+# make heart: the real heart by default, biv-me patient1 of ../shared/anatomy (cases/heart/run_image.sh:
+# unloading and two beats of both ventricles; results in results/heart). HEART_IMAGE=PATH: any label
+# image in that convention (1 wall, 2 LV, 3 RV if any; results in results/heart-image/<the image's
+# folder name> unless HEART_OUT is given). HEART_IMAGE=phantom, or no anatomy folder beside the
+# clone: the phantom case (cases/heart/run.sh: the Land LV ellipsoid, healthy and scarred, and the
+# biventricular phantom).
+BIVME_IMAGE := ../shared/anatomy/bivme_patient1/labels_frame000_1mm.nii.gz
 heart: build
-	@if [ -n "$(HEART_IMAGE)" ] && [ "$(HEART_IMAGE)" != phantom ]; then \
-	  out="$(HEART_OUT)"; \
-	  if [ "$(origin HEART_OUT)" = file ]; then out=results/heart-image/$$(basename "$$(dirname "$(HEART_IMAGE)")"); fi; \
-	  cases/heart/run_image.sh $(BUILD_DIR)/app/adamss "$(HEART_IMAGE)" "$$out"; \
+	@image="$(HEART_IMAGE)"; out="$(HEART_OUT)"; \
+	if [ -z "$$image" ]; then \
+	  if [ -f "$(BIVME_IMAGE)" ]; then image="$(BIVME_IMAGE)"; \
+	  else echo "make heart: $(BIVME_IMAGE) not found (the shared anatomy folder beside the clone): running the phantom case"; image=phantom; fi; \
+	elif [ "$$image" != phantom ] && [ "$(origin HEART_OUT)" = file ]; then \
+	  out=results/heart-image/$$(basename "$$(dirname "$$image")"); \
+	fi; \
+	if [ "$$image" = phantom ]; then \
+	  cases/heart/run.sh $(BUILD_DIR)/app/adamss "$$out"; \
 	else \
-	  cases/heart/run.sh $(BUILD_DIR)/app/adamss $(HEART_OUT); \
+	  cases/heart/run_image.sh $(BUILD_DIR)/app/adamss "$$image" "$$out"; \
 	fi
 
 # Benchmarks (issue 9; bench/README.md), never part of `make test`: Release build of the bench

@@ -13,10 +13,9 @@ OUT/scar/globals.csv when the scarred run exists), in the units cardiologists re
                          (ml) against time, the four phases shaded, valve events marked
                          (MC mitral closes, AO aortic opens, AC aortic closes, MO mitral opens)
   pv_loop_scar_mmhg.png/.svg  healthy and scarred loops (when OUT/scar exists)
-  pv_loop_biv_mmhg.png/.svg   LV and RV loops of the biventricular phantom (when OUT/biv exists:
-                         biv_beat.yaml), the passive inflation dotted
-  pv_loop_bivme_mmhg.png/.svg LV and RV loops of the biv-me heart (when OUT/bivme exists:
-                         cases/anatomy/bivme-beat.yaml)
+  pv_loop_biv_mmhg.png/.svg   LV and RV loops of a biventricular run (OUT/biv: the phantom's
+                         biv_beat.yaml; or SIM itself when it has RV columns: a biventricular image
+                         through run_image.sh), the passive inflation dotted
   bullseye.png/.svg      AHA 17-segment bull's-eye of the fibre strain from end diastole to end
                          systole of the last beat (frames nearest the mitral and aortic closures),
                          with the mean over the scar segment and over the remote wall when the mesh
@@ -97,8 +96,8 @@ def pv_loop(g, out):
 
 
 def biv_loops(g, out, figure="pv_loop_biv_mmhg", title="Biventricular pressure-volume loops"):
-    """Both ventricles' loops of a biventricular run (OUT/biv: biv_beat.yaml; OUT/bivme: the biv-me
-    heart, cases/anatomy/bivme-beat.yaml), mmHg and ml."""
+    """Both ventricles' loops of a biventricular run (OUT/biv: biv_beat.yaml; the simulation of a
+    biventricular label image, run_image.sh), mmHg and ml."""
     fig, ax = plt.subplots(figsize=(5.5, 4.5))
     for name, colour in (("lv", "#c0392b"), ("rv", "#2e6da4")):
         v, p, phase = g[name + "_volume"] * 1e6, g[name + "_pressure"] / MMHG, g[name + "_phase"].astype(int)
@@ -339,6 +338,9 @@ def main(out, sim=None, regional_plots=True):
     pv_loop(g, out)
     wiggers(g, out)
     written = ["pv_loop_mmhg", "wiggers"]
+    if "rv_volume" in g and "rv_pressure" in g and "rv_phase" in g:  # a biventricular image (run_image.sh)
+        biv_loops(g, out, "pv_loop_biv_mmhg", "Pressure-volume loops of both ventricles")
+        written.append("pv_loop_biv_mmhg")
     regional = {}
     r = regional_strain(sim, g) if regional_plots else None
     if r is not None:
@@ -367,10 +369,6 @@ def main(out, sim=None, regional_plots=True):
                 sys.exit("plot_heart.py: %s has no column %s" % (biv, col))
         biv_loops(gb, out)
         written.append("pv_loop_biv_mmhg")
-    bivme = os.path.join(out, "bivme", "globals.csv")
-    if os.path.exists(bivme):
-        biv_loops(read_globals(bivme), out, "pv_loop_bivme_mmhg", "biv-me patient1: pressure-volume loops")
-        written.append("pv_loop_bivme_mmhg")
     occlusion = os.path.join(out, "occlusion", "globals.csv")
     if os.path.exists(occlusion):
         fit = espvr(g, read_globals(occlusion), sim, out)

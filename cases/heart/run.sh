@@ -6,9 +6,8 @@
 #   number of voxels: 0.5, 1, 1.25, 2.5 mm); HEART_CHECK=0 skips the physiology check.
 #   HEART_SCAR=0 skips the scarred run; HEART_ESPVR=0 skips the lower-preload run (and the ESPVR);
 #   HEART_BIV=0 skips the biventricular run (biv_unload.yaml unloaded into OUTPUT_DIR/biv_unload, then
-#   biv_beat.yaml from that reference, results in OUTPUT_DIR/biv); HEART_BIVME=0 skips the real heart
-#   (biv-me patient1 of ../shared/anatomy: cases/anatomy/bivme-filling.yaml unloaded into
-#   OUTPUT_DIR/bivme_unload, then cases/anatomy/bivme-beat.yaml, results in OUTPUT_DIR/bivme).
+#   biv_beat.yaml from that reference, results in OUTPUT_DIR/biv). `make heart HEART_IMAGE=phantom`
+#   runs this script; plain `make heart` runs the real heart (run_image.sh on biv-me patient1).
 # Writes OUTPUT_DIR/{summary.json, pv_loop.png, pressure_volume_time.png, pv_loop_scar.png,
 # report.md}, the healthy simulation in OUTPUT_DIR/sim (series.pvd + frames/*.vtu, globals.csv)
 # and the scarred one in OUTPUT_DIR/scar (its summary.json there).
@@ -80,25 +79,6 @@ if [[ "${HEART_BIV:-1}" == 1 ]]; then
 else
   rm -rf "$out/biv" "$out/biv_unload"  # no stale loops from an earlier run in the plots and the report
   echo "skipped (HEART_BIV=0)"
-fi
-
-echo "== 4d/6 a real heart: biv-me patient1 (../shared/anatomy, 1 mm labels smoothed 0.7 mm, CGAL), unloaded from end-diastole, then one beat of both ventricles; see cases/anatomy/bivme-filling.yaml, bivme-beat.yaml"
-t_bivme=0
-anatomy="$here/../anatomy"
-bivme_image="$here/../../../shared/anatomy/bivme_patient1/labels_frame000_1mm.nii.gz"
-bivme=0
-if [[ "${HEART_BIVME:-1}" == 1 && -f "$bivme_image" ]]; then
-  bivme=1
-  t_bivme=$SECONDS
-  unload_and_beat "$anatomy/bivme-filling.yaml" 0.2mm "$anatomy/bivme-beat.yaml" bivme 20s
-  t_bivme=$((SECONDS - t_bivme))
-else
-  rm -rf "$out/bivme" "$out/bivme_unload"
-  if [[ "${HEART_BIVME:-1}" == 1 ]]; then
-    echo "skipped: $bivme_image not found (the shared anatomy folder beside the clone)"
-  else
-    echo "skipped (HEART_BIVME=0)"
-  fi
 fi
 
 echo "== 5/6 plots and report"
@@ -221,25 +201,6 @@ if os.path.exists(out + "/biv/summary.json"):
             edv = b["cavities"].get(n, {}).get("edv_m3", float("nan"))
             print(f"| {n.upper()} | {1e6 * v:.3f} | {1e6 * ref:.3f} | {1e6 * edv:.3f} | {100 * (edv / v - 1):+.2f} % |")
     print("\n![LV and RV loops (mmHg)](pv_loop_biv_mmhg.png)\n")
-if os.path.exists(out + "/bivme/summary.json"):
-    b = json.load(open(out + "/bivme/summary.json"))
-    u = json.load(open(out + "/bivme_unload/unload.json"))
-    best = u["iterations"][u["best_iteration"]]
-    print(f"\n## A real heart: biv-me patient1 (`cases/anatomy/bivme-beat.yaml`)\n\n"
-          f"The 1 mm label image of `../shared/anatomy/bivme_patient1`, labels smoothed (0.7 mm), CGAL: {b['nodes']} "
-          f"nodes, {b['elements']} tetrahedra; Hunter law with a neo-Hookean matrix, pericardium, valve rims fixed; "
-          f"unloaded from end-diastole in {len(u['iterations'])} iterations ({1e3 * u['max_error_m']:.3f} mm), then "
-          f"one beat, {b['steps']} steps, simulation {float(b['wall_time_s']):.0f} s wall; wall volume change at most "
-          f"{100 * b['total_volume_m3']['max_abs_relative_change']:.2f} %. The twitch and the Windkessels are not "
-          f"fitted: issue 20's ranges (EF 50-65 %, LV peak 14-18 kPa, RV 3-5 kPa) are not met.\n")
-    print("| cavity | image, meshed (ml) | unloaded (ml) | EDV (ml) | ESV (ml) | EF | peak (kPa) |\n|---|---|---|---|---|---|---|")
-    for n, v in u["imaged_cavity_volumes_m3"].items():
-        cb = b["cavities"].get(n, {})
-        nan = float("nan")
-        print(f"| {n.upper()} | {1e6 * v:.2f} | {1e6 * best['cavities'][n]['reference_m3']:.2f} | "
-              f"{1e6 * cb.get('edv_m3', nan):.2f} | {1e6 * cb.get('esv_m3', nan):.2f} | "
-              f"{100 * cb.get('ejection_fraction', nan):.1f} % | {1e-3 * cb.get('peak_pressure_Pa', nan):.2f} |")
-    print("\n![biv-me LV and RV loops (mmHg)](pv_loop_bivme_mmhg.png)\n")
 print("Fields over time (displacement, fibre_stretch, active_tension, J): open [sim/series.pvd](sim/series.pvd) "
       "in ParaView. Every step: [sim/globals.csv](sim/globals.csv); everything: [summary.json](summary.json).")
 PY
@@ -260,9 +221,8 @@ if [[ "${HEART_CHECK:-1}" == 1 ]]; then
     done
   }
   if [[ "${HEART_BIV:-1}" == 1 ]]; then check_biv biv "$here/biv_expected"; fi
-  if [[ "$bivme" == 1 ]]; then check_biv bivme "$anatomy/bivme-beat_expected"; fi
 else
   echo "skipped (HEART_CHECK=0)"
 fi
 cat "$out/report.md"
-echo "heart case done in ${SECONDS} s (healthy simulation ${t_sim} s, scarred ${t_scar} s, biventricular ${t_biv} s, biv-me ${t_bivme} s); results in $out"
+echo "heart case done in ${SECONDS} s (healthy simulation ${t_sim} s, scarred ${t_scar} s, biventricular ${t_biv} s); results in $out"

@@ -1,24 +1,28 @@
 #!/usr/bin/env bash
-# The heart case on a patient's LV label image (issue 20 item 7): `make heart HEART_IMAGE=PATH`
-# runs this instead of the phantom case. From the end-diastolic label image to two beats:
-#   1. the scenes: cases/anatomy/sunnybrook-filling.yaml and sunnybrook-beat.yaml with the image
-#      and its labels put in (the mesh recipe resamples to 1.5 mm, cleans, meshes with CGAL and
-#      puts rule-based fibres on it; the rims of the basal openings are fixed), the beat extended to
-#      two periods of 800 ms;
+# The heart case on a patient's label image (issue 20 item 7): `make heart` runs it on the biv-me
+# heart of ../shared/anatomy, `make heart HEART_IMAGE=PATH` on any end-diastolic label image in that
+# convention. From the label image to two beats:
+#   1. the scenes: with an RV label, cases/anatomy/bivme-filling.yaml and bivme-beat.yaml (labels
+#      smoothed 0.7 mm, CGAL, rule fibres, pericardium, both ventricles with a Windkessel each);
+#      LV only, cases/anatomy/sunnybrook-filling.yaml and sunnybrook-beat.yaml (resampled to
+#      1.5 mm, cleaned, CGAL, rule fibres); the image and its labels put in, the beat extended to
+#      two periods of 800 ms; the rims of the valve (basal) openings fixed;
 #   2. `adamss unload` on the filling scene: the image is at end-diastole, so the reference whose
-#      filling to the atrial pressure (1 kPa) gives back the image is found first;
+#      filling to the atrial pressures gives back the image is found first;
 #   3. `adamss run` of the two beats from that reference;
-#   4. plots (pv_loop_mmhg.png, wiggers.png) and report.md, with the simulated volumes against the
-#      image's: the meshed end-diastolic cavity and, when the image's folder holds
-#      labels_ES_LVbloodpool.nii.gz (the Sunnybrook convention), its end-systolic blood pool.
+#   4. plots (pv_loop_mmhg.png, wiggers.png, with an RV pv_loop_biv_mmhg.png) and report.md, with
+#      the simulated volumes against the image's: the meshed end-diastolic cavities, their voxel
+#      counts and, when the image's folder holds labels_ES_LVbloodpool.nii.gz (the Sunnybrook
+#      convention), the end-systolic blood pool.
 # Usage: cases/heart/run_image.sh ADAMSS_BINARY IMAGE OUTPUT_DIR
-#   HEART_LABELS (default "solid=1 lv=2", the Sunnybrook labels) names the wall and LV labels;
-#   HEART_ES_IMAGE (default IMAGE's folder/labels_ES_LVbloodpool.nii.gz) the end-systolic blood
-#   pool; HEART_TWITCH (default 60kPa, the failing ventricle of sunnybrook-beat.yaml) the peak
-#   active stress; HEART_CHECK=0 skips the check that the simulated ESV is within 15 % of the
-#   end-systolic blood pool (issue 20); HEART_DRY_RUN=1 writes and checks the scenes (adamss run
-#   --check, which meshes the image) and stops. Only LV images: a label image with an RV cavity is refused
-#   (the biv-me heart unloads, but its beat is not robust yet: cases/anatomy/README.md).
+#   HEART_LABELS names the wall, LV and RV labels (default "solid=1 lv=2 rv=3" when the image has
+#   a label 3, else "solid=1 lv=2"); HEART_ES_IMAGE (default IMAGE's
+#   folder/labels_ES_LVbloodpool.nii.gz) the end-systolic blood pool; HEART_TWITCH the peak active
+#   stress (default: the beat scene's, 60 kPa for the failing Sunnybrook ventricles, the biv-me
+#   scene's for biventricular images); HEART_CHECK=0 skips the checks (end-diastolic volumes within
+#   3 % of the image's label voxels; LV only: the simulated ESV within 15 % of the end-systolic blood
+#   pool); HEART_DRY_RUN=1 writes and checks the scenes (adamss run --check, which meshes the
+#   image) and stops.
 set -euo pipefail
 adamss=${1:?usage: run_image.sh ADAMSS_BINARY IMAGE OUTPUT_DIR}
 image=${2:?usage: run_image.sh ADAMSS_BINARY IMAGE OUTPUT_DIR}
@@ -26,73 +30,93 @@ out=${3:?usage: run_image.sh ADAMSS_BINARY IMAGE OUTPUT_DIR}
 here=$(cd "$(dirname "$0")" && pwd)
 anatomy=$here/../anatomy
 if [[ ! -f $image ]]; then
-  echo "run_image.sh: HEART_IMAGE=$image: no such file (a NIfTI label image: 1 wall, 2 LV blood pool)" >&2
+  echo "run_image.sh: HEART_IMAGE=$image: no such file (a NIfTI label image: 1 wall, 2 LV blood pool, 3 RV blood pool if any)" >&2
   exit 2
 fi
 image=$(cd "$(dirname "$image")" && pwd)/$(basename "$image")
-solid=1 lv=2
-for kv in ${HEART_LABELS:-solid=1 lv=2}; do
+py=/usr/bin/python3
+[[ -x $py ]] || py=python3
+mkdir -p "$out"
+SECONDS=0
+"$adamss" info "$image" --json > "$out/image_info.json"
+image_labels=$("$py" -c 'import json, sys; print(" ".join(sorted(json.load(open(sys.argv[1]))["labels"], key=int)))' \
+  "$out/image_info.json")
+default_labels="solid=1 lv=2"
+[[ " $image_labels " == *" 3 "* ]] && default_labels="solid=1 lv=2 rv=3"
+solid=1 lv=2 rv=""
+for kv in ${HEART_LABELS:-$default_labels}; do
   case $kv in
     solid=*) solid=${kv#solid=} ;;
     lv=*) lv=${kv#lv=} ;;
-    rv=*)
-      echo "run_image.sh: HEART_LABELS has an RV ($kv): only LV images run end to end today (the biv-me" \
-        "heart's beat is not robust yet: cases/anatomy/README.md, bivme-beat.yaml)" >&2
-      exit 2
-      ;;
+    rv=*) rv=${kv#rv=} ;;
     *)
-      echo "run_image.sh: HEART_LABELS entry '$kv' is not solid=N or lv=N" >&2
+      echo "run_image.sh: HEART_LABELS entry '$kv' is not solid=N, lv=N or rv=N" >&2
       exit 2
       ;;
   esac
 done
-for n in "$solid" "$lv"; do
+for n in "$solid" "$lv" $rv; do
   [[ $n =~ ^[0-9]+$ ]] || { echo "run_image.sh: HEART_LABELS: label '$n' is not a whole number" >&2; exit 2; }
+  if [[ " $image_labels " != *" $n "* ]]; then
+    echo "run_image.sh: HEART_LABELS names label $n, but $image has no voxel with it (its labels: $image_labels)" >&2
+    exit 2
+  fi
 done
+# Labels other than background, wall and cavities are refused: the scenes model the wall and one
+# or two cavities, nothing else (an atrium or a vessel label would be meshed as nothing).
+other=""
+for n in $image_labels; do
+  [[ $n == 0 || $n == "$solid" || $n == "$lv" || $n == "$rv" ]] || other="$other $n"
+done
+if [[ -n $other ]]; then
+  echo "run_image.sh: $image has labels$other besides the wall ($solid), the LV ($lv)${rv:+ and the RV ($rv)}:" \
+    "HEART_LABELS must name them (solid=N lv=N rv=N) or the image must hold only those" >&2
+  exit 2
+fi
+if [[ -n $rv ]]; then
+  kind=biventricular filling_template=$anatomy/bivme-filling.yaml beat_template=$anatomy/bivme-beat.yaml
+  tolerance=0.2mm
+else
+  kind="LV only" filling_template=$anatomy/sunnybrook-filling.yaml beat_template=$anatomy/sunnybrook-beat.yaml
+  tolerance=0.1mm
+fi
+scene_twitch=$(sed -n 's|.*twitch: {peak: \([0-9.]*\) kPa.*|\1|p' "$beat_template")
 es_image=${HEART_ES_IMAGE:-$(dirname "$image")/labels_ES_LVbloodpool.nii.gz}
-twitch=${HEART_TWITCH:-60kPa}
+twitch=${HEART_TWITCH:-${scene_twitch}kPa}
 twitch_value=${twitch%kPa}
 [[ $twitch_value =~ ^[0-9]+([.][0-9]+)?$ && $twitch == *kPa ]] || {
   echo "run_image.sh: HEART_TWITCH=$twitch: give the peak active stress in kPa, e.g. 60kPa" >&2
   exit 2
 }
 threads=${OMP_NUM_THREADS:-2}
-py=/usr/bin/python3
-[[ -x $py ]] || py=python3
-mkdir -p "$out"
-SECONDS=0
 
-echo "== 1/4 image and scenes: $image (wall label $solid, LV label $lv)"
-"$adamss" info "$image" --json > "$out/image_info.json"
+echo "== 1/4 image and scenes: $image ($kind: wall label $solid, LV label $lv${rv:+, RV label $rv})"
 "$adamss" info "$image"
-# Labels other than background, wall and LV (an RV blood pool, say) are refused: the scenes model
-# one cavity, and the biv-me beat is not robust yet (cases/anatomy/README.md).
-other=$("$py" -c 'import json, sys
-d = json.load(open(sys.argv[1]))
-print(" ".join(k for k in sorted(d["labels"], key=int) if k not in ("0", sys.argv[2], sys.argv[3])))' \
-  "$out/image_info.json" "$solid" "$lv")
-if [[ -n $other ]]; then
-  echo "run_image.sh: $image has labels $other besides the wall ($solid) and the LV ($lv): only LV images run" \
-    "end to end today (an RV needs the biventricular scenes; the biv-me beat is not robust yet: cases/anatomy/bivme-beat.yaml)" >&2
-  exit 2
-fi
-# The recipe's keys of the two Sunnybrook scenes, with this image and its labels.
+# The recipe's keys of the two template scenes, with this image and its labels.
 scene() {
-  sed -e "s|^  image: .*|  image: $image|" -e "s|^  solid: 1$|  solid: $solid|" -e "s|^  cavities: {lv: 2}$|  cavities: {lv: $lv}|" \
+  sed -e "s|^  image: .*|  image: $image|" -e "s|^  solid: 1$|  solid: $solid|" \
+    -e "s|^  cavities: {lv: 2}$|  cavities: {lv: $lv}|" -e "s|^  cavities: {lv: 2, rv: 3}$|  cavities: {lv: $lv, rv: $rv}|" \
     -e "s|^    labels: \[1\]$|    labels: [$solid]|" "$1"
 }
-scene "$anatomy/sunnybrook-filling.yaml" | sed -e "s|^name: .*|name: image-filling|" > "$out/filling.yaml"
-scene "$anatomy/sunnybrook-beat.yaml" |
-  sed -e "s|^name: .*|name: image-beat|" -e "s|peak: 60 kPa|peak: $twitch_value kPa|" \
+scene "$filling_template" | sed -e "s|^name: .*|name: image-filling|" > "$out/filling.yaml"
+# Two periods: each circulation gets period 800 ms (the Sunnybrook beat has none; the biv-me one
+# has it already) and the run ends at 1.6 s.
+scene "$beat_template" |
+  sed -e "s|^name: .*|name: image-beat|" -e "s|peak: $scene_twitch kPa|peak: $twitch_value kPa|" \
+    -e "/^        period: 800 ms$/d" \
     -e "s|^        contraction_onset: 100 ms$|        contraction_onset: 100 ms\n        period: 800 ms|" \
     -e "s|^run: {t_end: 800 ms}$|run: {t_end: 1600 ms}|" > "$out/beat.yaml"
+cavity_line="  cavities: {lv: $lv}"
+[[ -n $rv ]] && cavity_line="  cavities: {lv: $lv, rv: $rv}"
 for f in filling beat; do
-  if ! grep -qF "image: $image" "$out/$f.yaml" || ! grep -q "^    labels: \[$solid\]$" "$out/$f.yaml"; then
+  if ! grep -qF "image: $image" "$out/$f.yaml" || ! grep -q "^    labels: \[$solid\]$" "$out/$f.yaml" ||
+    ! grep -qxF "$cavity_line" "$out/$f.yaml"; then
     echo "run_image.sh: $f.yaml: the image or its labels were not put in" >&2
     exit 1
   fi
 done
-if ! grep -q "^run: {t_end: 1600 ms}$" "$out/beat.yaml" || ! grep -q "^        period: 800 ms$" "$out/beat.yaml" ||
+periods=$(grep -c "^        period: 800 ms$" "$out/beat.yaml" || true)
+if ! grep -q "^run: {t_end: 1600 ms}$" "$out/beat.yaml" || [[ $periods != "$(grep -c "^        contraction_onset:" "$out/beat.yaml")" ]] ||
   ! grep -q "peak: $twitch_value kPa" "$out/beat.yaml"; then
   echo "run_image.sh: beat.yaml: the two-beat settings were not put in" >&2
   exit 1
@@ -101,80 +125,30 @@ if [[ ${HEART_DRY_RUN:-0} == 1 ]]; then
   # Scenes only, validated (and the image meshed) by adamss run --check; nothing is simulated.
   "$adamss" run "$out/filling.yaml" --check
   "$adamss" run "$out/beat.yaml" --check
-  echo "HEART_DRY_RUN=1: scenes written and checked in $out"
+  echo "HEART_DRY_RUN=1: $kind scenes written and checked in $out"
   exit 0
 fi
 
-echo "== 2/4 unloaded reference: adamss unload filling.yaml (the image is at end-diastole, 1 kPa)"
+echo "== 2/4 unloaded reference: adamss unload filling.yaml (the image is at end-diastole, loaded by the atrial pressures)"
 t_unload=$SECONDS
 rm -rf "$out/unload"
-OMP_NUM_THREADS=$threads "$adamss" unload "$out/filling.yaml" -o "$out/unload" --tolerance 0.1mm --max-iterations 20
+OMP_NUM_THREADS=$threads "$adamss" unload "$out/filling.yaml" -o "$out/unload" --tolerance "$tolerance" --max-iterations 20
 t_unload=$((SECONDS - t_unload))
 
 echo "== 3/4 two beats from the unloaded reference (twitch $twitch_value kPa), see beat.yaml"
 t_sim=$SECONDS
 OMP_NUM_THREADS=$threads "$adamss" run "$out/beat.yaml" -o "$out/sim" --reference "$out/unload/unloaded_mesh.h5" \
-  --progress-interval 10s
+  --progress-interval 20s
 t_sim=$((SECONDS - t_sim))
 cp "$out/sim/summary.json" "$out/summary.json"
 
 echo "== 4/4 plots and report"
 es_json=""
-if [[ -f $es_image ]]; then
+if [[ -z $rv && -f $es_image ]]; then
   "$adamss" info "$es_image" --json > "$out/es_image_info.json"
   es_json=$out/es_image_info.json
 fi
 "$py" "$here/plot_heart.py" "$out" "$out/sim" --no-regional
-"$py" - "$out" "$image" "$lv" "$es_image" "$es_json" "$t_unload" "$t_sim" "${HEART_CHECK:-1}" <<'PY'
-import json, sys
-out, image, lv, es_image, es_json, t_unload, t_sim, check = sys.argv[1:9]
-s = json.load(open(out + "/summary.json"))
-c = s["cavities"]["lv"]
-u = json.load(open(out + "/unload/unload.json"))
-info = json.load(open(out + "/image_info.json"))
-nan = float("nan")
-ml = lambda v: 1e6 * v
-ed_voxels = info["labels"].get(lv, 0) * info["voxel_volume_m3"]
-meshed = u["imaged_cavity_volumes_m3"]["lv"]
-best = u["iterations"][u["best_iteration"]]
-edv, esv, ef = c.get("edv_m3", nan), c.get("esv_m3", nan), c.get("ejection_fraction", nan)
-lines = ["# Two beats of a patient's LV from its label image\n",
-         f"Image: `{image}` (LV label {lv}). Mesh: {s['nodes']} nodes, {s['elements']} tetrahedra (the recipe of "
-         "[beat.yaml](beat.yaml): resampled to 1.5 mm, cleaned, CGAL, rule-based fibres). Unloading "
-         f"{len(u['iterations'])} iterations ({t_unload} s), max distance of the re-filled reference to the image "
-         f"{1e3 * u['max_error_m']:.3f} mm; two beats {s['steps']} steps, {s['newton_iterations']} Newton iterations "
-         f"({t_sim} s). Wall volume change at most {100 * s['total_volume_m3']['max_abs_relative_change']:.2f} %.\n",
-         "| | simulated (last beat) | image |", "|---|---|---|",
-         f"| EDV | {ml(edv):.1f} ml | {ml(meshed):.1f} ml (the meshed ED cavity; {ml(ed_voxels):.1f} ml by voxel count) |"]
-result = {"edv_m3": edv, "esv_m3": esv, "ejection_fraction": ef, "image_ed_cavity_m3": meshed,
-          "image_ed_voxels_m3": ed_voxels, "unloaded_cavity_m3": best["cavities"]["lv"]["reference_m3"]}
-failed = False
-if es_json:
-    es = json.load(open(es_json))
-    es_vox = sum(n for k, n in es["labels"].items() if k != "0") * es["voxel_volume_m3"]
-    scaled = es_vox * meshed / ed_voxels if ed_voxels > 0 else nan
-    ef_img = 1.0 - es_vox / ed_voxels if ed_voxels > 0 else nan
-    err = esv / es_vox - 1.0
-    lines.append(f"| ESV | {ml(esv):.1f} ml | {ml(es_vox):.1f} ml by voxel count of `{es_image}` "
-                 f"({ml(scaled):.1f} ml scaled to the meshed ED cavity) |")
-    lines.append(f"| EF | {100 * ef:.1f} % | {100 * ef_img:.1f} % (voxel counts) |")
-    lines.append(f"\nSimulated ESV against the image's end-systolic blood pool: {100 * err:+.1f} % by voxel count, "
-                 f"{100 * (esv / scaled - 1):+.1f} % against the scaled value (issue 20 asks within 15 %).")
-    result.update({"image_es_voxels_m3": es_vox, "esv_error_vs_image": err})
-    failed = check != "0" and not abs(err) <= 0.15
-else:
-    lines.append(f"| ESV | {ml(esv):.1f} ml | (no end-systolic image: {es_image}) |")
-    lines.append(f"| EF | {100 * ef:.1f} % | |")
-lines.append(f"\nPeak LV pressure {1e-3 * c.get('peak_pressure_Pa', nan):.2f} kPa "
-             f"({c.get('peak_pressure_Pa', nan) / 133.322:.0f} mmHg); loop closure {100 * c.get('loop_closure', nan):.2g} %; "
-             f"beat-to-beat change {100 * c.get('beat_to_beat_change', nan):.2g} %.\n")
-lines.append("![PV loops in mmHg](pv_loop_mmhg.png)\n\n![Wiggers diagram](wiggers.png)\n\n"
-             "Fields over time: [sim/series.pvd](sim/series.pvd) in ParaView; every step: [sim/globals.csv](sim/globals.csv).")
-open(out + "/report.md", "w").write("\n".join(lines) + "\n")
-json.dump(result, open(out + "/image_comparison.json", "w"), indent=2)
-print("\n".join(lines[2:8]))
-if failed:
-    sys.exit(f"run_image.sh: the simulated ESV is {100 * err:+.1f} % off the image's end-systolic blood pool "
-             "(more than 15 %); HEART_TWITCH sets the contractility")
-PY
+"$py" "$here/image_report.py" "$out" "$image" "$lv" "$rv" "$es_image" "$es_json" "$t_unload" "$t_sim" \
+  "${HEART_CHECK:-1}"
 echo "heart case on $image done in ${SECONDS} s: $out/report.md"
