@@ -1,51 +1,35 @@
 #include "preprocess/meshers/weak_node_repair.hpp"
 
-#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <string>
-#include <tuple>
 
 #include "common/error.hpp"
 #include "preprocess/mesh/element_faces.hpp"
+#include "preprocess/mesh/element_volume.hpp"
+#include "preprocess/mesh/face_table.hpp"
 
 namespace adamss::preprocess {
 namespace {
 
 constexpr std::int64_t kNone = -1;
 
-/// across[4 e + k]: the element on the far side of local face k (kTetFaces) of element e, or kNone.
+/// across[4 e + k]: the element on the far side of local face k (kTetFaces) of element e, or kNone
+/// (from the shared face table: faces of two elements sit next to each other).
 std::vector<std::int64_t> face_neighbours(const Mesh& mesh) {
-  const std::size_t n = mesh.element_count();
-  using Entry = std::tuple<std::array<Index, 3>, std::size_t>;  // sorted face nodes, 4 e + k
-  std::vector<Entry> faces;
-  faces.reserve(4 * n);
-  for (std::size_t e = 0; e < n; ++e) {
-    const Index* t = mesh.element(e);
-    for (std::size_t k = 0; k < 4; ++k) {
-      std::array<Index, 3> f{t[kTetFaces[k][0]], t[kTetFaces[k][1]], t[kTetFaces[k][2]]};
-      std::sort(f.begin(), f.end());
-      faces.emplace_back(f, 4 * e + k);
-    }
-  }
-  std::sort(faces.begin(), faces.end());
-  std::vector<std::int64_t> across(4 * n, kNone);
+  const std::vector<FaceRecord> faces = sorted_face_records(mesh);
+  std::vector<std::int64_t> across(4 * mesh.element_count(), kNone);
   for (std::size_t i = 0; i + 1 < faces.size(); ++i) {
-    if (std::get<0>(faces[i]) != std::get<0>(faces[i + 1])) continue;
-    const std::size_t a = std::get<1>(faces[i]);
-    const std::size_t b = std::get<1>(faces[i + 1]);
-    across[a] = static_cast<std::int64_t>(b / 4);
-    across[b] = static_cast<std::int64_t>(a / 4);
+    if (faces[i].key != faces[i + 1].key) continue;
+    const FaceRecord& a = faces[i];
+    const FaceRecord& b = faces[i + 1];
+    across[4 * std::size_t{a.element} + a.local] = b.element;
+    across[4 * std::size_t{b.element} + b.local] = a.element;
   }
   return across;
-}
-
-double tet_volume(const Mesh& mesh, std::size_t e) {
-  const Index* t = mesh.element(e);
-  const Eigen::Vector3d x0 = mesh.nodes.col(t[0]);
-  return std::abs((mesh.nodes.col(t[1]) - x0).dot((mesh.nodes.col(t[2]) - x0).cross(mesh.nodes.col(t[3]) - x0))) / 6.0;
 }
 
 /// One round: marks (removed[e] = true) every kept element holding a node in 1 .. min - 1 kept
@@ -201,7 +185,7 @@ WeakNodeReport remove_weak_nodes(Mesh& mesh, std::vector<SurfacePatchFace>& patc
   const std::size_t n = mesh.element_count();
   std::vector<bool> removed(n, false);
   double total = 0.0;
-  for (std::size_t e = 0; e < n; ++e) total += tet_volume(mesh, e);
+  for (std::size_t e = 0; e < n; ++e) total += std::abs(element_volume(mesh, e));
   for (int round = 0; round < max_rounds; ++round) {
     const std::size_t weak = mark_weak(mesh, min_elements, removed);
     if (weak == 0) break;
@@ -213,7 +197,7 @@ WeakNodeReport remove_weak_nodes(Mesh& mesh, std::vector<SurfacePatchFace>& patc
   for (std::size_t e = 0; e < n; ++e) {
     if (!removed[e]) continue;
     ++report.elements_removed;
-    report.volume_removed_m3 += tet_volume(mesh, e);
+    report.volume_removed_m3 += std::abs(element_volume(mesh, e));
   }
   if (report.elements_removed == n)
     throw NumericalError("min_node_elements " + std::to_string(min_elements) + " would remove every element");
