@@ -126,6 +126,9 @@ nlohmann::json summary_json(const solver::LoadedScene& sc, const solver::RunOutc
   if (!solver::continued_terms(m.terms).empty()) {
     j["penalty_continuation"] = {{"re_solves", out.continuation_solves}};
   }
+  if (sc.run.implicit.static_damping > 0.0) {  // the viscous regularisation (integrator.static_damping)
+    j["static_damping"] = {{"zeta_per_s", sc.run.implicit.static_damping}, {"work_J", out.damping_work}};
+  }
   // Resident memory (MB; null = not sampled, e.g. a run shorter than a quarter of t_end).
   const auto mb = [](double v) { return v >= 0.0 ? nlohmann::json(v) : nlohmann::json(nullptr); };
   j["resident_memory_MB"] = {{"start", mb(out.resident_mb.start)},

@@ -43,6 +43,7 @@ void visit_fields(Loop& loop, const Visit& visit) {
   visit("wall_seconds", loop.wall_seconds);
   // Added later: a checkpoint written before them lacks these, which then keep their defaults.
   visit.optional("continuation_solves", loop.continuation_solves);
+  visit.optional("damping_work", loop.damping_work);
 }
 
 /// Floats as float64, counters and flags as int64, matrices n x 3.

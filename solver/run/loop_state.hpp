@@ -25,6 +25,7 @@ struct RunLoopState {
   std::size_t augmentations = 0;          ///< augmented-Lagrangian updates, summed over accepted steps (static)
   std::size_t continuation_solves = 0;    ///< re-solves of the penalty continuation, summed (static)
   double max_constraint_violation = 0.0;  ///< largest StepReport::constraint_violation of an accepted step
+  double damping_work = 0.0;              ///< summed StepReport::damping_work (J; static_damping)
   double dt_min_used = std::numeric_limits<double>::infinity();  ///< s; infinity before the first step
   double dt_max_used = 0.0;                                      ///< s
   bool ke_exceeded = false;  ///< the kinetic energy has reached run.ke_threshold at least once

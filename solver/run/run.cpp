@@ -199,6 +199,7 @@ void RunLoop::count(const StepReport& rep) {
   loop_.augmentations += static_cast<std::size_t>(rep.augmentations);
   loop_.continuation_solves += static_cast<std::size_t>(rep.continuation_solves);
   loop_.max_constraint_violation = std::max(loop_.max_constraint_violation, rep.constraint_violation);
+  loop_.damping_work += rep.damping_work;
   loop_.dt_min_used = std::min(loop_.dt_min_used, rep.dt);
   loop_.dt_max_used = std::max(loop_.dt_max_used, rep.dt);
   if (integ_->adaptive()) loop_.dt = rep.next_dt;
@@ -385,6 +386,7 @@ RunOutcome RunLoop::finish(State& s) {
   out.augmentations = loop_.augmentations;
   out.continuation_solves = loop_.continuation_solves;
   out.max_constraint_violation = loop_.max_constraint_violation;
+  out.damping_work = loop_.damping_work;
   out.dt_min_used = std::isfinite(loop_.dt_min_used) ? loop_.dt_min_used : 0.0;
   out.dt_max_used = loop_.dt_max_used;
   out.t = s.t;

@@ -76,6 +76,7 @@ struct RunOutcome {
   std::size_t augmentations = 0;          ///< static: augmented-Lagrangian multiplier updates, summed
   std::size_t continuation_solves = 0;    ///< static: re-solves after raising a continued penalty, summed
   double max_constraint_violation = 0.0;  ///< static with multipliers: the largest max |J - r| accepted
+  double damping_work = 0.0;              ///< static with static_damping: the regularisation's work (J)
   std::size_t linear_iterations = 0;      ///< implicit/static, summed over accepted steps
   double dt_min_used = 0.0, dt_max_used = 0.0;
   std::optional<std::size_t> bad_element;  ///< element that inverted/flattened

@@ -164,6 +164,12 @@ bool load_integrator(SceneNode integ, RunSettings& run) {
   imp.ksp_rtol = integ.positive("ksp_rtol", Dimension::Dimensionless, imp.ksp_rtol);
   imp.ksp_max_it = static_cast<int>(integ.integer("ksp_max_it", imp.ksp_max_it));
   imp.adapt = integ.flag("adapt", imp.adapt);
+  imp.static_damping = integ.positive("static_damping", Dimension::Rate, 0.0, true);
+  if (imp.static_damping > 0.0 && run.integrator != "static") {
+    throw InputError(
+        integ.at("static_damping") +
+        ": only the static integrator has it (the dynamic ones damp through their masses and damping terms)");
+  }
   imp.petsc_options = integ.text("petsc_options", "");
   if (imp.max_newton < 1) throw InputError(integ.at("max_newton") + ": must be >= 1");
   if (!(run.abm3.error_min < run.abm3.error_max))

@@ -143,6 +143,11 @@ bool ImplicitIntegrator::attempt(State& s, double h, StepReport& rep) {
     restore();
     return false;
   }
+  if (kind_ == Kind::Static && set_.static_damping > 0.0) {
+    // c sum_i m_i |x_i - x_n,i|^2 with c = zeta / h: the drag's work over the step (J)
+    rep.damping_work = set_.static_damping / h *
+                       ((s.x - x0_).colwise().squaredNorm().transpose().array() * sys_.model().mass.array()).sum();
+  }
   if (kind_ == Kind::Static && constraints_.empty()) {
     prev_x_ = x0_;  // the static predictor: this converged load step's start and length
     prev_h_ = h;
@@ -166,6 +171,7 @@ bool ImplicitIntegrator::static_step(State& s, double h, StepReport& rep) {
   Eigen::Matrix3Xd dpres = Eigen::Matrix3Xd::Zero(3, cur.x.cols());
   for (const Eigen::Index d : linear_->fixed_dofs()) dpres.data()[d] = pres.x.data()[d] - cur.x.data()[d];
   StaticEquations eq(sys_, *linear_, t1, rep.evaluations);
+  if (set_.static_damping > 0.0) eq.set_damping(set_.static_damping / h, x0_);
   if (!damped_newton(eq, *linear_, cur.x, std::move(dpres), set_, record_)) return false;
   s = cur;
   return true;
@@ -220,6 +226,7 @@ bool ImplicitIntegrator::augment(State& s, double h, StepReport& rep) {
 
 bool ImplicitIntegrator::resolve(State& s, double h, StepReport& rep) {
   StaticEquations eq(sys_, *linear_, s.t, rep.evaluations);
+  if (set_.static_damping > 0.0) eq.set_damping(set_.static_damping / h, x0_);
   NewtonRecord again;  // its own record: the relative tolerance refers to this solve's first residual
   bool ok = false;
   if (constraints_.empty()) {
@@ -246,6 +253,7 @@ bool ImplicitIntegrator::static_bordered_step(State& s, double h, StepReport& re
   cur.v.setZero();
   for (const Eigen::Index d : linear_->fixed_dofs()) cur.x.data()[d] = pres.x.data()[d];
   StaticEquations eq(sys_, *linear_, t1, rep.evaluations);
+  if (set_.static_damping > 0.0) eq.set_damping(set_.static_damping / h, x0_);
   if (border.pressures_given()) {
     // Every cavity at a given pressure: a plain pressure load, where damped Newton's line search
     // holds and the undamped bordered iteration may not (the biv-me heart filling from its

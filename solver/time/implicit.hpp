@@ -67,7 +67,10 @@ struct ImplicitSettings {
   double newton_xtol = 1e-12;  ///< |dx|_inf <= xtol (m)
   double ksp_rtol = 1e-10;
   int ksp_max_it = 2000;
-  bool adapt = true;          ///< grow/shrink dt by the iteration counts
+  bool adapt = true;  ///< grow/shrink dt by the iteration counts
+  /// static only: zeta (1/s) of the viscous regularisation f_d = -zeta M (x - x_n) / h of every
+  /// load step (step_equations.hpp); 0 = none, plain equilibrium.
+  double static_damping = 0.0;
   std::string petsc_options;  ///< e.g. "-ksp_type cg -pc_type hypre"
   /// Called at every Newton iteration of every attempt with the iteration (0 = the start of the
   /// attempt) and its residual 2-norm (N): the run loop's progress lines inside a long step

@@ -78,6 +78,7 @@ struct StepReport {
   int augmentations = 0;              ///< static: augmented-Lagrangian multiplier updates of the accepted attempt
   int continuation_solves = 0;        ///< static: re-solves after raising a continued penalty, accepted attempt
   double constraint_violation = 0.0;  ///< static with multipliers: max |J - r| after the last update
+  double damping_work = 0.0;          ///< static with static_damping: energy the regularisation took (J)
 };
 
 class Integrator {

@@ -29,14 +29,21 @@ StaticEquations::StaticEquations(System& system, JacobianSolver& linear, double 
       evaluations_(evaluations),
       v_(Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(system.model().node_count()))) {}
 
+void StaticEquations::set_damping(double c, const Eigen::Matrix3Xd& x_n) {
+  c_ = c;
+  x_n_ = c > 0.0 ? &x_n : nullptr;
+  if (x_n_ != nullptr) cm_ = c * sys_.model().mass;
+}
+
 void StaticEquations::residual(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& r) {
   sys_.forces(x, v_, t1_, r);
   ++evaluations_;
+  if (x_n_ != nullptr) r -= ((x - *x_n_).array().rowwise() * cm_.transpose().array()).matrix();
   zero_dofs(r, linear_.fixed_dofs());
 }
 
 void StaticEquations::assemble_operator(const Eigen::Matrix3Xd& x) {
-  linear_.assemble(sys_.model().terms, StateView{x, v_, t1_}, -1.0, 0.0);
+  linear_.assemble(sys_.model().terms, StateView{x, v_, t1_}, -1.0, 0.0, x_n_ != nullptr ? &cm_ : nullptr);
 }
 
 double StaticEquations::position_change(const Eigen::Matrix3Xd& dx) const {

@@ -5,7 +5,16 @@
 //
 //   StaticEquations          u = x, R(x) = f(x, 0, t1): quasi-static equilibrium at the load
 //                            step t1 (every load is a time course, so time is the load
-//                            parameter); operator A = -dR/dx = -K
+//                            parameter); operator A = -dR/dx = -K. With a viscous
+//                            regularisation zeta > 0 (integrator.static_damping; the idea of
+//                            Abaqus' *STATIC, STABILIZE): R(x) = f(x, 0, t1) - c M (x - x_n),
+//                            c = zeta / h, x_n the last converged step, M the lumped masses;
+//                            A = -K + c M. A drag -zeta M v on the step's mean velocity
+//                            v = (x - x_n)/h: it vanishes at rest, so held loads still end at
+//                            the plain equilibrium, and c M keeps A positive definite where K
+//                            has a zero or negative eigenvalue (a local instability) once
+//                            c m exceeds it. Its work in the step, c sum m |x - x_n|^2, is
+//                            what StepReport::damping_work reports.
 //   BackwardEulerEquations   u = v (the end-of-step velocity), x(v) = x0 + h v,
 //                            R(v) = h f(x(v), v, t1) - M (v - v0): backward Euler, eqs.
 //                            2.142-2.144; operator A = -dR/dv = M - h D - h^2 K
@@ -40,6 +49,9 @@ class StaticEquations final : public StepEquations {
  public:
   /// `evaluations` is incremented for every force evaluation.
   StaticEquations(System& system, JacobianSolver& linear, double t1, int& evaluations);
+  /// Adds the viscous regularisation -c M (x - x_n) (file comment); c = zeta / h in 1/s^2 (0:
+  /// none). `x_n` must outlive the object.
+  void set_damping(double c, const Eigen::Matrix3Xd& x_n);
   void residual(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& r) override;
   [[nodiscard]] const Eigen::Matrix3Xd& positions(const Eigen::Matrix3Xd& x) const override { return x; }
   void assemble_operator(const Eigen::Matrix3Xd& x) override;
@@ -51,7 +63,10 @@ class StaticEquations final : public StepEquations {
   JacobianSolver& linear_;
   double t1_;
   int& evaluations_;
-  Eigen::Matrix3Xd v_;  // zero: equilibrium has no velocities
+  Eigen::Matrix3Xd v_;                     // zero: equilibrium has no velocities
+  double c_ = 0.0;                         // zeta / h (1/s^2); 0: no regularisation
+  const Eigen::Matrix3Xd* x_n_ = nullptr;  // the last converged positions
+  Eigen::VectorXd cm_;                     // c m per node (N/m), the operator's diagonal part
 };
 
 class BackwardEulerEquations final : public StepEquations {

@@ -163,6 +163,15 @@ TEST(Scene, ImpossibleValuesAndWrongUnits) {
             std::string::npos);
   EXPECT_NE(test::scene_error(replaced(kBase, "labels: [1]", "labels: [7]")).find("materials[0].labels"),
             std::string::npos);
+  // The static regularisation: a rate, static only.
+  EXPECT_NE(test::scene_error(replaced(kBase, "dt: 10 us}", "dt: 10 us, static_damping: 50 /s}"))
+                .find("integrator.static_damping: only the static integrator has it"),
+            std::string::npos);
+  EXPECT_NE(test::scene_error(replaced(kBase, "type: symplectic_euler, dt: 10 us}",
+                                       "type: static, dt: 1 ms, "
+                                       "static_damping: 50 Pa}"))
+                .find("expected a rate"),
+            std::string::npos);
 }
 
 TEST(Scene, TimeStepFarBeyondTheCriticalStepIsAnError) {
