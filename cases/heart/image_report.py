@@ -94,6 +94,18 @@ def main(out, image, lv, rv, es_image, es_json, t_unload, t_sim, check):
         lines.append("Issue 20's ranges for the biv-me heart: " +
                      "; ".join(f"{k}: {'met' if v else 'not met'}" for k, v in ranges) + ".\n")
         lines.append("![PV loops of both ventricles in mmHg](pv_loop_biv_mmhg.png)\n")
+    try:
+        kin = json.load(open(out + "/heart_views.json"))
+    except OSError:
+        kin = None
+    if kin:
+        result["long_axis"] = kin
+        lines.append(f"Long axis (render_heart.py, last beat): {1e3 * kin['long_axis_length_ed_m']:.1f} mm at end "
+                     f"diastole, {1e3 * kin['long_axis_length_es_m']:.1f} mm at end systole "
+                     f"({100 * kin['long_axis_change']:+.1f} %; a real ventricle shortens by about 10-20 %); "
+                     f"the apex moves {1e3 * kin['apex_axial_motion_ed_to_es_m']:+.1f} mm along the axis "
+                     "(+ towards the base).\n")
+        lines.append("![Long-axis cut: reference mesh with fibres, end diastole, end systole](heart_views.png)\n")
     lines.append("![LV PV loop in mmHg](pv_loop_mmhg.png)\n\n![Wiggers diagram (LV)](wiggers.png)\n\n"
                  "Fields over time: [sim/series.pvd](sim/series.pvd) in ParaView; every step: "
                  "[sim/globals.csv](sim/globals.csv).")

@@ -10,7 +10,7 @@
 #   2. `adamss unload` on the filling scene: the image is at end-diastole, so the reference whose
 #      filling to the atrial pressures gives back the image is found first;
 #   3. `adamss run` of the two beats from that reference;
-#   4. plots (pv_loop_mmhg.png, wiggers.png, with an RV pv_loop_biv_mmhg.png) and report.md, with
+#   4. plots (pv_loop_mmhg.png, wiggers.png, with an RV pv_loop_biv_mmhg.png; heart_views.png, a long-axis cut at end diastole and end systole, by render_heart.py) and report.md, with
 #      the simulated volumes against the image's: the meshed end-diastolic cavities, their voxel
 #      counts and, when the image's folder holds labels_ES_LVbloodpool.nii.gz (the Sunnybrook
 #      convention), the end-systolic blood pool.
@@ -149,6 +149,7 @@ if [[ -z $rv && -f $es_image ]]; then
   es_json=$out/es_image_info.json
 fi
 "$py" "$here/plot_heart.py" "$out" "$out/sim" --no-regional
+"$py" "$here/render_heart.py" "$out/sim" "$out/heart_views.png"
 "$py" "$here/image_report.py" "$out" "$image" "$lv" "$rv" "$es_image" "$es_json" "$t_unload" "$t_sim" \
   "${HEART_CHECK:-1}"
 echo "heart case on $image done in ${SECONDS} s: $out/report.md"
