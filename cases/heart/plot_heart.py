@@ -214,13 +214,16 @@ def aha_segments(points, conn):
 
 
 def last_beat_times(g):
-    """End diastole (the last mitral closure) and end systole (the aortic closure after it), s."""
+    """End diastole and end systole of the last complete beat (the last mitral closure that an
+    aortic closure follows, and that aortic closure), s; None without one (a run stopped in its
+    first ejection)."""
     phase, t = g["lv_phase"].astype(int), g["t"]
     mc = [t[i] for i in range(1, len(t)) if phase[i - 1] == 0 and phase[i] == 1]
     ac = [t[i] for i in range(1, len(t)) if phase[i - 1] == 2 and phase[i] == 3]
-    if not mc or not ac or ac[-1] < mc[-1]:
+    done = [m for m in mc if any(a > m for a in ac)]
+    if not done:
         return None
-    return mc[-1], ac[-1]
+    return done[-1], min(a for a in ac if a > done[-1])
 
 
 def regional_strain(sim, g):
