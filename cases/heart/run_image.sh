@@ -149,7 +149,10 @@ if [[ -z $rv && -f $es_image ]]; then
   es_json=$out/es_image_info.json
 fi
 "$py" "$here/plot_heart.py" "$out" "$out/sim" --no-regional
-"$py" "$here/render_heart.py" "$out/sim" "$out/heart_views.png"
+# The picture is not worth losing the report for: a failure is reported and the report still written.
+rm -f "$out/heart_views.png" "$out/heart_views.json"
+"$py" "$here/render_heart.py" "$out/sim" "$out/heart_views.png" ||
+  echo "run_image.sh: warning: render_heart.py drew no heart_views.png (its message above); the report follows without it" >&2
 "$py" "$here/image_report.py" "$out" "$image" "$lv" "$rv" "$es_image" "$es_json" "$t_unload" "$t_sim" \
   "${HEART_CHECK:-1}"
 echo "heart case on $image done in ${SECONDS} s: $out/report.md"
