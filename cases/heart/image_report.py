@@ -96,7 +96,7 @@ def main(out, image, lv, rv, es_image, es_json, t_unload, t_sim, check):
         lines.append("![PV loops of both ventricles in mmHg](pv_loop_biv_mmhg.png)\n")
     try:
         kin = json.load(open(out + "/heart_views.json"))
-    except OSError:
+    except (OSError, ValueError):  # no picture, or a broken file: the report goes on without it
         kin = None
     if kin:
         result["long_axis"] = kin

@@ -3,10 +3,13 @@ with matplotlib alone (no OpenGL needed), from SIM/series.pvd, its frames and SI
 
   heart_views.png   three panels of the same long-axis cut through the wall:
                     1. the reference (unloaded) mesh, each visible face coloured by the helix angle
-                       of its element's fibre (alpha = atan(f.e_l / f.e_c), deg, the rule-fibre
-                       convention of preprocess/fibres/rule_fibres.hpp: 0 circumferential, +90
-                       along the long axis towards the base) with the projected fibre directions
-                       drawn on a subset of the cut faces;
+                       of its element's fibre against the frames' cardiac frame (alpha = atan(f.e_l /
+                       f.e_c), deg: 0 circumferential, +90 along the long axis towards the base; e_l
+                       is the long axis itself, where the rule fibres of
+                       preprocess/fibres/rule_fibres.hpp use it projected onto the wall, so the two
+                       agree where the wall is parallel to the axis and differ towards the apex)
+                       with the projected fibre directions drawn on a subset of the faces that face
+                       the viewer (the cut, and the endocardium seen through the cavity);
                     2. end diastole and 3. end systole of the last beat (the frames nearest to the
                        last mitral closure and the aortic closure after it), coloured by the fibre
                        stretch against the reference.
@@ -145,12 +148,18 @@ def helix_angle(frame):
 
 
 def main(sim, png):
+    for name in ("globals.csv", "series.pvd"):
+        if not os.path.isfile(os.path.join(sim, name)):
+            raise SystemExit("render_heart.py: " + os.path.join(sim, name) + " not found (not a finished run folder?)")
     g = plot_heart.read_globals(os.path.join(sim, "globals.csv"))
+    if "lv_phase" not in g:
+        raise SystemExit("render_heart.py: " + sim + "/globals.csv has no lv_phase column (a run without an LV "
+                         "circulation has no beat to draw)")
     times = plot_heart.last_beat_times(g)
     if times is None:
         raise SystemExit("render_heart.py: " + sim + "/globals.csv has no complete beat (no mitral closure "
                          "followed by an aortic closure)")
-    (t0, ref), (t_ed, ed), (t_es, es) = (plot_heart.frame_at(sim, 0.0), plot_heart.frame_at(sim, times[0]),
+    (_, ref), (t_ed, ed), (t_es, es) = (plot_heart.frame_at(sim, 0.0), plot_heart.frame_at(sim, times[0]),
                                          plot_heart.frame_at(sim, times[1]))
     for name in ("fibre", "circumferential", "fibre_stretch"):
         if name not in ref:

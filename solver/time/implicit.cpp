@@ -144,9 +144,12 @@ bool ImplicitIntegrator::attempt(State& s, double h, StepReport& rep) {
     return false;
   }
   if (kind_ == Kind::Static && set_.static_damping > 0.0) {
-    // c sum_i m_i |x_i - x_n,i|^2 with c = zeta / h: the drag's work over the step (J)
-    rep.damping_work = set_.static_damping / h *
-                       ((s.x - x0_).colwise().squaredNorm().transpose().array() * sys_.model().mass.array()).sum();
+    // c sum_i m_i |x_i - x_n,i|^2 with c = zeta / h over the free coordinates (the drag is zeroed on
+    // fixed and controlled ones): the drag's work over the step (J)
+    Eigen::Matrix3Xd dx = s.x - x0_;
+    zero_dofs(dx, linear_->fixed_dofs());
+    rep.damping_work =
+        set_.static_damping / h * (dx.colwise().squaredNorm().transpose().array() * sys_.model().mass.array()).sum();
   }
   if (kind_ == Kind::Static && constraints_.empty()) {
     prev_x_ = x0_;  // the static predictor: this converged load step's start and length

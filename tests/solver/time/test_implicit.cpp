@@ -443,11 +443,11 @@ TEST(Implicit, RefusesTermsWithoutJacobianByName) {
 namespace {
 
 /// The 2 x 2 x 3 mm neo-Hookean block (E 20 kPa, nu 0.3) with a follower pressure on its top and
-/// on its bottom face, ramped to 2 kPa over 0.5 s and held: equal and opposite, so the block is
-/// squeezed along z and nothing fixes it in space unless `support` (the bottom on rollers along
-/// z, one corner pinned in x and y, a second in y: no rigid motion left) is set, and then the
-/// bottom pressure is left out (the rollers carry it).
-std::unique_ptr<solver::Model> squeezed_block(bool support) {
+/// (unless `top_only`) on its bottom face, ramped to 2 kPa over 0.5 s and held: equal and opposite,
+/// so the block is squeezed along z and nothing fixes it in space unless `support` (the bottom on
+/// rollers along z, one bottom corner pinned in x and y, the next one along x in y: no rigid motion
+/// left) is set, and then the bottom pressure is left out (the rollers carry it).
+std::unique_ptr<solver::Model> squeezed_block(bool support, bool top_only = false) {
   auto model = block_model(2, 2, 3, preprocess::Topology::Tet6m);
   const auto frames = solver::build_axis_frames(*model->mesh);
   model->terms.push_back(solver::make_virtual_hex_term(*model->mesh, frames,
@@ -459,17 +459,27 @@ std::unique_ptr<solver::Model> squeezed_block(bool support) {
   const double lo = zmin(*model), hi = zmax(*model);
   model->terms.push_back(solver::make_cavity_pressure_term(
       face(hi - 1e-4, -1, "top"), solver::TimeCourse::ramp(0.0, 2e3, 0.0, 0.5), model->node_count()));
+  if (top_only) return model;
   if (!support) {
     model->terms.push_back(solver::make_cavity_pressure_term(
         face(lo + 1e-4, 1, "bottom"), solver::TimeCourse::ramp(0.0, 2e3, 0.0, 0.5), model->node_count()));
     return model;
   }
+  const double x_lo = model->x_ref.row(0).minCoeff(), x_hi = model->x_ref.row(0).maxCoeff();
+  const double y_lo = model->x_ref.row(1).minCoeff();
+  int pinned = 0, guided = 0;
   for (Eigen::Index i = 0; i < model->x_ref.cols(); ++i) {
     if (std::abs(model->x_ref(2, i) - lo) > 1e-9) continue;
     const auto n = static_cast<preprocess::Index>(i);
-    const bool x0 = model->x_ref(0, i) < 1e-9, y0 = model->x_ref(1, i) < 1e-9;
-    model->constraints.fix(n, x0 && y0 ? 7 : (y0 && model->x_ref(0, i) > 2e-3 - 1e-9 ? 6 : 4), "support");
+    const bool at_y_lo = std::abs(model->x_ref(1, i) - y_lo) < 1e-9;
+    const bool pin = at_y_lo && std::abs(model->x_ref(0, i) - x_lo) < 1e-9;
+    const bool guide = at_y_lo && std::abs(model->x_ref(0, i) - x_hi) < 1e-9;
+    model->constraints.fix(n, pin ? 7 : (guide ? 6 : 4), "support");  // 7 xyz, 6 yz, 4 z
+    pinned += pin ? 1 : 0;
+    guided += guide ? 1 : 0;
   }
+  EXPECT_EQ(pinned, 1);
+  EXPECT_EQ(guided, 1);
   return model;
 }
 
@@ -490,8 +500,8 @@ TEST(Implicit, StaticDampingCarriesAFreeBodyAndEndsAtThePlainEquilibrium) {
   // modes, so its K is singular (the direct solver happens to pass this balanced load, but
   // nothing guarantees it); with the regularisation -zeta M (x - x_n)/h the operator -K + c M is
   // positive definite. Once the loads are held the drag vanishes and the block ends where the
-  // supported block (rollers, no regularisation) ends: the same squeeze, and an undamped residual
-  // at the Newton tolerance's level.
+  // supported block (rollers and two pins, no rigid motion, no regularisation) ends: the same
+  // squeeze, and an undamped residual at the Newton tolerance's level.
   auto free_model = squeezed_block(false);
   solver::System free_sys(*free_model);
   {
@@ -533,4 +543,40 @@ TEST(Implicit, StaticDampingCarriesAFreeBodyAndEndsAtThePlainEquilibrium) {
   Eigen::Matrix3Xd f(3, x_free.cols());
   free_sys.forces(x_free, Eigen::Matrix3Xd::Zero(3, f.cols()), 1.5, f);
   EXPECT_LT(f.norm(), 1e-9) << "at rest the damped state is an equilibrium of the undamped forces";
+}
+
+TEST(Implicit, StaticDampingMovesAFreeBodyLikeADashpot) {
+  // A free block under a net force F (the top pressure alone): at convergence every free node has
+  // f_i(x) = (zeta/h) m_i (x_i - x_n,i), and the internal forces sum to zero, so the step moves the
+  // mass-weighted centre by sum_i m_i dx_i = (h/zeta) sum_i f_i = (h/zeta) F exactly: the residual's
+  // sign and scale. zeta is chosen so that c m (about 30 N/m per node) outweighs the block's
+  // stiffness (about 20 N/m): an operator of the wrong sign or size then stops Newton converging in
+  // a few iterations. The reported work is c sum m |dx|^2 of the step.
+  auto model = squeezed_block(false, true);
+  solver::System sys(*model);
+  solver::ImplicitSettings set;
+  set.newton_rtol = 1e-12;
+  set.newton_atol = 1e-16;
+  set.adapt = false;
+  set.static_damping = 1e6;
+  solver::ImplicitIntegrator integ(sys, solver::ImplicitIntegrator::Kind::Static, set);
+  State s{model->x_ref, Eigen::Matrix3Xd::Zero(3, model->x_ref.cols()), 0.5};  // the load is fully on
+  const double h = 0.01;
+  const Eigen::Matrix3Xd x_n = s.x;
+  const auto rep = integ.step(s, h);
+  EXPECT_EQ(rep.rejected, 0);
+  EXPECT_LE(rep.newton_iterations, 6);
+  Eigen::Matrix3Xd f(3, s.x.cols());
+  sys.forces(s.x, Eigen::Matrix3Xd::Zero(3, f.cols()), s.t, f);
+  const Eigen::Vector3d force = f.rowwise().sum();
+  const Eigen::Vector3d moved = (s.x - x_n) * model->mass;
+  std::printf("static damping dashpot: F = (%.3e, %.3e, %.3e) N, sum m dx = %.6e, (h/zeta) F_z = %.6e kg m\n",
+              force.x(), force.y(), force.z(), moved.z(), h / set.static_damping * force.z());
+  ASSERT_LT(force.z(), -1e-3) << "the top pressure pushes the block down";
+  EXPECT_NEAR(moved.z(), h / set.static_damping * force.z(), 1e-6 * std::abs(h / set.static_damping * force.z()));
+  EXPECT_LT((moved.head<2>()).norm(), 1e-6 * std::abs(moved.z())) << "and only down";
+  const double work =
+      set.static_damping / h * ((s.x - x_n).colwise().squaredNorm().transpose().array() * model->mass.array()).sum();
+  EXPECT_NEAR(rep.damping_work, work, 1e-12 * work);
+  EXPECT_GT(work, 0.0);
 }
