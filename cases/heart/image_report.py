@@ -104,7 +104,9 @@ def main(out, image, lv, rv, es_image, es_json, t_unload, t_sim, check):
                      f"diastole, {1e3 * kin['long_axis_length_es_m']:.1f} mm at end systole "
                      f"({100 * kin['long_axis_change']:+.1f} %; a real ventricle shortens by about 10-20 %); "
                      f"the apex moves {1e3 * kin['apex_axial_motion_ed_to_es_m']:+.1f} mm along the axis "
-                     "(+ towards the base).\n")
+                     "(+ towards the base). Median fibre stretch against the unloaded reference "
+                     f"{kin.get('fibre_stretch_median_ed', NAN):.3f} at end diastole, "
+                     f"{kin.get('fibre_stretch_median_es', NAN):.3f} at end systole.\n")
         lines.append("![Long-axis cut: reference mesh with fibres, end diastole, end systole](heart_views.png)\n")
     lines.append("![LV PV loop in mmHg](pv_loop_mmhg.png)\n\n![Wiggers diagram (LV)](wiggers.png)\n\n"
                  "Fields over time: [sim/series.pvd](sim/series.pvd) in ParaView; every step: "

@@ -18,7 +18,7 @@ with matplotlib alone (no OpenGL needed), from SIM/series.pvd, its frames and SI
                     apex) at end diastole and end systole and its relative change (a real ventricle
                     shortens by about 10-20 %), and how far the apex node (the lowest node of the
                     reference) moves along the axis from end diastole to end systole (mm, + towards
-                    the base).
+                    the base), and the median fibre stretch (against the reference) at both.
 
 The cut: the plane through the mesh centroid that contains the long axis (the frames'
 `longitudinal` field) and the direction from the LV wall's centroid to the RV free wall's
@@ -175,7 +175,7 @@ def main(sim, png):
     axes[0].set_title("reference mesh (%d elements), fibres" % len(conn))
     for ax, (t, fr), label in ((axes[1], (t_ed, ed), "end diastole"), (axes[2], (t_es, es), "end systole")):
         m = draw(ax, fr["Points"] + fr["displacement"], basis, owners, faces, inner, fr["fibre_stretch"][:, 0],
-                 "viridis", 0.75, 1.25)
+                 "viridis", 0.6, 1.2)
         fig.colorbar(m, ax=ax, shrink=0.8, label="fibre stretch")
         ax.set_title("%s, frame t = %.3f s (event %.3f s)" % (label, t, times[0] if label == "end diastole"
                                                                    else times[1]))
@@ -189,7 +189,9 @@ def main(sim, png):
     (l_ed, a_ed), (l_es, a_es) = long_axis([ed, es], basis)
     kin = {"t_ed_frame_s": t_ed, "t_es_frame_s": t_es, "t_ed_event_s": times[0], "t_es_event_s": times[1],
            "long_axis_length_ed_m": l_ed, "long_axis_length_es_m": l_es, "long_axis_change": l_es / l_ed - 1.0,
-           "apex_axial_motion_ed_to_es_m": a_es - a_ed}
+           "apex_axial_motion_ed_to_es_m": a_es - a_ed,
+           "fibre_stretch_median_ed": float(np.median(ed["fibre_stretch"][:, 0])),
+           "fibre_stretch_median_es": float(np.median(es["fibre_stretch"][:, 0]))}
     with open(os.path.splitext(png)[0] + ".json", "w") as f:
         json.dump(kin, f, indent=2)
     print("render_heart.py: wrote %s (%d faces; ED frame %.3f s, ES frame %.3f s); long axis %.1f -> %.1f mm "
