@@ -33,6 +33,7 @@ RunLoopState sample() {
   l.augmentations = 55;
   l.continuation_solves = 66;
   l.max_constraint_violation = 1.0 / 31.0 * 1e-6;
+  l.damping_work = 1.0 / 41.0 * 1e-2;
   l.dt_min_used = 1.0 / 3.0 * 1e-6;
   l.dt_max_used = 2.0 / 7.0 * 1e-4;
   l.ke_exceeded = true;
@@ -68,6 +69,7 @@ void expect_same(const RunLoopState& a, const RunLoopState& b) {
   EXPECT_EQ(a.augmentations, b.augmentations);
   EXPECT_EQ(a.continuation_solves, b.continuation_solves);
   EXPECT_EQ(a.max_constraint_violation, b.max_constraint_violation);
+  EXPECT_EQ(a.damping_work, b.damping_work);
   // EXPECT_EQ on doubles: bit for bit, not approximately.
   EXPECT_EQ(a.dt_min_used, b.dt_min_used);
   EXPECT_EQ(a.dt_max_used, b.dt_max_used);
@@ -122,13 +124,14 @@ TEST(RunLoopState, EveryFieldIsStoredByNameAndAMissingOneIsRefusedByName) {
   StateArchive run = full.child("run");
   solver::save_loop_state(sample(), run);
   const auto keys = run.keys();
-  // 7 counters, 2 dt extrema, the largest volume violation, the kinetic-energy flag, next dt, 5
-  // output times, good x/v/t/step, 9 report values, wall seconds: one dataset each, no positional arrays.
-  EXPECT_EQ(keys.size(), 31u);
+  // 7 counters, 2 dt extrema, the largest volume violation, the static damping's work, the
+  // kinetic-energy flag, next dt, 5 output times, good x/v/t/step, 9 report values, wall seconds:
+  // one dataset each, no positional arrays.
+  EXPECT_EQ(keys.size(), 32u);
   for (const char* name : {"steps", "next_dt", "next_checkpoint_t", "good/step", "last_report/rejected"})
     EXPECT_NE(std::find(keys.begin(), keys.end(), name), keys.end()) << name;
   for (const auto& key : keys) {
-    if (key == "continuation_solves") continue;  // optional: below
+    if (key == "continuation_solves" || key == "damping_work") continue;  // optional: below
     StateArchive a;
     StateArchive r = a.child("run");
     solver::save_loop_state(sample(), r);
@@ -143,11 +146,13 @@ TEST(RunLoopState, EveryFieldIsStoredByNameAndAMissingOneIsRefusedByName) {
   }
 }
 
-TEST(RunLoopState, ACheckpointWrittenBeforeTheContinuationCountLoadsWithZero) {
+TEST(RunLoopState, ACheckpointWrittenBeforeTheLaterCountersLoadsThemAsZero) {
   StateArchive run;
   solver::save_loop_state(sample(), run);
   run.erase("continuation_solves");
+  run.erase("damping_work");
   const RunLoopState back = solver::load_loop_state(run, kNodes);
   EXPECT_EQ(back.continuation_solves, 0u);
+  EXPECT_EQ(back.damping_work, 0.0);
   EXPECT_EQ(back.augmentations, 55u);
 }
