@@ -173,8 +173,7 @@ bool ImplicitIntegrator::static_step(State& s, double h, StepReport& rep) {
   if (have_prev_ && prev_h_ > 0.0 && prev_x_.cols() == cur.x.cols()) cur.x += (h / prev_h_) * (s.x - prev_x_);
   Eigen::Matrix3Xd dpres = Eigen::Matrix3Xd::Zero(3, cur.x.cols());
   for (const Eigen::Index d : linear_->fixed_dofs()) dpres.data()[d] = pres.x.data()[d] - cur.x.data()[d];
-  StaticEquations eq(sys_, *linear_, t1, rep.evaluations);
-  if (set_.static_damping > 0.0) eq.set_damping(set_.static_damping / h, x0_);
+  StaticEquations eq = static_equations(t1, h, rep);
   if (!damped_newton(eq, *linear_, cur.x, std::move(dpres), set_, record_)) return false;
   s = cur;
   return true;
@@ -227,9 +226,14 @@ bool ImplicitIntegrator::augment(State& s, double h, StepReport& rep) {
   }
 }
 
-bool ImplicitIntegrator::resolve(State& s, double h, StepReport& rep) {
-  StaticEquations eq(sys_, *linear_, s.t, rep.evaluations);
+StaticEquations ImplicitIntegrator::static_equations(double t1, double h, StepReport& rep) {
+  StaticEquations eq(sys_, *linear_, t1, rep.evaluations);
   if (set_.static_damping > 0.0) eq.set_damping(set_.static_damping / h, x0_);
+  return eq;
+}
+
+bool ImplicitIntegrator::resolve(State& s, double h, StepReport& rep) {
+  StaticEquations eq = static_equations(s.t, h, rep);
   NewtonRecord again;  // its own record: the relative tolerance refers to this solve's first residual
   bool ok = false;
   if (constraints_.empty()) {
@@ -255,8 +259,7 @@ bool ImplicitIntegrator::static_bordered_step(State& s, double h, StepReport& re
   cur.t = t1;
   cur.v.setZero();
   for (const Eigen::Index d : linear_->fixed_dofs()) cur.x.data()[d] = pres.x.data()[d];
-  StaticEquations eq(sys_, *linear_, t1, rep.evaluations);
-  if (set_.static_damping > 0.0) eq.set_damping(set_.static_damping / h, x0_);
+  StaticEquations eq = static_equations(t1, h, rep);
   if (border.pressures_given()) {
     // Every cavity at a given pressure: a plain pressure load, where damped Newton's line search
     // holds and the undamped bordered iteration may not (the biv-me heart filling from its

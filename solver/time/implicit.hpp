@@ -88,6 +88,7 @@ struct NewtonRecord {
 class CavityConstraintTerm;
 class PenaltyContinuation;
 class JacobianSolver;
+class StaticEquations;
 
 class ImplicitIntegrator : public Integrator {
  public:
@@ -135,6 +136,9 @@ class ImplicitIntegrator : public Integrator {
   bool continue_penalty(State& s, double h, StepReport& rep);
   /// Newton at fixed load from s (time t1 = s.t, step h), its iterations added to record_.
   bool resolve(State& s, double h, StepReport& rep);
+  /// The static equations at load t1 for the step of length h that started at x0_, with the
+  /// regularisation of settings.static_damping when it is on (every static solve builds them here).
+  [[nodiscard]] StaticEquations static_equations(double t1, double h, StepReport& rep);
 
   System& sys_;
   Kind kind_;

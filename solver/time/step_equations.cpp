@@ -30,7 +30,6 @@ StaticEquations::StaticEquations(System& system, JacobianSolver& linear, double 
       v_(Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(system.model().node_count()))) {}
 
 void StaticEquations::set_damping(double c, const Eigen::Matrix3Xd& x_n) {
-  c_ = c;
   x_n_ = c > 0.0 ? &x_n : nullptr;
   if (x_n_ != nullptr) cm_ = c * sys_.model().mass;
 }

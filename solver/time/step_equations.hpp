@@ -64,7 +64,6 @@ class StaticEquations final : public StepEquations {
   double t1_;
   int& evaluations_;
   Eigen::Matrix3Xd v_;                     // zero: equilibrium has no velocities
-  double c_ = 0.0;                         // zeta / h (1/s^2); 0: no regularisation
   const Eigen::Matrix3Xd* x_n_ = nullptr;  // the last converged positions
   Eigen::VectorXd cm_;                     // c m per node (N/m), the operator's diagonal part
 };
