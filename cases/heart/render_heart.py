@@ -58,16 +58,13 @@ def cells(frame):
     return conn.reshape(-1, k)
 
 
-def view_frame(frame, conn):
-    """(e_x, e_y, e_z, origin): e_y the long axis (apex -> base), e_z the cut plane's normal
-    (towards the viewer), e_x = e_y x e_z in the plane."""
-    points = frame["Points"]
-    centres = points[conn].mean(axis=1)
+def view_frame(frame, centres):
+    """(e_x, e_y, e_z, origin) from the element centres: e_y the long axis (apex -> base), e_z the
+    cut plane's normal (towards the viewer), e_x = e_y x e_z in the plane."""
     if "longitudinal" not in frame:
         raise SystemExit("render_heart.py: the frames have no `longitudinal` field (the long axis)")
     e_y = frame["longitudinal"].mean(axis=0)
     e_y /= np.linalg.norm(e_y)
-    across = None
     if "ventricle" in frame and np.any(frame["ventricle"][:, 0] > 0.5):
         rv = frame["ventricle"][:, 0] > 0.5
         across = centres[rv].mean(axis=0) - centres[~rv].mean(axis=0)
@@ -85,12 +82,13 @@ def visible_faces(conn, keep):
     """Boundary faces of the kept elements: (element index, node indices, interior node of the
     element to orient the face outwards)."""
     k = conn.shape[1]
+    kept, ids = conn[keep], np.nonzero(keep)[0]
     faces, owners, inner = [], [], []
     for local in FACES[k]:
-        faces.append(conn[keep][:, local])
-        owners.append(np.nonzero(keep)[0])
+        faces.append(kept[:, local])
+        owners.append(ids)
         rest = [i for i in range(k) if i not in local][0]
-        inner.append(conn[keep][:, rest])
+        inner.append(kept[:, rest])
     faces, owners, inner = np.vstack(faces), np.concatenate(owners), np.concatenate(inner)
     key = np.sort(faces, axis=1)
     _, first, count = np.unique(key, axis=0, return_index=True, return_counts=True)
@@ -165,20 +163,21 @@ def main(sim, png):
         if name not in ref:
             raise SystemExit("render_heart.py: the frames have no `" + name + "` field")
     conn = cells(ref)
-    basis = view_frame(ref, conn)
-    keep = (ref["Points"][conn].mean(axis=1) - basis[3]) @ basis[2] <= 0.0
+    centres = ref["Points"][conn].mean(axis=1)
+    basis = view_frame(ref, centres)
+    keep = (centres - basis[3]) @ basis[2] <= 0.0
     owners, faces, inner = visible_faces(conn, keep)
     fig, axes = plt.subplots(1, 3, figsize=(16, 6.4))
     m = draw(axes[0], ref["Points"], basis, owners, faces, inner, helix_angle(ref), "coolwarm", -90, 90,
              fibres=ref["fibre"])
     fig.colorbar(m, ax=axes[0], shrink=0.8, label="fibre helix angle (deg)")
     axes[0].set_title("reference mesh (%d elements), fibres" % len(conn))
-    for ax, (t, fr), label in ((axes[1], (t_ed, ed), "end diastole"), (axes[2], (t_es, es), "end systole")):
+    for ax, t, fr, event, label in ((axes[1], t_ed, ed, times[0], "end diastole"),
+                                    (axes[2], t_es, es, times[1], "end systole")):
         m = draw(ax, fr["Points"] + fr["displacement"], basis, owners, faces, inner, fr["fibre_stretch"][:, 0],
                  "viridis", 0.6, 1.2)
         fig.colorbar(m, ax=ax, shrink=0.8, label="fibre stretch")
-        ax.set_title("%s, frame t = %.3f s (event %.3f s)" % (label, t, times[0] if label == "end diastole"
-                                                                   else times[1]))
+        ax.set_title("%s, frame t = %.3f s (event %.3f s)" % (label, t, event))
     lim = [min(a.get_xlim()[0] for a in axes), max(a.get_xlim()[1] for a in axes)]
     ylim = [min(a.get_ylim()[0] for a in axes), max(a.get_ylim()[1] for a in axes)]
     for ax in axes:

@@ -10,10 +10,11 @@
 #   2. `adamss unload` on the filling scene: the image is at end-diastole, so the reference whose
 #      filling to the atrial pressures gives back the image is found first;
 #   3. `adamss run` of the two beats from that reference;
-#   4. plots (pv_loop_mmhg.png, wiggers.png, with an RV pv_loop_biv_mmhg.png; heart_views.png, a long-axis cut at end diastole and end systole, by render_heart.py) and report.md, with
-#      the simulated volumes against the image's: the meshed end-diastolic cavities, their voxel
-#      counts and, when the image's folder holds labels_ES_LVbloodpool.nii.gz (the Sunnybrook
-#      convention), the end-systolic blood pool.
+#   4. plots (pv_loop_mmhg.png, wiggers.png, with an RV pv_loop_biv_mmhg.png; heart_views.png, a
+#      long-axis cut at end diastole and end systole, by render_heart.py) and report.md, with the
+#      simulated volumes against the image's: the meshed end-diastolic cavities, their voxel counts
+#      and, when the image's folder holds labels_ES_LVbloodpool.nii.gz (the Sunnybrook convention),
+#      the end-systolic blood pool.
 # Usage: cases/heart/run_image.sh ADAMSS_BINARY IMAGE OUTPUT_DIR
 #   HEART_LABELS names the wall, LV and RV labels (default "solid=1 lv=2 rv=3" when the image has
 #   a label 3, else "solid=1 lv=2"); HEART_ES_IMAGE (default IMAGE's
