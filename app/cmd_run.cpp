@@ -118,6 +118,7 @@ nlohmann::json summary_json(const solver::LoadedScene& sc, const solver::RunOutc
   j["force_evaluations"] = out.force_evaluations;
   j["rejected_steps"] = out.rejected_steps;
   j["newton_iterations"] = out.newton_iterations;
+  j["reformations"] = out.reformations;
   j["linear_iterations"] = out.linear_iterations;
   if (!solver::augmented_terms(m.terms).empty()) {  // also when no update was needed
     j["augmented_lagrangian"] = {{"updates", out.augmentations},

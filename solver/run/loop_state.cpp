@@ -44,6 +44,7 @@ void visit_fields(Loop& loop, const Visit& visit) {
   // Added later: a checkpoint written before them lacks these, which then keep their defaults.
   visit.optional("continuation_solves", loop.continuation_solves);
   visit.optional("damping_work", loop.damping_work);
+  visit.optional("reformations", loop.reformations);
 }
 
 /// Floats as float64, counters and flags as int64, matrices n x 3.

@@ -21,6 +21,7 @@ struct RunLoopState {
   std::size_t force_evaluations = 0;      ///< summed StepReport::evaluations
   std::size_t rejected_steps = 0;         ///< summed StepReport::rejected
   std::size_t newton_iterations = 0;      ///< summed over accepted steps (implicit/static)
+  std::size_t reformations = 0;           ///< operators assembled and factorised, summed (implicit/static)
   std::size_t linear_iterations = 0;      ///< summed over accepted steps (implicit/static)
   std::size_t augmentations = 0;          ///< augmented-Lagrangian updates, summed over accepted steps (static)
   std::size_t continuation_solves = 0;    ///< re-solves of the penalty continuation, summed (static)

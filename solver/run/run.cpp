@@ -195,6 +195,7 @@ void RunLoop::count(const StepReport& rep) {
   loop_.force_evaluations += static_cast<std::size_t>(rep.evaluations);
   loop_.rejected_steps += static_cast<std::size_t>(rep.rejected);
   loop_.newton_iterations += static_cast<std::size_t>(rep.newton_iterations);
+  loop_.reformations += static_cast<std::size_t>(rep.reformations);
   loop_.linear_iterations += static_cast<std::size_t>(rep.linear_iterations);
   loop_.augmentations += static_cast<std::size_t>(rep.augmentations);
   loop_.continuation_solves += static_cast<std::size_t>(rep.continuation_solves);
@@ -382,6 +383,7 @@ RunOutcome RunLoop::finish(State& s) {
   out.force_evaluations = loop_.force_evaluations;
   out.rejected_steps = loop_.rejected_steps;
   out.newton_iterations = loop_.newton_iterations;
+  out.reformations = loop_.reformations;
   out.linear_iterations = loop_.linear_iterations;
   out.augmentations = loop_.augmentations;
   out.continuation_solves = loop_.continuation_solves;

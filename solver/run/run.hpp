@@ -73,6 +73,7 @@ struct RunOutcome {
   std::size_t force_evaluations = 0;
   std::size_t rejected_steps = 0;
   std::size_t newton_iterations = 0;      ///< implicit/static, summed over accepted steps
+  std::size_t reformations = 0;           ///< implicit/static: operators assembled and factorised, accepted steps
   std::size_t augmentations = 0;          ///< static: augmented-Lagrangian multiplier updates, summed
   std::size_t continuation_solves = 0;    ///< static: re-solves after raising a continued penalty, summed
   double max_constraint_violation = 0.0;  ///< static with multipliers: the largest max |J - r| accepted

@@ -170,6 +170,14 @@ bool load_integrator(SceneNode integ, RunSettings& run) {
         integ.at("static_damping") +
         ": only the static integrator has it (the dynamic ones damp through their masses and damping terms)");
   }
+  const long long bfgs = integ.integer("bfgs_max_updates", 0);
+  if (bfgs < 0 || bfgs > 1000)
+    throw InputError(integ.at("bfgs_max_updates") + ": must be in 0 ... 1000 (0: full Newton)");
+  if (bfgs > 0 && run.integrator != "static") {
+    throw InputError(integ.at("bfgs_max_updates") +
+                     ": only the static integrator reuses its factorisation with BFGS updates");
+  }
+  imp.bfgs_max_updates = static_cast<int>(bfgs);
   imp.petsc_options = integ.text("petsc_options", "");
   if (imp.max_newton < 1) throw InputError(integ.at("max_newton") + ": must be >= 1");
   if (!(run.abm3.error_min < run.abm3.error_max))

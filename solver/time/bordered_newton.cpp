@@ -171,6 +171,7 @@ bool bordered_newton(StepEquations& eq, JacobianSolver& linear, CavityBorder& bo
     if ((border.empty() || it > 0) && volumes_ok && forces_ok) return true;
     if (it >= settings.max_newton) return fail();
     eq.assemble_operator(u);
+    ++record.reformations;
     linear.eliminate();
     if (!linear.solve(r, du)) return fail();
     if (!border.empty() && !border.correct(linear, eq, eq.positions(u), rv, du, dp)) return fail();

@@ -1,10 +1,12 @@
 #include "solver/time/damped_newton.hpp"
 
 #include <cmath>
+#include <optional>
 #include <utility>
 
 #include "solver/core/stop_flag.hpp"
 #include "solver/time/petsc/jacobian_solver.hpp"
+#include "solver/time/quasi_newton.hpp"
 
 namespace adamss::solver {
 
@@ -26,12 +28,17 @@ bool newton_direction(StaticEquations& eq, JacobianSolver& linear, const Eigen::
 }
 
 /// The damped step along dx from x, whose residual norm is nr (damped_newton.hpp): trial =
-/// x + alpha dx with its residual r. False if a solve fails or alpha falls below 1/256.
-bool line_search(StaticEquations& eq, JacobianSolver& linear, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx,
-                 double nr, double& alpha, Eigen::Matrix3Xd& trial, Eigen::Matrix3Xd& r) {
+/// x + alpha dx with its residual r. `correct(r, dxb)` is the simplified correction of the
+/// monotonicity test (the same operator that gave dx); `corrected` says whether dxb holds it for
+/// the accepted trial. False if a solve fails or alpha falls below 1/256.
+template <class Correct>
+bool line_search(StaticEquations& eq, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx, double nr,
+                 const Correct& correct, double& alpha, Eigen::Matrix3Xd& trial, Eigen::Matrix3Xd& r,
+                 Eigen::Matrix3Xd& dxb, bool& corrected) {
   const double ndx = dx.norm();
   alpha = 1.0;
   for (;;) {
+    corrected = false;
     trial = x + alpha * dx;
     eq.residual(trial, r);
     const double nt = r.norm();
@@ -39,9 +46,8 @@ bool line_search(StaticEquations& eq, JacobianSolver& linear, const Eigen::Matri
     if (ok && nt <= (1.0 - 1e-4 * alpha) * nr) {
       // Sufficient decrease of the residual: accepted without the extra solve.
     } else if (ok) {
-      Eigen::Matrix3Xd dxb;
-      if (!linear.solve(r, dxb)) return false;  // same factorisation: a back-substitution
-      zero_dofs(dxb, linear.fixed_dofs());
+      if (!correct(r, dxb)) return false;  // same factorisation: a back-substitution
+      corrected = true;
       ok = dxb.norm() <= (1.0 - 0.25 * alpha) * ndx;
     }
     if (ok) return true;
@@ -55,21 +61,48 @@ bool line_search(StaticEquations& eq, JacobianSolver& linear, const Eigen::Matri
 bool damped_newton(StaticEquations& eq, JacobianSolver& linear, Eigen::Matrix3Xd& x, Eigen::Matrix3Xd dpres,
                    const ImplicitSettings& settings, NewtonRecord& record) {
   bool pending = dpres.cwiseAbs().maxCoeff() > 0.0;  // the prescribed move is still to be made
+  const bool quasi = settings.bfgs_max_updates > 0;
+  std::optional<BfgsInverse> bfgs;
+  if (quasi) bfgs.emplace(settings.bfgs_max_updates);
+  bool reform = true;  // the next direction needs the operator at the current x
+  // d = H r with the current factorisation (and, with BFGS, its updates); fixed coordinates zero
+  const auto correct = [&](const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd& d) {
+    const auto solve = [&](const Eigen::Matrix3Xd& q, Eigen::Matrix3Xd& u) { return linear.solve(q, u); };
+    if (!(quasi ? bfgs->apply(solve, r, d) : linear.solve(r, d))) return false;
+    zero_dofs(d, linear.fixed_dofs());
+    return true;
+  };
   double r0 = 0.0;
-  Eigen::Matrix3Xd f, dx, trial, r;
+  Eigen::Matrix3Xd f, dx, trial, r, dxb, next;
+  bool have_next = false;  // `next` holds the quasi-Newton direction at x (BfgsInverse::next_direction)
   eq.residual(x, f);
+  bool record_residual = true;
   for (int it = 0;; ++it) {
     throw_if_stop_requested("static Newton");
     const double nr = f.norm();
     if (!std::isfinite(nr)) return false;
-    if (!pending) {
+    if (!pending && record_residual) {
       if (record.residuals.empty()) r0 = nr;
       record.residuals.push_back(nr);
     }
+    record_residual = true;
     if (settings.on_iteration) settings.on_iteration(it, nr);
     if (!pending && (nr <= settings.newton_atol || nr <= settings.newton_rtol * r0)) return true;
-    if (it >= settings.max_newton) return false;
-    if (!newton_direction(eq, linear, x, f, dpres, pending, dx)) return false;
+    const bool fresh = reform || !quasi || bfgs->full();
+    // The limit counts the operators (= the iterations under full Newton): with BFGS the cheap
+    // updates between two factorisations are not what max_newton bounds.
+    if ((quasi ? record.reformations + (fresh ? 1 : 0) : it + 1) > settings.max_newton) return false;
+    if (fresh) {
+      if (!newton_direction(eq, linear, x, f, dpres, pending, dx)) return false;
+      ++record.reformations;
+      reform = false;
+      if (quasi) bfgs->reset();
+    } else if (have_next) {
+      dx.swap(next);
+    } else if (!correct(f, dx)) {
+      return false;
+    }
+    have_next = false;
     if (pending) {
       // The linearised move of the prescribed values is taken whole (no damping).
       x += dx;
@@ -77,11 +110,25 @@ bool damped_newton(StaticEquations& eq, JacobianSolver& linear, Eigen::Matrix3Xd
       dpres.setZero();
       eq.residual(x, f);
       ++record.iterations;
+      reform = true;  // the operator belongs to the sheared start, not to x
       if (!x.allFinite()) return false;
       continue;
     }
     double alpha = 1.0;
-    if (!line_search(eq, linear, x, dx, nr, alpha, trial, r)) return false;
+    bool corrected = false;
+    if (!line_search(eq, x, dx, nr, correct, alpha, trial, r, dxb, corrected)) {
+      if (fresh) return false;
+      // A quasi-Newton direction the line search cannot use: the next one is a Newton direction
+      // from the same x (the iteration counts against max_newton, its residual is not recorded again).
+      reform = true;
+      record_residual = false;
+      continue;
+    }
+    if (quasi && !bfgs->update(dx, alpha, f, r)) reform = true;
+    if (quasi && !reform && corrected && !bfgs->full()) {
+      bfgs->next_direction(dx, alpha, r, dxb, next);  // saves the next iteration's solve
+      have_next = true;
+    }
     x = trial;
     f.swap(r);
     ++record.iterations;

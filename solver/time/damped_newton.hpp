@@ -18,6 +18,14 @@
 // the residual jumps by orders of magnitude although Newton is converging; the correction norm
 // does not.
 //
+// BFGS (settings.bfgs_max_updates = n > 0; quasi_newton.hpp): the operator is assembled and
+// factorised for the first direction of the solve and whenever a reformation is due; between
+// reformations the direction is d = H r with H the factorisation under the BFGS updates of the
+// steps since, and the monotonicity test uses the same H. A reformation is due after n updates,
+// when an update is refused (no positive curvature along the step, or too ill-conditioned), and
+// when the line search rejects a quasi-Newton direction (the iteration then takes a Newton
+// direction from the same x; only a rejected Newton direction fails the attempt).
+//
 // Convergence: |r| <= newton_atol or |r| <= newton_rtol |r_0|, or an accepted position change
 // alpha |dx|_inf <= newton_xtol (its residual is recorded too). Failure: a non-finite residual
 // or position, a failed linear solve, the line search running out, or max_newton iterations.

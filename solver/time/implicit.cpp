@@ -86,7 +86,10 @@ StepReport ImplicitIntegrator::step(State& s, double dt) {
     // The augmented-Lagrangian re-solves at fixed load do not count: they say nothing about the step.
     // With a penalty continuation the step is as hard as its hardest solve, the first (soft) one or
     // a re-solve after a raise (the stiff penalty is where large steps cost).
-    const int load_iterations = std::max(rep.newton_iterations - resolve_iterations_, hardest_raise_);
+    // The count is of reformations (operators assembled and factorised): the Newton iterations
+    // under full Newton; with BFGS the iterations that needed a new operator, the cost that
+    // matters, while several cheap updates per factorisation are the method working as meant.
+    const int load_iterations = std::max(rep.reformations - resolve_reformations_, hardest_raise_);
     const bool easy =
         kind_ == Kind::BackwardEuler ? rep.linear_iterations <= set_.ksp_max_it / 4 : load_iterations <= 4;
     if (easy && rep.rejected == 0) next = std::min(1.5 * h, set_.dt_max);
@@ -107,7 +110,7 @@ bool ImplicitIntegrator::attempt(State& s, double h, StepReport& rep) {
   const double t0 = s.t;
   x0_ = s.x;
   v0_ = s.v;
-  resolve_iterations_ = 0;
+  resolve_reformations_ = 0;
   hardest_raise_ = 0;
   // What a failed or interrupted attempt must put back besides the state: the multipliers of the
   // cavities and of the augmented terms (the bordered solve restores the former only on its own
@@ -158,6 +161,7 @@ bool ImplicitIntegrator::attempt(State& s, double h, StepReport& rep) {
   }
   last_linear_ = linear_->iterations();
   rep.newton_iterations = record_.iterations;
+  rep.reformations = record_.reformations;
   rep.linear_iterations = last_linear_;
   return true;
 }
@@ -189,9 +193,9 @@ bool ImplicitIntegrator::continue_penalty(State& s, double h, StepReport& rep) {
     if (!raised) return true;
     ++rep.continuation_solves;
     const Eigen::Matrix3Xd before = s.x;
-    const int done = record_.iterations;
+    const int done = record_.reformations;
     const bool ok = resolve(s, h, rep);
-    hardest_raise_ = std::max(hardest_raise_, record_.iterations - done);
+    hardest_raise_ = std::max(hardest_raise_, record_.reformations - done);
     if (ok) {
       power = std::min(1.0, 2.0 * power);  // a shortened raise that worked: try a longer one next
       continue;
@@ -243,7 +247,8 @@ bool ImplicitIntegrator::resolve(State& s, double h, StepReport& rep) {
     ok = bordered_newton(eq, *linear_, border, s.x, set_, 1e-300, again);
   }
   record_.iterations += again.iterations;
-  resolve_iterations_ += again.iterations;
+  record_.reformations += again.reformations;
+  resolve_reformations_ += again.reformations;
   record_.residuals.insert(record_.residuals.end(), again.residuals.begin(), again.residuals.end());
   return ok;
 }
@@ -284,6 +289,7 @@ bool ImplicitIntegrator::backward_euler_step(State& s, double h, StepReport& rep
     if (!eq.linearised_step(vp, v)) return false;
     record_.residuals.push_back(0.0);
     record_.iterations = 1;
+    record_.reformations = 1;
   } else {
     CavityBorder border(constraints_, t1, h);
     if (!bordered_newton(eq, *linear_, border, v, set_, 0.0, record_)) return false;

@@ -29,7 +29,8 @@
 // rejection -- Newton schemes: at most 4 Newton iterations; backward_euler: linear iterations
 // at most ksp_max_it / 4 -- and a Newton scheme halves it (down to dt_min) after 10 or more
 // (not counting the augmented Lagrangian's re-solves at the same load, below; with a penalty
-// continuation the count is that of the step's hardest solve, the first or a re-solve).
+// continuation the count is that of the step's hardest solve, the first or a re-solve; with
+// bfgs_max_updates the iterations counted are those that assembled and factorised an operator).
 // Augmented Lagrangian (static only; solver/core/augmented_lagrangian.hpp): after a converged load
 // step the terms with multipliers update them while max |J - r| exceeds their tolerance, and Newton
 // solves again from the converged state; a failed or interrupted attempt puts the state, the
@@ -71,6 +72,10 @@ struct ImplicitSettings {
   /// static only: zeta (1/s) of the viscous regularisation f_d = -zeta M (x - x_n) / h of every
   /// load step (step_equations.hpp); 0 = none, plain equilibrium.
   double static_damping = 0.0;
+  /// static, damped Newton (no held cavity volumes): 0 = full Newton (a new operator every
+  /// iteration); n > 0 = BFGS updates of the last factorised operator, at most n before it is
+  /// assembled and factorised again (quasi_newton.hpp, damped_newton.hpp).
+  int bfgs_max_updates = 0;
   std::string petsc_options;  ///< e.g. "-ksp_type cg -pc_type hypre"
   /// Called at every Newton iteration of every attempt with the iteration (0 = the start of the
   /// attempt) and its residual 2-norm (N): the run loop's progress lines inside a long step
@@ -83,6 +88,7 @@ struct NewtonRecord {
   std::vector<double> residuals;  ///< |R| (2-norm) per iteration; a final 0 for the linearised step
                                   ///< and for backward Euler Newton ended by newton_xtol
   int iterations = 0;             ///< Newton updates taken (1 for the linearised step)
+  int reformations = 0;           ///< operators assembled for a direction (= iterations without BFGS)
 };
 
 class CavityConstraintTerm;
@@ -149,10 +155,9 @@ class ImplicitIntegrator : public Integrator {
   std::unique_ptr<JacobianSolver> linear_;
   NewtonRecord record_;
   int last_linear_ = 0;
-  int resolve_iterations_ =
-      0;                   ///< Newton iterations of the re-solves (augmented Lagrangian, continuation) of the attempt
-  int hardest_raise_ = 0;  ///< the most Newton iterations of one continuation re-solve of the attempt
-  Eigen::Matrix3Xd x0_, v0_;  // the state at the start of the attempt
+  int resolve_reformations_ = 0;  ///< reformations of the re-solves (augmented Lagrangian, continuation) of the attempt
+  int hardest_raise_ = 0;         ///< the most reformations of one continuation re-solve of the attempt
+  Eigen::Matrix3Xd x0_, v0_;      // the state at the start of the attempt
   // Static predictor: the state before the last converged load step and its length.
   Eigen::Matrix3Xd prev_x_;
   double prev_h_ = 0.0;

@@ -75,6 +75,7 @@ struct StepReport {
   double error = 0.0;                 ///< ABM3 predictor-corrector difference (m), 0 otherwise
   int newton_iterations = 0;          ///< implicit/static: Newton iterations of the accepted attempt
   int linear_iterations = 0;          ///< implicit/static: Krylov iterations of the accepted attempt
+  int reformations = 0;               ///< implicit/static: operators assembled and factorised, accepted attempt
   int augmentations = 0;              ///< static: augmented-Lagrangian multiplier updates of the accepted attempt
   int continuation_solves = 0;        ///< static: re-solves after raising a continued penalty, accepted attempt
   double constraint_violation = 0.0;  ///< static with multipliers: max |J - r| after the last update

@@ -30,6 +30,7 @@ RunLoopState sample() {
   l.rejected_steps = 9;
   l.newton_iterations = 321;
   l.linear_iterations = 4321;
+  l.reformations = 222;
   l.augmentations = 55;
   l.continuation_solves = 66;
   l.max_constraint_violation = 1.0 / 31.0 * 1e-6;
@@ -66,6 +67,7 @@ void expect_same(const RunLoopState& a, const RunLoopState& b) {
   EXPECT_EQ(a.rejected_steps, b.rejected_steps);
   EXPECT_EQ(a.newton_iterations, b.newton_iterations);
   EXPECT_EQ(a.linear_iterations, b.linear_iterations);
+  EXPECT_EQ(a.reformations, b.reformations);
   EXPECT_EQ(a.augmentations, b.augmentations);
   EXPECT_EQ(a.continuation_solves, b.continuation_solves);
   EXPECT_EQ(a.max_constraint_violation, b.max_constraint_violation);
@@ -124,14 +126,14 @@ TEST(RunLoopState, EveryFieldIsStoredByNameAndAMissingOneIsRefusedByName) {
   StateArchive run = full.child("run");
   solver::save_loop_state(sample(), run);
   const auto keys = run.keys();
-  // 7 counters, 2 dt extrema, the largest volume violation, the static damping's work, the
+  // 8 counters, 2 dt extrema, the largest volume violation, the static damping's work, the
   // kinetic-energy flag, next dt, 5 output times, good x/v/t/step, 9 report values, wall seconds:
   // one dataset each, no positional arrays.
-  EXPECT_EQ(keys.size(), 32u);
+  EXPECT_EQ(keys.size(), 33u);
   for (const char* name : {"steps", "next_dt", "next_checkpoint_t", "good/step", "last_report/rejected"})
     EXPECT_NE(std::find(keys.begin(), keys.end(), name), keys.end()) << name;
   for (const auto& key : keys) {
-    if (key == "continuation_solves" || key == "damping_work") continue;  // optional: below
+    if (key == "continuation_solves" || key == "damping_work" || key == "reformations") continue;  // optional: below
     StateArchive a;
     StateArchive r = a.child("run");
     solver::save_loop_state(sample(), r);
@@ -151,8 +153,10 @@ TEST(RunLoopState, ACheckpointWrittenBeforeTheLaterCountersLoadsThemAsZero) {
   solver::save_loop_state(sample(), run);
   run.erase("continuation_solves");
   run.erase("damping_work");
+  run.erase("reformations");
   const RunLoopState back = solver::load_loop_state(run, kNodes);
   EXPECT_EQ(back.continuation_solves, 0u);
+  EXPECT_EQ(back.reformations, 0u);
   EXPECT_EQ(back.damping_work, 0.0);
   EXPECT_EQ(back.augmentations, 55u);
 }

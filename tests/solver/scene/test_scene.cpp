@@ -172,6 +172,19 @@ TEST(Scene, ImpossibleValuesAndWrongUnits) {
                                        "static_damping: 50 Pa}"))
                 .find("expected a rate"),
             std::string::npos);
+  // BFGS updates of the factorisation: static only, a count in 0 ... 1000.
+  const std::string bfgs =
+      replaced(kBase, "type: symplectic_euler, dt: 10 us}", "type: static, dt: 1 ms, bfgs_max_updates: 8}");
+  EXPECT_EQ(test::load_scene(bfgs).run.implicit.bfgs_max_updates, 8);
+  EXPECT_EQ(test::load_scene(replaced(kBase, "type: symplectic_euler, dt: 10 us}", "type: static, dt: 1 ms}"))
+                .run.implicit.bfgs_max_updates,
+            0);
+  EXPECT_NE(test::scene_error(replaced(bfgs, "type: static", "type: backward_euler_newton"))
+                .find("integrator.bfgs_max_updates: only the static integrator"),
+            std::string::npos);
+  EXPECT_NE(test::scene_error(replaced(bfgs, "bfgs_max_updates: 8", "bfgs_max_updates: -1"))
+                .find("integrator.bfgs_max_updates: must be in 0 ... 1000"),
+            std::string::npos);
 }
 
 TEST(Scene, TimeStepFarBeyondTheCriticalStepIsAnError) {

@@ -1,0 +1,181 @@
+// BFGS updates of the factorised static operator (solver/time/quasi_newton.hpp) and the static
+// solver that uses them (integrator.bfgs_max_updates, damped_newton.hpp).
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cstdio>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "beam_fixtures.hpp"
+#include "solver/terms/adamss/volume_preservation.hpp"
+#include "solver/time/implicit.hpp"
+#include "solver/time/quasi_newton.hpp"
+
+using namespace adamss;
+using solver::BfgsInverse;
+
+namespace {
+
+constexpr int kNodes = 4;  // 12 unknowns
+
+Eigen::Matrix3Xd flat_to_nodes(const Eigen::VectorXd& v) {
+  return Eigen::Map<const Eigen::Matrix3Xd>(v.data(), 3, v.size() / 3);
+}
+
+Eigen::VectorXd nodes_to_flat(const Eigen::Matrix3Xd& m) {
+  return m.reshaped();
+}
+
+/// A random symmetric positive definite 12 x 12 matrix (the factorised operator B_0).
+Eigen::MatrixXd random_spd(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Eigen::MatrixXd g(3 * kNodes, 3 * kNodes);
+  for (Eigen::Index i = 0; i < g.size(); ++i) g.data()[i] = u(rng);
+  return g * g.transpose() + 0.5 * Eigen::MatrixXd::Identity(3 * kNodes, 3 * kNodes);
+}
+
+Eigen::Matrix3Xd random_vector(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Eigen::Matrix3Xd m(3, kNodes);
+  for (Eigen::Index i = 0; i < m.size(); ++i) m.data()[i] = u(rng);
+  return m;
+}
+
+/// The textbook BFGS inverse update, H+ = (I - rho s y^T) H (I - rho y s^T) + rho s s^T.
+Eigen::MatrixXd bfgs_textbook(const Eigen::MatrixXd& h, const Eigen::VectorXd& s, const Eigen::VectorXd& y) {
+  const double rho = 1.0 / s.dot(y);
+  const Eigen::MatrixXd i = Eigen::MatrixXd::Identity(h.rows(), h.cols());
+  return (i - rho * s * y.transpose()) * h * (i - rho * y * s.transpose()) + rho * s * s.transpose();
+}
+
+}  // namespace
+
+TEST(BfgsInverse, TheProductFormIsTheTextbookUpdateAndMeetsTheSecantCondition) {
+  // Against dense matrices: every direction of the product form (and the next direction taken
+  // without a solve) is the textbook BFGS inverse applied to the residual.
+  std::mt19937 rng(7);
+  const Eigen::MatrixXd b0 = random_spd(rng);
+  const Eigen::LLT<Eigen::MatrixXd> chol(b0);
+  const auto solve = [&](const Eigen::Matrix3Xd& q, Eigen::Matrix3Xd& d) {
+    d = flat_to_nodes(chol.solve(nodes_to_flat(q)));
+    return true;
+  };
+  // The "true" operator the steps sample: another SPD matrix, so every y = A s has s^T y > 0.
+  const Eigen::MatrixXd a = random_spd(rng);
+  BfgsInverse bfgs(5);
+  Eigen::MatrixXd h = b0.inverse();  // the dense H_k the product form must reproduce
+  Eigen::Matrix3Xd r = random_vector(rng);
+  for (int k = 0; k < 5; ++k) {
+    Eigen::Matrix3Xd d;
+    ASSERT_TRUE(bfgs.apply(solve, r, d));
+    EXPECT_LT((nodes_to_flat(d) - h * nodes_to_flat(r)).norm(), 1e-10 * nodes_to_flat(d).norm()) << "update " << k;
+    const double alpha = k % 2 == 0 ? 1.0 : 0.5;  // a damped step too
+    const Eigen::VectorXd s = alpha * nodes_to_flat(d);
+    const Eigen::Matrix3Xd r_new = r - flat_to_nodes(a * s);  // y = r - r_new = A s
+    Eigen::Matrix3Xd hr;  // H_k r_new, what the line search's monotonicity test computes
+    ASSERT_TRUE(bfgs.apply(solve, r_new, hr));
+    ASSERT_TRUE(bfgs.update(d, alpha, r, r_new)) << "update " << k;
+    EXPECT_EQ(bfgs.count(), k + 1);
+    // The next direction H_{k+1} r_new without a solve equals the product form applied to r_new.
+    Eigen::Matrix3Xd next, applied;
+    bfgs.next_direction(d, alpha, r_new, hr, next);
+    ASSERT_TRUE(bfgs.apply(solve, r_new, applied));
+    EXPECT_LT((next - applied).norm(), 1e-10 * applied.norm()) << "update " << k;
+    h = bfgs_textbook(h, s, a * s);
+    // Secant condition of the new H: H y = s, through the product form.
+    Eigen::Matrix3Xd hy;
+    ASSERT_TRUE(bfgs.apply(solve, flat_to_nodes(a * s), hy));
+    EXPECT_LT((nodes_to_flat(hy) - s).norm(), 1e-10 * s.norm()) << "update " << k;
+    r = r_new + 0.3 * random_vector(rng);  // the next residual: not along the old directions
+  }
+  EXPECT_TRUE(bfgs.full());
+  Eigen::Matrix3Xd d;
+  ASSERT_TRUE(bfgs.apply(solve, r, d));
+  EXPECT_FALSE(bfgs.update(d, 1.0, r, r - flat_to_nodes(a * nodes_to_flat(d)))) << "a full store asks to reform";
+  bfgs.reset();
+  ASSERT_TRUE(bfgs.apply(solve, r, d));
+  EXPECT_LT((nodes_to_flat(d) - chol.solve(nodes_to_flat(r))).norm(), 1e-12 * d.norm()) << "reset: H_0 alone";
+}
+
+TEST(BfgsInverse, RefusesAStepWithoutPositiveCurvature) {
+  std::mt19937 rng(11);
+  const Eigen::MatrixXd b0 = random_spd(rng);
+  const Eigen::LLT<Eigen::MatrixXd> chol(b0);
+  const auto solve = [&](const Eigen::Matrix3Xd& q, Eigen::Matrix3Xd& d) {
+    d = flat_to_nodes(chol.solve(nodes_to_flat(q)));
+    return true;
+  };
+  BfgsInverse bfgs(10);
+  const Eigen::Matrix3Xd r = random_vector(rng);
+  Eigen::Matrix3Xd d;
+  ASSERT_TRUE(bfgs.apply(solve, r, d));
+  // The residual grew along the step (s^T y < 0: the energy is concave there) and did not change
+  // at all (s^T y = 0): both refused, nothing stored.
+  EXPECT_FALSE(bfgs.update(d, 1.0, r, 2.0 * r));
+  EXPECT_FALSE(bfgs.update(d, 1.0, r, r));
+  // An update whose beta = sqrt(s^T y / s^T B s) exceeds kMaxBeta: y = 1e12 B s.
+  EXPECT_FALSE(bfgs.update(d, 1.0, r, r - 1e12 * r));
+  EXPECT_EQ(bfgs.count(), 0);
+  EXPECT_TRUE(bfgs.update(d, 1.0, r, 0.5 * r));  // y = B s / 2: accepted
+  EXPECT_EQ(bfgs.count(), 1);
+  EXPECT_THROW(BfgsInverse(0), std::invalid_argument);
+}
+
+namespace {
+
+struct LiftRun {
+  Eigen::Matrix3Xd x;
+  int newton = 0, reformations = 0;
+};
+
+/// Land problem 1's beam (10 x 1 x 2 uncoupled Guccione hexahedra, Q1/P0 at p = 100 C) lifted
+/// 3 mm at its free end in `steps` static load steps, with `bfgs` updates per factorisation.
+LiftRun lift(int bfgs, int steps) {
+  solver::Model model = test::lifted_guccione_beam({10, 1, 2}, 3e-3, [](const preprocess::Mesh& m) {
+    solver::VolumeParams vp;
+    vp.p = 2e5;
+    vp.distribution = solver::VolumeDistribution::Isotropic;
+    vp.form = solver::VolumePenaltyForm::SimoTaylor;
+    return solver::make_volume_term(m, nullptr, vp);
+  });
+  solver::System sys(model);
+  solver::ImplicitSettings set;
+  set.adapt = false;
+  set.newton_rtol = 1e-11;
+  set.newton_atol = 1e-14;
+  set.newton_xtol = 1e-16;
+  set.max_newton = 200;
+  set.bfgs_max_updates = bfgs;
+  solver::ImplicitIntegrator integ(sys, solver::ImplicitIntegrator::Kind::Static, set);
+  solver::State s{model.x_ref, Eigen::Matrix3Xd::Zero(3, model.x_ref.cols()), 0.0};
+  LiftRun out;
+  for (int k = 0; k < steps; ++k) {
+    const solver::StepReport rep = integ.step(s, 1.0 / steps);
+    out.newton += rep.newton_iterations;
+    out.reformations += rep.reformations;
+  }
+  EXPECT_NEAR(s.t, 1.0, 1e-12);
+  out.x = s.x;
+  return out;
+}
+
+}  // namespace
+
+TEST(StaticBfgs, EndsOnNewtonsEquilibriumWithFewerFactorisations) {
+  const LiftRun newton = lift(0, 4);
+  const LiftRun bfgs = lift(10, 4);
+  const LiftRun short_store = lift(2, 4);
+  std::printf(
+      "lift 3 mm in 4 steps: Newton %d iterations (%d operators); BFGS(10) %d (%d); BFGS(2) %d (%d); "
+      "|dx| %.2g, %.2g m\n",
+      newton.newton, newton.reformations, bfgs.newton, bfgs.reformations, short_store.newton, short_store.reformations,
+      (bfgs.x - newton.x).cwiseAbs().maxCoeff(), (short_store.x - newton.x).cwiseAbs().maxCoeff());
+  EXPECT_EQ(newton.reformations, newton.newton) << "full Newton assembles an operator at every iteration";
+  EXPECT_LT((bfgs.x - newton.x).cwiseAbs().maxCoeff(), 1e-9);  // the Newton tolerance, against 3 mm
+  EXPECT_LT((short_store.x - newton.x).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT(bfgs.reformations, newton.reformations / 2);
+  EXPECT_GT(bfgs.newton, bfgs.reformations) << "most directions came from the updates";
+  EXPECT_LE(bfgs.reformations, short_store.reformations) << "a longer store reforms no more often";
+}
