@@ -22,9 +22,11 @@
 // factorised for the first direction of the solve and whenever a reformation is due; between
 // reformations the direction is d = H r with H the factorisation under the BFGS updates of the
 // steps since, and the monotonicity test uses the same H. A reformation is due after n updates,
-// when an update is refused (no positive curvature along the step, or too ill-conditioned), and
-// when the line search rejects a quasi-Newton direction (the iteration then takes a Newton
-// direction from the same x; only a rejected Newton direction fails the attempt).
+// when an update is refused (no positive curvature along the step, or too ill-conditioned), after
+// a quasi-Newton step the line search had to shorten (alpha < 1: the secant model is poor there),
+// and when the line search rejects a quasi-Newton direction (the iteration then takes a Newton
+// direction from the same x; only a rejected Newton direction fails the attempt). max_newton
+// bounds the reformations.
 //
 // Convergence: |r| <= newton_atol or |r| <= newton_rtol |r_0|, or an accepted position change
 // alpha |dx|_inf <= newton_xtol (its residual is recorded too). Failure: a non-finite residual
