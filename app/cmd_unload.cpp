@@ -43,8 +43,8 @@ std::string iteration_line(const solver::UnloadIteration& it) {
     return o.str();
   }
   o << std::setprecision(4) << ": max |x(X) - x*| " << it.max_error * 1e3 << " mm (node " << it.worst_node << "), rms "
-    << it.rms_error * 1e3 << " mm; " << it.steps << " load steps, " << it.newton_iterations << " Newton, "
-    << it.wall_seconds << " s";
+    << it.rms_error * 1e3 << " mm; " << it.steps << " load steps, " << it.newton_iterations << " Newton ("
+    << it.reformations << " factorised), " << it.wall_seconds << " s";
   for (const auto& c : it.cavities)
     o << "; " << c.name << " " << c.reference * 1e6 << " -> " << c.loaded * 1e6 << " ml";
   return o.str();
@@ -71,6 +71,7 @@ nlohmann::json result_json(const solver::UnloadResult& r, const UnloadArgs& a, d
                    {"rms_error_m", done ? json(it.rms_error) : json(nullptr)},
                    {"steps", it.steps},
                    {"newton_iterations", it.newton_iterations},
+                   {"reformations", it.reformations},
                    {"wall_time_s", it.wall_seconds},
                    {"cavities", cav}});
   }

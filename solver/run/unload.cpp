@@ -68,6 +68,7 @@ Eigen::Matrix3Xd load_once(LoadedScene& sc, const fs::path& dir, UnloadIteration
   it.reason = out.reason;
   it.steps = out.steps;
   it.newton_iterations = out.newton_iterations;
+  it.reformations = out.reformations;
   it.wall_seconds = out.wall_seconds;
   return out.final_state.x;
 }

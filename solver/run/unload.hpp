@@ -61,7 +61,7 @@ struct UnloadIteration {
   double max_error = 0.0;  ///< m, max_i |x(X_k) - x*|_i (valid when status is "completed")
   double rms_error = 0.0;  ///< m, root mean square over the nodes
   long worst_node = -1;    ///< the node of max_error (-1 if none measured)
-  std::size_t steps = 0, newton_iterations = 0;
+  std::size_t steps = 0, newton_iterations = 0, reformations = 0;  ///< reformations: operators factorised
   double wall_seconds = 0.0;
   std::vector<CavityVolumes> cavities;
 };

@@ -76,7 +76,8 @@ bool damped_newton(StaticEquations& eq, JacobianSolver& linear, Eigen::Matrix3Xd
   Eigen::Matrix3Xd f, dx, trial, r, dxb, next;
   bool have_next = false;  // `next` holds the quasi-Newton direction at x (BfgsInverse::next_direction)
   eq.residual(x, f);
-  bool record_residual = true;
+  bool record_residual = true;  // false when an iteration is redone from the same x
+  int operators = 0;            // factorised in this solve
   for (int it = 0;; ++it) {
     throw_if_stop_requested("static Newton");
     const double nr = f.norm();
@@ -85,15 +86,16 @@ bool damped_newton(StaticEquations& eq, JacobianSolver& linear, Eigen::Matrix3Xd
       if (record.residuals.empty()) r0 = nr;
       record.residuals.push_back(nr);
     }
+    if (settings.on_iteration && record_residual) settings.on_iteration(it, nr);
     record_residual = true;
-    if (settings.on_iteration) settings.on_iteration(it, nr);
     if (!pending && (nr <= settings.newton_atol || nr <= settings.newton_rtol * r0)) return true;
-    const bool fresh = reform || !quasi || bfgs->full();
+    const bool fresh = reform || !quasi;
     // The limit counts the operators (= the iterations under full Newton): with BFGS the cheap
     // updates between two factorisations are not what max_newton bounds.
-    if ((quasi ? record.reformations + (fresh ? 1 : 0) : it + 1) > settings.max_newton) return false;
+    if ((quasi ? operators + (fresh ? 1 : 0) : it + 1) > settings.max_newton) return false;
     if (fresh) {
       if (!newton_direction(eq, linear, x, f, dpres, pending, dx)) return false;
+      ++operators;
       ++record.reformations;
       reform = false;
       if (quasi) bfgs->reset();
@@ -118,17 +120,17 @@ bool damped_newton(StaticEquations& eq, JacobianSolver& linear, Eigen::Matrix3Xd
     bool corrected = false;
     if (!line_search(eq, x, dx, nr, correct, alpha, trial, r, dxb, corrected)) {
       if (fresh) return false;
-      // A quasi-Newton direction the line search cannot use: the next one is a Newton direction
-      // from the same x (the iteration counts against max_newton, its residual is not recorded again).
+      // A quasi-Newton direction the line search cannot use: the iteration is redone with a Newton
+      // direction from the same x (its residual is neither recorded nor reported again).
       reform = true;
       record_residual = false;
       continue;
     }
-    if (quasi && !bfgs->update(dx, alpha, f, r)) reform = true;
+    if (quasi && !bfgs->update(dx, alpha, f, r)) reform = true;  // refused, or the store was full
     // A quasi-Newton step the line search had to shorten: the secant model is poor here, the
     // next direction comes from a new operator (biv-me unloading: 105 -> 55 iterations, 66 -> 44 s).
     if (quasi && !fresh && alpha < 1.0) reform = true;
-    if (quasi && !reform && corrected && !bfgs->full()) {
+    if (quasi && !reform && corrected) {
       bfgs->next_direction(dx, alpha, r, dxb, next);  // saves the next iteration's solve
       have_next = true;
     }

@@ -56,6 +56,10 @@ ImplicitIntegrator::ImplicitIntegrator(System& system, Kind kind, const Implicit
 
 ImplicitIntegrator::~ImplicitIntegrator() = default;
 
+int ImplicitIntegrator::effort(const NewtonRecord& record) const {
+  return set_.bfgs_max_updates > 0 ? record.reformations : record.iterations;
+}
+
 std::string ImplicitIntegrator::name() const {
   return integrator_info(kind_).name;
 }
@@ -86,10 +90,10 @@ StepReport ImplicitIntegrator::step(State& s, double dt) {
     // The augmented-Lagrangian re-solves at fixed load do not count: they say nothing about the step.
     // With a penalty continuation the step is as hard as its hardest solve, the first (soft) one or
     // a re-solve after a raise (the stiff penalty is where large steps cost).
-    // The count is of reformations (operators assembled and factorised): the Newton iterations
-    // under full Newton; with BFGS the iterations that needed a new operator, the cost that
+    // With BFGS the count is of reformations (operators assembled and factorised), the cost that
     // matters, while several cheap updates per factorisation are the method working as meant.
-    const int load_iterations = std::max(rep.reformations - resolve_reformations_, hardest_raise_);
+    const int total = set_.bfgs_max_updates > 0 ? rep.reformations : rep.newton_iterations;
+    const int load_iterations = std::max(total - resolve_effort_, hardest_raise_);
     const bool easy =
         kind_ == Kind::BackwardEuler ? rep.linear_iterations <= set_.ksp_max_it / 4 : load_iterations <= 4;
     if (easy && rep.rejected == 0) next = std::min(1.5 * h, set_.dt_max);
@@ -110,7 +114,7 @@ bool ImplicitIntegrator::attempt(State& s, double h, StepReport& rep) {
   const double t0 = s.t;
   x0_ = s.x;
   v0_ = s.v;
-  resolve_reformations_ = 0;
+  resolve_effort_ = 0;
   hardest_raise_ = 0;
   // What a failed or interrupted attempt must put back besides the state: the multipliers of the
   // cavities and of the augmented terms (the bordered solve restores the former only on its own
@@ -193,9 +197,9 @@ bool ImplicitIntegrator::continue_penalty(State& s, double h, StepReport& rep) {
     if (!raised) return true;
     ++rep.continuation_solves;
     const Eigen::Matrix3Xd before = s.x;
-    const int done = record_.reformations;
+    const int done = effort(record_);
     const bool ok = resolve(s, h, rep);
-    hardest_raise_ = std::max(hardest_raise_, record_.reformations - done);
+    hardest_raise_ = std::max(hardest_raise_, effort(record_) - done);
     if (ok) {
       power = std::min(1.0, 2.0 * power);  // a shortened raise that worked: try a longer one next
       continue;
@@ -248,7 +252,7 @@ bool ImplicitIntegrator::resolve(State& s, double h, StepReport& rep) {
   }
   record_.iterations += again.iterations;
   record_.reformations += again.reformations;
-  resolve_reformations_ += again.reformations;
+  resolve_effort_ += effort(again);
   record_.residuals.insert(record_.residuals.end(), again.residuals.begin(), again.residuals.end());
   return ok;
 }

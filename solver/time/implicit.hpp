@@ -145,6 +145,8 @@ class ImplicitIntegrator : public Integrator {
   /// The static equations at load t1 for the step of length h that started at x0_, with the
   /// regularisation of settings.static_damping when it is on (every static solve builds them here).
   [[nodiscard]] StaticEquations static_equations(double t1, double h, StepReport& rep);
+  /// What the step-size rule counts in `record`: Newton iterations, or with BFGS factorisations.
+  [[nodiscard]] int effort(const NewtonRecord& record) const;
 
   System& sys_;
   Kind kind_;
@@ -155,9 +157,9 @@ class ImplicitIntegrator : public Integrator {
   std::unique_ptr<JacobianSolver> linear_;
   NewtonRecord record_;
   int last_linear_ = 0;
-  int resolve_reformations_ = 0;  ///< reformations of the re-solves (augmented Lagrangian, continuation) of the attempt
-  int hardest_raise_ = 0;         ///< the most reformations of one continuation re-solve of the attempt
-  Eigen::Matrix3Xd x0_, v0_;      // the state at the start of the attempt
+  int resolve_effort_ = 0;    ///< effort() of the re-solves (augmented Lagrangian, continuation) of the attempt
+  int hardest_raise_ = 0;     ///< the largest effort() of one continuation re-solve of the attempt
+  Eigen::Matrix3Xd x0_, v0_;  // the state at the start of the attempt
   // Static predictor: the state before the last converged load step and its length.
   Eigen::Matrix3Xd prev_x_;
   double prev_h_ = 0.0;

@@ -21,11 +21,16 @@
 // + rho: the BFGS formula term by term. (The sign of beta is free; the minus keeps v away from
 // cancellation when B s ~ y.) Applying H_{k+1} to r: the P_j from the newest to the oldest, one
 // back-substitution with the factorisation, then the P_j^T from the oldest to the newest:
-// 2 dot products and 2 axpys per stored update and side.
+// one dot product and one axpy per stored update and side.
+//
+// The static operator is not symmetric under follower (cavity) pressures; the update is then
+// still a secant update (H_{k+1} y = s holds exactly), not the BFGS update of a symmetric
+// matrix -- as in FEBio, which uses it for such loads too.
 //
 // An update is refused (the caller then reforms: assembles and factorises A at the current x)
-// when the curvature s^T y is not positive or beta exceeds kMaxBeta (Matthies & Strang's bound
-// on the update's condition number; 1e5, FEBio's default), and after max_updates updates.
+// when the curvature s^T y or s^T B s is not positive, when beta exceeds kMaxBeta (Matthies &
+// Strang's bound on the update's condition number; 1e5, FEBio's default), and once max_updates
+// updates are stored (so up to max_updates updated directions follow one factorisation).
 #include <Eigen/Core>
 #include <cstddef>
 #include <vector>

@@ -182,9 +182,12 @@ TEST(Scene, ImpossibleValuesAndWrongUnits) {
   EXPECT_NE(test::scene_error(replaced(bfgs, "type: static", "type: backward_euler_newton"))
                 .find("integrator.bfgs_max_updates: only the static integrator"),
             std::string::npos);
-  EXPECT_NE(test::scene_error(replaced(bfgs, "bfgs_max_updates: 8", "bfgs_max_updates: -1"))
-                .find("integrator.bfgs_max_updates: must be in 0 ... 1000"),
-            std::string::npos);
+  for (const char* bad : {"bfgs_max_updates: -1", "bfgs_max_updates: 1001"}) {
+    EXPECT_NE(test::scene_error(replaced(bfgs, "bfgs_max_updates: 8", bad))
+                  .find("integrator.bfgs_max_updates: must be in 0 ... 1000"),
+              std::string::npos)
+        << bad;
+  }
 }
 
 TEST(Scene, TimeStepFarBeyondTheCriticalStepIsAnError) {

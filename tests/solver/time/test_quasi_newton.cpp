@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "beam_fixtures.hpp"
+#include "common/error.hpp"
 #include "solver/terms/adamss/volume_preservation.hpp"
 #include "solver/time/implicit.hpp"
 #include "solver/time/quasi_newton.hpp"
@@ -131,8 +132,10 @@ struct LiftRun {
 };
 
 /// Land problem 1's beam (10 x 1 x 2 uncoupled Guccione hexahedra, Q1/P0 at p = 100 C) lifted
-/// 3 mm at its free end in `steps` static load steps, with `bfgs` updates per factorisation.
-LiftRun lift(int bfgs, int steps) {
+/// 3 mm at its free end in `steps` static load steps, with `bfgs` updates per factorisation, at
+/// most `max_newton` per step (and with dt_min = 1 / steps: a failed step is not halved but
+/// throws NumericalError).
+LiftRun lift(int bfgs, int steps, int max_newton = 200) {
   solver::Model model = test::lifted_guccione_beam({10, 1, 2}, 3e-3, [](const preprocess::Mesh& m) {
     solver::VolumeParams vp;
     vp.p = 2e5;
@@ -146,8 +149,9 @@ LiftRun lift(int bfgs, int steps) {
   set.newton_rtol = 1e-11;
   set.newton_atol = 1e-14;
   set.newton_xtol = 1e-16;
-  set.max_newton = 200;
+  set.max_newton = max_newton;
   set.bfgs_max_updates = bfgs;
+  set.dt_min = 1.0 / steps;
   solver::ImplicitIntegrator integ(sys, solver::ImplicitIntegrator::Kind::Static, set);
   solver::State s{model.x_ref, Eigen::Matrix3Xd::Zero(3, model.x_ref.cols()), 0.0};
   LiftRun out;
@@ -178,4 +182,24 @@ TEST(StaticBfgs, EndsOnNewtonsEquilibriumWithFewerFactorisations) {
   EXPECT_LT(bfgs.reformations, newton.reformations / 2);
   EXPECT_GT(bfgs.newton, bfgs.reformations) << "most directions came from the updates";
   EXPECT_LE(bfgs.reformations, short_store.reformations) << "a longer store reforms no more often";
+}
+
+TEST(StaticBfgs, MaxNewtonBoundsTheFactorisationsAndOneUpdateIsUsed) {
+  const LiftRun newton = lift(0, 1);
+  const LiftRun bfgs = lift(10, 1);
+  const LiftRun one = lift(1, 1);
+  std::printf("lift 3 mm in 1 step: Newton %d; BFGS(10) %d on %d operators; BFGS(1) %d on %d\n", newton.newton,
+              bfgs.newton, bfgs.reformations, one.newton, one.reformations);
+  ASSERT_LT(bfgs.reformations, newton.newton);
+  ASSERT_GT(bfgs.newton, newton.newton);
+  // max_newton = the factorisations BFGS needs: it passes, although it takes more iterations than
+  // that; full Newton with the same limit fails (dt_min forbids halving).
+  const LiftRun limited = lift(10, 1, bfgs.reformations);
+  EXPECT_EQ(limited.reformations, bfgs.reformations);
+  EXPECT_LT((limited.x - bfgs.x).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_THROW((void)lift(0, 1, bfgs.reformations), NumericalError);
+  EXPECT_THROW((void)lift(10, 1, bfgs.reformations - 1), NumericalError);
+  // One stored update: every factorisation is followed by one updated direction (not full Newton).
+  EXPECT_GT(one.newton, one.reformations);
+  EXPECT_LT((one.x - newton.x).cwiseAbs().maxCoeff(), 1e-9);
 }
