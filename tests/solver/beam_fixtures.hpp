@@ -14,11 +14,24 @@
 #include "preprocess/meshers/box_mesh.hpp"
 #include "solver/core/mass.hpp"
 #include "solver/core/model.hpp"
+#include "solver/terms/adamss/volume_preservation.hpp"
 #include "solver/terms/fem/fem_element.hpp"
 
 namespace adamss::test {
 
 using VolumeTermMaker = std::function<std::unique_ptr<solver::ForceTerm>(const preprocess::Mesh&)>;
+
+/// One volume constraint per element (the Q1/P0 penalty of the Land scenes): the isotropic
+/// volume term in Simo-Taylor form with penalty `p` (Pa) and, if given, augmented-Lagrangian settings.
+inline std::unique_ptr<solver::ForceTerm> element_volume(const preprocess::Mesh& mesh, double p,
+                                                         const solver::AugmentedLagrangian& al = {}) {
+  solver::VolumeParams vp;
+  vp.p = p;
+  vp.distribution = solver::VolumeDistribution::Isotropic;
+  vp.form = solver::VolumePenaltyForm::SimoTaylor;
+  vp.augmented = al;
+  return solver::make_volume_term(mesh, nullptr, vp);
+}
 
 /// The beam's model: terms[0] the law (fem_element), terms[1] what `volume` returns.
 inline solver::Model lifted_guccione_beam(const std::array<int, 3>& divisions, double lift,

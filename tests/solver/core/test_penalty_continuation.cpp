@@ -30,15 +30,7 @@ using solver::PenaltyContinuation;
 
 namespace {
 
-std::unique_ptr<solver::ForceTerm> element_volume(const preprocess::Mesh& mesh, double p,
-                                                  const solver::AugmentedLagrangian& al = {}) {
-  solver::VolumeParams vp;
-  vp.p = p;
-  vp.distribution = solver::VolumeDistribution::Isotropic;
-  vp.form = solver::VolumePenaltyForm::SimoTaylor;
-  vp.augmented = al;
-  return solver::make_volume_term(mesh, nullptr, vp);
-}
+using test::element_volume;
 
 }  // namespace
 

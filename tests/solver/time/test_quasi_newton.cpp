@@ -10,7 +10,6 @@
 
 #include "beam_fixtures.hpp"
 #include "common/error.hpp"
-#include "solver/terms/adamss/volume_preservation.hpp"
 #include "solver/time/implicit.hpp"
 #include "solver/time/quasi_newton.hpp"
 
@@ -44,6 +43,18 @@ Eigen::Matrix3Xd random_vector(std::mt19937& rng) {
   return m;
 }
 
+/// H_0 of the tests: a random SPD operator B_0 factorised densely, solve(q, d) gives d = B_0^{-1} q
+/// as BfgsInverse::apply expects of the factorised operator.
+struct DenseOperator {
+  Eigen::MatrixXd b0;
+  Eigen::LLT<Eigen::MatrixXd> chol;
+  explicit DenseOperator(std::mt19937& rng) : b0(random_spd(rng)), chol(b0) {}
+  bool operator()(const Eigen::Matrix3Xd& q, Eigen::Matrix3Xd& d) const {
+    d = flat_to_nodes(chol.solve(nodes_to_flat(q)));
+    return true;
+  }
+};
+
 /// The textbook BFGS inverse update, H+ = (I - rho s y^T) H (I - rho y s^T) + rho s s^T.
 Eigen::MatrixXd bfgs_textbook(const Eigen::MatrixXd& h, const Eigen::VectorXd& s, const Eigen::VectorXd& y) {
   const double rho = 1.0 / s.dot(y);
@@ -57,16 +68,11 @@ TEST(BfgsInverse, TheProductFormIsTheTextbookUpdateAndMeetsTheSecantCondition) {
   // Against dense matrices: every direction of the product form (and the next direction taken
   // without a solve) is the textbook BFGS inverse applied to the residual.
   std::mt19937 rng(7);
-  const Eigen::MatrixXd b0 = random_spd(rng);
-  const Eigen::LLT<Eigen::MatrixXd> chol(b0);
-  const auto solve = [&](const Eigen::Matrix3Xd& q, Eigen::Matrix3Xd& d) {
-    d = flat_to_nodes(chol.solve(nodes_to_flat(q)));
-    return true;
-  };
+  const DenseOperator solve(rng);
   // The "true" operator the steps sample: another SPD matrix, so every y = A s has s^T y > 0.
   const Eigen::MatrixXd a = random_spd(rng);
   BfgsInverse bfgs(5);
-  Eigen::MatrixXd h = b0.inverse();  // the dense H_k the product form must reproduce
+  Eigen::MatrixXd h = solve.b0.inverse();  // the dense H_k the product form must reproduce
   Eigen::Matrix3Xd r = random_vector(rng);
   for (int k = 0; k < 5; ++k) {
     Eigen::Matrix3Xd d;
@@ -97,17 +103,12 @@ TEST(BfgsInverse, TheProductFormIsTheTextbookUpdateAndMeetsTheSecantCondition) {
   EXPECT_FALSE(bfgs.update(d, 1.0, r, r - flat_to_nodes(a * nodes_to_flat(d)))) << "a full store asks to reform";
   bfgs.reset();
   ASSERT_TRUE(bfgs.apply(solve, r, d));
-  EXPECT_LT((nodes_to_flat(d) - chol.solve(nodes_to_flat(r))).norm(), 1e-12 * d.norm()) << "reset: H_0 alone";
+  EXPECT_LT((nodes_to_flat(d) - solve.chol.solve(nodes_to_flat(r))).norm(), 1e-12 * d.norm()) << "reset: H_0 alone";
 }
 
 TEST(BfgsInverse, RefusesAStepWithoutPositiveCurvature) {
   std::mt19937 rng(11);
-  const Eigen::MatrixXd b0 = random_spd(rng);
-  const Eigen::LLT<Eigen::MatrixXd> chol(b0);
-  const auto solve = [&](const Eigen::Matrix3Xd& q, Eigen::Matrix3Xd& d) {
-    d = flat_to_nodes(chol.solve(nodes_to_flat(q)));
-    return true;
-  };
+  const DenseOperator solve(rng);
   BfgsInverse bfgs(10);
   const Eigen::Matrix3Xd r = random_vector(rng);
   Eigen::Matrix3Xd d;
@@ -136,13 +137,8 @@ struct LiftRun {
 /// most `max_newton` per step (and with dt_min = 1 / steps: a failed step is not halved but
 /// throws NumericalError).
 LiftRun lift(int bfgs, int steps, int max_newton = 200) {
-  solver::Model model = test::lifted_guccione_beam({10, 1, 2}, 3e-3, [](const preprocess::Mesh& m) {
-    solver::VolumeParams vp;
-    vp.p = 2e5;
-    vp.distribution = solver::VolumeDistribution::Isotropic;
-    vp.form = solver::VolumePenaltyForm::SimoTaylor;
-    return solver::make_volume_term(m, nullptr, vp);
-  });
+  solver::Model model = test::lifted_guccione_beam(
+      {10, 1, 2}, 3e-3, [](const preprocess::Mesh& m) { return test::element_volume(m, 2e5); });
   solver::System sys(model);
   solver::ImplicitSettings set;
   set.adapt = false;
