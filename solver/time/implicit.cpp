@@ -92,8 +92,7 @@ StepReport ImplicitIntegrator::step(State& s, double dt) {
     // a re-solve after a raise (the stiff penalty is where large steps cost).
     // With BFGS the count is of reformations (operators assembled and factorised), the cost that
     // matters, while several cheap updates per factorisation are the method working as meant.
-    const int total = set_.bfgs_max_updates > 0 ? rep.reformations : rep.newton_iterations;
-    const int load_iterations = std::max(total - resolve_effort_, hardest_raise_);
+    const int load_iterations = std::max(effort(record_) - resolve_effort_, hardest_raise_);
     const bool easy =
         kind_ == Kind::BackwardEuler ? rep.linear_iterations <= set_.ksp_max_it / 4 : load_iterations <= 4;
     if (easy && rep.rejected == 0) next = std::min(1.5 * h, set_.dt_max);
