@@ -95,6 +95,17 @@ nlohmann::json reactions_json(const std::vector<solver::ReactionSummary>& reacti
   return groups;
 }
 
+/// summary.json "time_split_s": seconds and calls per kind of work of this process's loop, and the rest.
+nlohmann::json time_split_json(const solver::RunOutcome& out) {
+  const auto part = [](const solver::TimePart& p) {
+    return nlohmann::json{{"seconds", p.seconds}, {"calls", p.count}};
+  };
+  const solver::TimeSplit& t = out.time_split;
+  return {{"loop", out.loop_seconds},       {"forces", part(t.forces)},
+          {"jacobians", part(t.jacobians)}, {"factorisations", part(t.factorisations)},
+          {"solves", part(t.solves)},       {"other", out.loop_seconds - t.seconds()}};
+}
+
 /// summary.json (docs/file-formats.md): the scene's description, the run's counters and the
 /// numbers of solver::summarize_run.
 nlohmann::json summary_json(const solver::LoadedScene& sc, const solver::RunOutcome& out,
@@ -120,6 +131,7 @@ nlohmann::json summary_json(const solver::LoadedScene& sc, const solver::RunOutc
   j["newton_iterations"] = out.newton_iterations;
   j["reformations"] = out.reformations;
   j["linear_iterations"] = out.linear_iterations;
+  j["time_split_s"] = time_split_json(out);
   if (!solver::augmented_terms(m.terms).empty()) {  // also when no update was needed
     j["augmented_lagrangian"] = {{"updates", out.augmentations},
                                  {"max_volume_ratio_violation", out.max_constraint_violation}};

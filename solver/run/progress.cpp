@@ -35,4 +35,20 @@ std::string progress_text(const ProgressSnapshot& p) {
   return line;
 }
 
+std::string time_split_text(const TimeSplit& split, double loop_seconds) {
+  std::string line = "time split:";
+  const char* calls = " calls";  // spelled out at the first part only
+  const auto part = [&](const char* name, const TimePart& p) {
+    if (p.count == 0) return;
+    line += format(" %s %.3g s (%zu%s),", name, p.seconds, p.count, calls);
+    calls = "";
+  };
+  part("forces", split.forces);
+  part("jacobians", split.jacobians);
+  part("factorisations", split.factorisations);
+  part("solves", split.solves);
+  line += format(" other %.3g s, of %.3g s", loop_seconds - split.seconds(), loop_seconds);
+  return line;
+}
+
 }  // namespace adamss::solver

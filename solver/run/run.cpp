@@ -58,6 +58,7 @@ class RunLoop {
   ResultsWriter& writer_;
   const StopSignals signals_;
   Clock::time_point wall0_ = Clock::now();
+  Clock::time_point loop0_;  ///< this process's start of the loop (a resumed run's wall0_ is earlier)
   System sys_;
   ImplicitSettings implicit_;  ///< the scene's, with the Newton observer (integ_ keeps a copy)
   std::unique_ptr<Integrator> integ_;
@@ -104,7 +105,7 @@ RunOutcome RunLoop::run(State& s, const StateArchive* resume) {
     loop_ = restore_checkpoint(parts(), *resume, s);
     wall0_ -= std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(loop_.wall_seconds));
   }
-  last_progress_ = last_logged_progress_ = Clock::now();
+  last_progress_ = last_logged_progress_ = loop0_ = Clock::now();
   out_.resident_mb.start = resident_mb();
   writer_.log().line((resume == nullptr ? "start: " : "resumed: ") + progress_text(snapshot(s, 0.0)));
   for (;;) {
@@ -377,6 +378,10 @@ RunOutcome RunLoop::finish(State& s) {
   }
   writer_.log().line("end: " + progress_text(snapshot(s, kinetic_energy(model_.mass, s.v))));
   RunOutcome out = out_;
+  out.time_split = sys_.times();
+  out.time_split += integ_->linear_times();
+  out.loop_seconds = std::chrono::duration<double>(Clock::now() - loop0_).count();
+  writer_.log().line(time_split_text(out.time_split, out.loop_seconds));
   out.resident_mb.final = resident_mb();
   out.resident_mb.peak = peak_resident_mb();
   out.steps = loop_.steps;

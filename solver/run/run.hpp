@@ -31,6 +31,7 @@
 #include <string>
 
 #include "solver/core/model.hpp"
+#include "solver/core/time_split.hpp"
 #include "solver/run/results.hpp"
 #include "solver/time/implicit.hpp"
 #include "solver/time/integrator.hpp"
@@ -81,7 +82,13 @@ struct RunOutcome {
   std::size_t linear_iterations = 0;      ///< implicit/static, summed over accepted steps
   double dt_min_used = 0.0, dt_max_used = 0.0;
   std::optional<std::size_t> bad_element;  ///< element that inverted/flattened
-  State final_state;                       ///< the last good state
+  /// Where this process's loop time went (solver/core/time_split.hpp): the force evaluations and,
+  /// implicit/static, the assemblies, factorisations and solves, all attempts counted (rejected
+  /// ones too); loop_seconds is this process's wall time from the start (or resume) of the loop
+  /// to its end, so loop_seconds - time_split.seconds() is the rest (output, checks, vector work).
+  TimeSplit time_split;
+  double loop_seconds = 0.0;
+  State final_state;  ///< the last good state
   /// Resident memory of the process, MB (common/memory.hpp; -1 = not sampled): when the loop
   /// starts (after set-up or resume), at the first step reaching t_end / 4, at the end, and the
   /// peak. In a steady run `final` stays at `quarter`: the soak test checks it over 50 beats.

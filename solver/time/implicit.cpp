@@ -304,6 +304,10 @@ bool ImplicitIntegrator::backward_euler_step(State& s, double h, StepReport& rep
   return true;
 }
 
+TimeSplit ImplicitIntegrator::linear_times() const {
+  return linear_->times();
+}
+
 void ImplicitIntegrator::save_state(StateArchive& archive) const {
   archive.put_int("have_prev", have_prev_ ? 1 : 0);
   archive.put("prev_h", prev_h_);

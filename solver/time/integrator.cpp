@@ -32,6 +32,7 @@ System::System(Model& model) : model_(model) {
 System::~System() = default;
 
 void System::forces(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, double t, Eigen::Matrix3Xd& f) {
+  const ScopedTimer timer(times_.forces);
   f.setZero(3, x.cols());
   const StateView s{x, v, t};
   if (exchange_) {

@@ -21,6 +21,7 @@
 
 #include "solver/core/model.hpp"
 #include "solver/core/state_archive.hpp"
+#include "solver/core/time_split.hpp"
 
 namespace adamss::solver {
 
@@ -50,6 +51,8 @@ class System {
 
   [[nodiscard]] const Eigen::Matrix3Xd& last_forces() const { return f_; }
   [[nodiscard]] std::size_t evaluations() const { return evaluations_; }
+  /// The wall time of the force evaluations so far (times().forces; the other parts stay zero).
+  [[nodiscard]] const TimeSplit& times() const { return times_; }
   [[nodiscard]] Model& model() { return model_; }
   [[nodiscard]] const Model& model() const { return model_; }
   /// Positions at which fixed coordinates are held (the state at t = 0).
@@ -63,6 +66,7 @@ class System {
   Eigen::Matrix3Xd f_;
   Eigen::Matrix3Xd x_fixed_;
   std::size_t evaluations_ = 0;
+  TimeSplit times_;
   std::unique_ptr<ForceExchange> exchange_;  ///< several MPI ranks only
 };
 
@@ -98,6 +102,9 @@ class Integrator {
   virtual void save_state(StateArchive& /*archive*/) const {}
   /// Restores what save_state wrote; InputError naming the checkpoint and key if it does not fit.
   virtual void load_state(const StateArchive& /*archive*/) {}
+  /// The wall time of the linear algebra so far: Jacobian assemblies, factorisations and solves
+  /// (solver/core/time_split.hpp; forces are System::times()'s). None for the explicit schemes.
+  [[nodiscard]] virtual TimeSplit linear_times() const { return {}; }
 };
 
 /// Settings of the adaptive ABM3 scheme (sec. 2.5.4).

@@ -176,3 +176,57 @@ TEST(Run, CavitiesAreKeyedByName) {
   EXPECT_TRUE(j.contains("fiber_stretch_max"));
   EXPECT_TRUE(j.contains("fiber_stretch_min"));
 }
+
+// summary.json `time_split_s` and the run log's "time split:" line: the static solver's
+// assemblies and factorisations match its reformations one for one (full Newton: one operator per
+// iteration; BFGS: fewer operators than solves), the parts fit inside the loop's wall time, and an
+// explicit run spends nothing in linear algebra.
+TEST(Run, TheTimeSplitCountsTheSolversWork) {
+  const auto dir = scratch_dir("run_time_split");
+  const auto run = [&](const std::string& name, const std::string& integrator) {
+    fs::create_directories(dir / name);
+    const auto scene = write_scene(dir / name, slab_scene(integrator, "{t_end: 2 ms}"));
+    const auto r = run_adamss("run " + scene.string() + " -o " + (dir / name / "out").string() + cache_arg(dir));
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return summary(dir / name / "out");
+  };
+  const auto part = [](const nlohmann::json& j, const char* key, const char* what) {
+    return j["time_split_s"][key][what];
+  };
+  for (const char* bfgs : {"0", "5"}) {
+    SCOPED_TRACE(std::string("bfgs_max_updates ") + bfgs);
+    const auto j = run(std::string("static") + bfgs, std::string("{type: static, dt: 0.5 ms, adapt: false, "
+                                                                 "bfgs_max_updates: ") +
+                                                         bfgs + "}");
+    ASSERT_EQ(j["status"], "completed");
+    const auto reformations = j["reformations"].get<std::size_t>();
+    ASSERT_GT(reformations, 4u);
+    EXPECT_EQ(part(j, "jacobians", "calls").get<std::size_t>(), reformations);
+    EXPECT_EQ(part(j, "factorisations", "calls").get<std::size_t>(), reformations);
+    const auto solves = part(j, "solves", "calls").get<std::size_t>();
+    if (std::string(bfgs) == "0") {
+      EXPECT_GE(solves, reformations);
+    } else {
+      EXPECT_GT(solves, reformations);  // updated directions reuse the factorisation
+      EXPECT_GT(j["newton_iterations"].get<std::size_t>(), reformations);
+    }
+    EXPECT_GE(part(j, "forces", "calls").get<std::size_t>(), j["force_evaluations"].get<std::size_t>());
+    double sum = 0.0;
+    for (const char* k : {"forces", "jacobians", "factorisations", "solves"}) {
+      EXPECT_GT(part(j, k, "seconds").get<double>(), 0.0) << k;
+      sum += part(j, k, "seconds").get<double>();
+    }
+    const double loop = j["time_split_s"]["loop"].get<double>();
+    EXPECT_LE(sum, loop);
+    EXPECT_LE(loop, j["wall_time_s"].get<double>());
+    EXPECT_NEAR(j["time_split_s"]["other"].get<double>(), loop - sum, 1e-9);
+  }
+  const auto e = run("explicit", "{type: symplectic_euler, dt: 5 us}");
+  EXPECT_EQ(part(e, "forces", "calls").get<std::size_t>(), e["force_evaluations"].get<std::size_t>() + 3u)
+      << "the evaluations of the steps, the first frame and the frames at 1 and 2 ms";
+  for (const char* k : {"jacobians", "factorisations", "solves"}) EXPECT_EQ(part(e, k, "calls"), 0) << k;
+  std::ifstream log(dir / "explicit" / "out" / "run.log");
+  std::stringstream text;
+  text << log.rdbuf();
+  EXPECT_NE(text.str().find("time split: forces "), std::string::npos) << text.str();
+}

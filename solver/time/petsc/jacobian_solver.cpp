@@ -84,8 +84,9 @@ struct JacobianSolver::Petsc {
 
   /// The KSP on `a`: LU for small systems, GMRES + GAMG (with the coordinates x_ref) above.
   void configure(const Eigen::Matrix3Xd& x_ref, double ksp_rtol, int ksp_max_it);
-  /// KSP solve of a u = b with the current matrix; adds the Krylov iterations to `its`.
-  bool solve(int& its);
+  /// KSP solve of a u = b with the current matrix; adds the Krylov iterations to `its`. A matrix
+  /// changed since the last solve (`fresh`) is set up first (factorised), timed apart.
+  bool solve(int& its, TimeSplit& times);
 
   BlockMatrix a;
   std::vector<PetscInt> fixed;
@@ -93,6 +94,7 @@ struct JacobianSolver::Petsc {
   Vec b = nullptr, u = nullptr;
   VecScatter all = nullptr;  ///< several ranks: u gathered onto every rank
   Vec whole = nullptr;       ///< several ranks: the gathered u
+  bool fresh = true;         ///< `a` assembled or eliminated since the KSP last set it up
 };
 
 void JacobianSolver::Petsc::configure(const Eigen::Matrix3Xd& x_ref, double ksp_rtol, int ksp_max_it) {
@@ -139,8 +141,16 @@ void JacobianSolver::Petsc::configure(const Eigen::Matrix3Xd& x_ref, double ksp_
   if (all != nullptr) require_parallel_factorisation(pc);
 }
 
-bool JacobianSolver::Petsc::solve(int& its) {
-  petsc_check(KSPSetOperators(ksp, a.mat(), a.mat()), "KSPSetOperators");
+bool JacobianSolver::Petsc::solve(int& its, TimeSplit& times) {
+  if (fresh) {
+    // KSPSetUp runs PCSetUp for the new matrix (the LU factorisation, or the AMG hierarchy), which
+    // KSPSolve would otherwise do inside the first solve; KSPSolve then finds it up to date.
+    const ScopedTimer timer(times.factorisations);
+    petsc_check(KSPSetOperators(ksp, a.mat(), a.mat()), "KSPSetOperators");
+    petsc_check(KSPSetUp(ksp), "KSPSetUp");
+    fresh = false;
+  }
+  const ScopedTimer timer(times.solves);
   petsc_check(KSPSolve(ksp, b, u), "KSPSolve");
   PetscInt n = 0;
   KSPGetIterationNumber(ksp, &n);
@@ -162,7 +172,9 @@ JacobianSolver::~JacobianSolver() = default;
 
 void JacobianSolver::assemble(const std::vector<std::unique_ptr<ForceTerm>>& terms, const StateView& at, double cx,
                               double cv, const Eigen::VectorXd* mass) {
+  const ScopedTimer timer(times_.jacobians);
   BlockMatrix& a = petsc_->a;
+  petsc_->fresh = true;
   a.zero();
   std::exception_ptr error;  // several ranks: a bad element of one rank's rows ends every rank's assembly
   try {
@@ -176,12 +188,14 @@ void JacobianSolver::assemble(const std::vector<std::unique_ptr<ForceTerm>>& ter
 }
 
 void JacobianSolver::eliminate() {
+  const ScopedTimer timer(times_.jacobians, false);  // part of the assembly just counted
+  petsc_->fresh = true;
   petsc_->a.eliminate(petsc_->fixed);
 }
 
 bool JacobianSolver::solve(const Eigen::Matrix3Xd& rhs, Eigen::Matrix3Xd& u) {
   to_vec(rhs, petsc_->b);
-  if (!petsc_->solve(iterations_)) return false;
+  if (!petsc_->solve(iterations_, times_)) return false;
   u.resize(3, rhs.cols());
   from_vec(petsc_->u, petsc_->all, petsc_->whole, u);
   return true;
@@ -191,8 +205,12 @@ bool JacobianSolver::solve_prescribed(const Eigen::Matrix3Xd& rhs, const Eigen::
                                       Eigen::Matrix3Xd& u) {
   to_vec(rhs, petsc_->b);
   to_vec(values, petsc_->u);
-  petsc_->a.eliminate(petsc_->fixed, petsc_->u, petsc_->b);
-  if (!petsc_->solve(iterations_)) return false;
+  {
+    const ScopedTimer timer(times_.jacobians, false);
+    petsc_->fresh = true;
+    petsc_->a.eliminate(petsc_->fixed, petsc_->u, petsc_->b);
+  }
+  if (!petsc_->solve(iterations_, times_)) return false;
   u.resize(3, rhs.cols());
   from_vec(petsc_->u, petsc_->all, petsc_->whole, u);
   return true;

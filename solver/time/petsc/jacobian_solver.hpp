@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "solver/core/model.hpp"
+#include "solver/core/time_split.hpp"
 
 namespace adamss::solver {
 
@@ -49,12 +50,17 @@ class JacobianSolver {
   /// Krylov iterations summed over the solves since the last reset_iterations().
   [[nodiscard]] int iterations() const { return iterations_; }
   void reset_iterations() { iterations_ = 0; }
+  /// Wall time so far of the assemblies (with eliminations), of the operator set-ups (LU
+  /// factorisations, or preconditioner set-ups on the iterative path; PCSetUp through KSPSetUp,
+  /// once per new matrix) and of the solves (KSPSolve with a set-up operator); forces stay zero.
+  [[nodiscard]] const TimeSplit& times() const { return times_; }
 
  private:
   struct Petsc;  // the PETSc objects (jacobian_solver.cpp)
   std::unique_ptr<Petsc> petsc_;
   std::vector<Eigen::Index> fixed_;
   int iterations_ = 0;
+  TimeSplit times_;
 };
 
 /// Sets the fixed coordinates `dofs` (3 i + c) of m to zero.
