@@ -30,15 +30,30 @@ Eigen::Matrix3d Guccione::stress(const Eigen::Matrix3d& E) const {
   return p_.C * std::exp(Q) * A;
 }
 
-Matrix6d Guccione::tangent(const Eigen::Matrix3d& E) const {
-  const Eigen::Matrix3d A = B_.cwiseProduct(E);
-  const double scale = p_.C * std::exp(A.cwiseProduct(E).sum());
+namespace {
+
+/// D = C e^Q (2 a a^T + diag(b)), a = Voigt(A), b = Voigt(B) with the shear half (S = C e^Q A).
+Matrix6d guccione_tangent(const Eigen::Matrix3d& B, const Eigen::Matrix3d& A, double scale) {
   const Vector6d a = to_voigt_stress(A);
-  Vector6d diag = to_voigt_stress(B_);
+  Vector6d diag = to_voigt_stress(B);
   diag.tail<3>() *= 0.5;
   Matrix6d D = 2.0 * a * a.transpose();
   D.diagonal() += diag;
   return scale * D;
+}
+
+}  // namespace
+
+Matrix6d Guccione::tangent(const Eigen::Matrix3d& E) const {
+  const Eigen::Matrix3d A = B_.cwiseProduct(E);
+  return guccione_tangent(B_, A, p_.C * std::exp(A.cwiseProduct(E).sum()));
+}
+
+void Guccione::stress_and_tangent(const Eigen::Matrix3d& E, Eigen::Matrix3d& S, Matrix6d& D) const {
+  const Eigen::Matrix3d A = B_.cwiseProduct(E);
+  const double scale = p_.C * std::exp(A.cwiseProduct(E).sum());
+  S = scale * A;
+  D = guccione_tangent(B_, A, scale);
 }
 
 Eigen::Matrix3d Guccione::apply_tangent(const Eigen::Matrix3d& E, const Eigen::Matrix3d& dE) const {

@@ -63,6 +63,8 @@ class Guccione {
 
   Eigen::Matrix3d stress(const Eigen::Matrix3d& E) const;
   Matrix6d tangent(const Eigen::Matrix3d& E) const;
+  /// Both, sharing A = B o E and exp(Q).
+  void stress_and_tangent(const Eigen::Matrix3d& E, Eigen::Matrix3d& S, Matrix6d& D) const;
   Eigen::Matrix3d apply_tangent(const Eigen::Matrix3d& E, const Eigen::Matrix3d& dE) const;
 
  private:

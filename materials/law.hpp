@@ -18,6 +18,9 @@
 // * Tangent: tangent(E) is the 6x6 Voigt matrix of voigt.hpp (order 11,22,33,23,13,12,
 //   engineering shear strain): dS_voigt = D dE_voigt with dE_voigt = (dE11,dE22,dE33,
 //   2dE23,2dE13,2dE12). apply_tangent(E, dE) = dS for a symmetric 3x3 dE, without Voigt.
+// * stress_and_tangent(E, S, D) gives both at once (a Jacobian assembly needs both at every
+//   point): a law that shares work between them (Guccione's exp(Q), the uncoupled split's
+//   C^-1, J^-2/3 and base stress) overrides it; the default calls stress and tangent.
 // * No heap allocation in energy / stress / tangent / apply_tangent (fixed-size Eigen only).
 #include <Eigen/Core>
 #include <string_view>
@@ -41,6 +44,11 @@ class Law {
   virtual Matrix6d tangent(const Eigen::Matrix3d& E) const = 0;
   /// dS = C(E) : dE for a symmetric increment dE [Pa].
   virtual Eigen::Matrix3d apply_tangent(const Eigen::Matrix3d& E, const Eigen::Matrix3d& dE) const = 0;
+  /// S = stress(E) and D = tangent(E) in one call (equal to them to rounding).
+  virtual void stress_and_tangent(const Eigen::Matrix3d& E, Eigen::Matrix3d& S, Matrix6d& D) const {
+    S = stress(E);
+    D = tangent(E);
+  }
 };
 
 /// Wraps a concrete law `Model` as a Law. `Model` provides
@@ -49,6 +57,7 @@ class Law {
 ///   Eigen::Matrix3d stress(const Eigen::Matrix3d&) const;
 ///   Matrix6d tangent(const Eigen::Matrix3d&) const;
 ///   Eigen::Matrix3d apply_tangent(const Eigen::Matrix3d&, const Eigen::Matrix3d&) const;
+/// and optionally void stress_and_tangent(const Eigen::Matrix3d&, Eigen::Matrix3d&, Matrix6d&) const.
 template <typename Model>
 class LawOf final : public Law {
  public:
@@ -59,6 +68,14 @@ class LawOf final : public Law {
   Matrix6d tangent(const Eigen::Matrix3d& E) const override { return model_.tangent(E); }
   Eigen::Matrix3d apply_tangent(const Eigen::Matrix3d& E, const Eigen::Matrix3d& dE) const override {
     return model_.apply_tangent(E, dE);
+  }
+  void stress_and_tangent(const Eigen::Matrix3d& E, Eigen::Matrix3d& S, Matrix6d& D) const override {
+    if constexpr (requires { model_.stress_and_tangent(E, S, D); }) {
+      model_.stress_and_tangent(E, S, D);
+    } else {
+      S = model_.stress(E);
+      D = model_.tangent(E);
+    }
   }
   /// The concrete law, for callers that need its parameters.
   const Model& model() const { return model_; }

@@ -73,6 +73,8 @@ class UncoupledLaw final : public Law {
   double energy(const Eigen::Matrix3d& E) const override { return base_->energy(isochoric_strain(E)); }
   Eigen::Matrix3d stress(const Eigen::Matrix3d& E) const override;
   Matrix6d tangent(const Eigen::Matrix3d& E) const override;
+  /// One split and one base stress_and_tangent at Ebar for both.
+  void stress_and_tangent(const Eigen::Matrix3d& E, Eigen::Matrix3d& S, Matrix6d& D) const override;
   Eigen::Matrix3d apply_tangent(const Eigen::Matrix3d& E, const Eigen::Matrix3d& dE) const override;
 
  private:

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <limits>
 #include <random>
 #include <unsupported/Eigen/AutoDiff>
 #include <vector>
@@ -117,6 +118,13 @@ void check_law_at(const Model& law, const Eigen::Matrix3d& E, double floor, std:
   const Matrix6d D_ad = voigt_of_hessian(ad.hess);
   EXPECT_LE(rel_diff(D, D_ad, floor), 1e-10) << "tangent\n" << D << "\nautodiff\n" << D_ad;
   EXPECT_LE((D - D.transpose()).norm(), 1e-12 * std::max(D.norm(), floor)) << "no major symmetry";
+  if constexpr (requires(Eigen::Matrix3d & s, Matrix6d & d) { law.stress_and_tangent(E, s, d); }) {
+    Eigen::Matrix3d S2 = Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
+    Matrix6d D2 = Matrix6d::Constant(std::numeric_limits<double>::quiet_NaN());
+    law.stress_and_tangent(E, S2, D2);  // the combined call equals the two separate ones
+    EXPECT_LE(rel_diff(S2, S, floor), 1e-14) << "stress_and_tangent's S\n" << S2;
+    EXPECT_LE(rel_diff(D2, D, floor), 1e-14) << "stress_and_tangent's D\n" << D2;
+  }
 
   for (int trial = 0; trial < 2; ++trial) {
     const Eigen::Matrix3d dE = random_symmetric(rng, 1.0);

@@ -44,6 +44,9 @@ class UncoupledOf {
   }
   Eigen::Matrix3d stress(const Eigen::Matrix3d& E) const { return law_.stress(E); }
   Matrix6d tangent(const Eigen::Matrix3d& E) const { return law_.tangent(E); }
+  void stress_and_tangent(const Eigen::Matrix3d& E, Eigen::Matrix3d& S, Matrix6d& D) const {
+    law_.stress_and_tangent(E, S, D);
+  }
   Eigen::Matrix3d apply_tangent(const Eigen::Matrix3d& E, const Eigen::Matrix3d& dE) const {
     return law_.apply_tangent(E, dE);
   }

@@ -100,8 +100,9 @@ void GradientLawKernel<K>::jacobian(std::size_t i, const Mat3N<K>& x, const Mat3
     const Eigen::Matrix3d Ef = materials::green_strain<double>(Ff);
     const Eigen::Matrix<double, 3, K> gt = B.transpose() * gradient[p].transpose();  // column a = g~_a
     const double v0 = volume0[p];
-    const Eigen::Matrix3d Sf = law->stress(Ef);
-    const materials::Matrix6d D = law->tangent(Ef);
+    Eigen::Matrix3d Sf;
+    materials::Matrix6d D;
+    law->stress_and_tangent(Ef, Sf, D);
     strain_displacement<K>(Ff, gt, bm);
     const Eigen::Matrix<double, 6, 3 * K> dbm = (-v0) * (D * bm);
     // Bm^T D Bm is symmetric (D is, a hyperelastic law's tangent): the blocks a <= b only.
