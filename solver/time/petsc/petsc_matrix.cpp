@@ -30,6 +30,27 @@ class BlockMatrix::Sink final : public JacobianSink {
     PetscScalar* v = m_.values();
     const std::size_t ld = 3 * static_cast<std::size_t>(n);
     const bool with_v = cv != 0.0;
+    if (const PetscInt* pos = positions(nodes, n)) {
+      // The cached offsets: block (a, b) row r at pos[a n + b] + r * 3 nb_a (nb_a = a's block columns).
+      for (int a = 0; a < n; ++a) {
+        const PetscInt* pa = pos + static_cast<std::size_t>(a) * static_cast<std::size_t>(n);
+        if (pa[0] < 0) continue;  // another rank's row
+        const auto la = static_cast<std::size_t>(nodes[a] - m_.n0_);
+        const PetscInt stride = 3 * (m_.brow_[la + 1] - m_.brow_[la]);
+        for (int b = 0; b < n; ++b) {
+          const std::size_t e0 = (3 * static_cast<std::size_t>(b)) * ld + 3 * static_cast<std::size_t>(a);
+          for (int r = 0; r < 3; ++r) {
+            PetscScalar* row = v + pa[b] + r * stride;
+            for (std::size_t c = 0; c < 3; ++c) {
+              double add = cx * dfdx[e0 + static_cast<std::size_t>(r) + c * ld];
+              if (with_v) add += cv * dfdv[e0 + static_cast<std::size_t>(r) + c * ld];
+              row[c] += add;
+            }
+          }
+        }
+      }
+      return;
+    }
     for (int a = 0; a < n; ++a) {
       if (!m_.owned(nodes[a])) continue;  // another rank's row
       const std::size_t ra = 3 * static_cast<std::size_t>(nodes[a] - m_.n0_);
@@ -48,10 +69,52 @@ class BlockMatrix::Sink final : public JacobianSink {
       }
     }
   }
+  /// A new assembly begins: the stencils are expected again in the same order.
+  void restart() { next_ = 0; }
   double cx = 0.0, cv = 0.0;
 
  private:
+  /// One add_stencil call's stencil and offsets in the caches (nodes_, pos_).
+  struct Cached {
+    std::size_t nodes0 = 0, pos0 = 0;
+    int n = 0;
+  };
+  /// Upper bound of the cached offsets (PetscInt each): beyond it the stencils are searched.
+  static constexpr std::size_t kMaxCached = std::size_t{1} << 26;
+
+  /// The value offsets of the blocks of the next stencil, pos[a n + b] = where row 0 of block
+  /// (nodes[a], nodes[b]) starts (-1 for a row of another rank), from the cache when the stencil is
+  /// the one the same call of the last assembly had; else found by block_position and cached
+  /// (a different stencil there drops the cache from that call on). nullptr past kMaxCached.
+  const PetscInt* positions(const Index* nodes, int n) {
+    const std::size_t idx = next_++;
+    if (idx < cached_.size()) {
+      const Cached& e = cached_[idx];
+      if (e.n == n && std::equal(nodes, nodes + n, nodes_.begin() + static_cast<std::ptrdiff_t>(e.nodes0)))
+        return pos_.data() + e.pos0;
+      nodes_.resize(e.nodes0);
+      pos_.resize(e.pos0);
+      cached_.resize(idx);
+    }
+    const auto nn = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
+    if (idx != cached_.size() || pos_.size() + nn > kMaxCached) return nullptr;
+    const Cached e{nodes_.size(), pos_.size(), n};
+    for (int a = 0; a < n; ++a) {
+      const bool mine = m_.owned(nodes[a]);
+      const std::size_t ra = mine ? 3 * static_cast<std::size_t>(nodes[a] - m_.n0_) : 0;
+      for (int b = 0; b < n; ++b)
+        pos_.push_back(mine ? m_.row_start_[ra] + 3 * m_.block_position(nodes[a], nodes[b]) : PetscInt{-1});
+    }
+    nodes_.insert(nodes_.end(), nodes, nodes + n);
+    cached_.push_back(e);
+    return pos_.data() + e.pos0;
+  }
+
   BlockMatrix& m_;
+  std::vector<Cached> cached_;  ///< one per add_stencil call of an assembly, in call order
+  std::vector<Index> nodes_;    ///< their stencils
+  std::vector<PetscInt> pos_;   ///< their block offsets (n x n each)
+  std::size_t next_ = 0;        ///< the next call's index in cached_
 };
 
 BlockMatrix::BlockMatrix(const preprocess::Mesh& mesh, const std::vector<std::unique_ptr<ForceTerm>>* terms)
@@ -184,6 +247,7 @@ PetscScalar* BlockMatrix::values() {
 }
 
 void BlockMatrix::zero() {
+  sink_->restart();
   staged_ = distributed_;
   PetscScalar* v = values();
   std::fill(v, v + 9 * static_cast<std::size_t>(brow_.back()), 0.0);

@@ -13,7 +13,13 @@
 // in each of its three scalar rows, so block (a, b) is the 3 x 3 patch at
 //   values[row_start(3a + r) + 3 k + c],   k = position of b among a's block columns
 // found by a binary search in a's columns (about 27 for a hexahedral mesh). The layout is
-// checked against PETSc's own row pointers once, at construction. A JacobianSink returned by
+// checked against PETSc's own row pointers once, at construction. Whole stencils (add_stencil)
+// do not search again: the sink keeps, per call of an assembly in call order, the stencil and its
+// n x n block offsets, and reuses them when the same call of the next assembly brings the same
+// stencil (the terms hand their items over in a fixed order); a different stencil drops the
+// cache from that call on. Memory: one PetscInt per block of every stencil (n^2 per item), up to
+// 2^26 of them; beyond that the stencils are searched. biv-inflation-coarse (27 246 tetrahedra,
+// nodal volume term): 54 -> 32 ms per Jacobian assembly, +4 MB. A JacobianSink returned by
 // sink(cx, cv) adds cx df/dx + cv df/dv for every block or whole stencil a term hands it (a
 // block outside the pattern is a NumericalError naming the two nodes); add_diagonal() adds
 // c m_i I (the mass matrix). eliminate() applies Dirichlet rows and columns

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <petscmat.h>
 
+#include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -192,6 +193,55 @@ TEST(Implicit, BlockMatrixRefusesABlockOutsideItsPattern) {
       ASSERT_EQ(MatGetValues(a.mat(), 1, &row, 1, &col, &v), 0);
       EXPECT_EQ(v, 2.0 * blk(r, c));
     }
+  }
+}
+
+TEST(Implicit, BlockMatrixStencilCacheEqualsTheDenseSum) {
+  // The sink caches the block offsets of each add_stencil call by call order and reuses them in
+  // the next assembly when the call brings the same stencil. Four assemblies on 2 x 2 x 2
+  // hexahedra against the dense sum of the same local matrices: a first one (offsets found), the
+  // same sequence again (all from the cache), a changed sequence (a stencil of another size and
+  // two calls swapped: the cache is dropped from there on) and the first sequence once more.
+  auto model = block_model(2, 2, 2, preprocess::Topology::Hex);
+  const preprocess::Mesh& mesh = *model->mesh;
+  const auto n3 = static_cast<Eigen::Index>(3 * mesh.node_count());
+  solver::BlockMatrix a(mesh);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  using Stencil = std::vector<preprocess::Index>;
+  std::vector<Stencil> first;
+  for (std::size_t e = 0; e < mesh.element_count(); ++e) {
+    Stencil st(mesh.element(e), mesh.element(e) + 8);
+    std::shuffle(st.begin(), st.end(), rng);  // the sink must not rely on sorted stencils
+    first.push_back(st);
+  }
+  std::vector<Stencil> changed = first;
+  std::swap(changed[2], changed[5]);
+  changed[3].resize(5);  // a smaller stencil at call 3
+  for (const std::vector<Stencil>* seq : {&first, &first, &changed, &first}) {
+    a.zero();
+    Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(n3, n3);
+    const double cx = u(rng), cv = u(rng);
+    for (const Stencil& st : *seq) {
+      const auto k = static_cast<Eigen::Index>(3 * st.size());
+      const Eigen::MatrixXd jx = Eigen::MatrixXd::NullaryExpr(k, k, [&] { return u(rng); });
+      const Eigen::MatrixXd jv = Eigen::MatrixXd::NullaryExpr(k, k, [&] { return u(rng); });
+      a.sink(cx, cv).add_stencil(st.data(), static_cast<int>(st.size()), jx.data(), jv.data());
+      for (Eigen::Index i = 0; i < k; ++i)
+        for (Eigen::Index j = 0; j < k; ++j)
+          dense(3 * st[static_cast<std::size_t>(i / 3)] + i % 3, 3 * st[static_cast<std::size_t>(j / 3)] + j % 3) +=
+              cx * jx(i, j) + cv * jv(i, j);
+    }
+    a.assemble();
+    double worst = 0.0;
+    for (PetscInt r = 0; r < n3; ++r) {
+      for (PetscInt c = 0; c < n3; ++c) {
+        PetscScalar v = 0.0;
+        ASSERT_EQ(MatGetValues(a.mat(), 1, &r, 1, &c, &v), 0);
+        worst = std::max(worst, std::abs(v - dense(r, c)));
+      }
+    }
+    EXPECT_LE(worst, 1e-14);
   }
 }
 
