@@ -178,6 +178,14 @@ bool load_integrator(SceneNode integ, RunSettings& run) {
                      ": only the static integrator reuses its factorisation with BFGS updates");
   }
   imp.bfgs_max_updates = static_cast<int>(bfgs);
+  const long long reuses = integ.integer("bordered_max_reuses", 0);
+  if (reuses < 0 || reuses > 100)
+    throw InputError(integ.at("bordered_max_reuses") + ": must be in 0 ... 100 (0: full Newton)");
+  if (reuses > 0 && run.integrator != "static") {
+    throw InputError(integ.at("bordered_max_reuses") +
+                     ": only the static integrator reuses its factorisation in the cavity (bordered) steps");
+  }
+  imp.bordered_max_reuses = static_cast<int>(reuses);
   imp.petsc_options = integ.text("petsc_options", "");
   if (imp.max_newton < 1) throw InputError(integ.at("max_newton") + ": must be >= 1");
   if (!(run.abm3.error_min < run.abm3.error_max))

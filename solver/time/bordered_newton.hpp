@@ -23,6 +23,14 @@
 // Why: in the isovolumic contraction of the biv-me beat the undamped iteration diverged (|R| from
 // 0.04 N to 1e14 N in six updates) at a point where the stiffness has no small eigenvalue.
 //
+// Modified Newton (settings.bordered_max_reuses = n > 0, cavities only): the operator factorised
+// at one iteration is kept for the next while the full step contracted, theta = |simplified
+// correction| / |du| <= 0.1 (the damping test's own quantity), for at most n iterations; the
+// cavity gradients G_k, the y_k and the Schur system are rebuilt each iteration with the kept
+// factorisation, so each iteration still satisfies the linearised cavity conditions of the
+// current point. A damped step (alpha < 1) or a weak contraction brings a new operator;
+// max_newton then bounds the factorisations. Every step starts with a new operator.
+//
 // Convergence: |R| <= newton_atol or |R| <= newton_rtol |R_0|, and every cavity condition within
 // 1e-10 (relative to max(1, |P_given|) or to the reference volume), after at least one update
 // when there are cavities. Without cavities (backward_euler_newton on a plain scene) a position

@@ -57,7 +57,7 @@ ImplicitIntegrator::ImplicitIntegrator(System& system, Kind kind, const Implicit
 ImplicitIntegrator::~ImplicitIntegrator() = default;
 
 int ImplicitIntegrator::effort(const NewtonRecord& record) const {
-  return set_.bfgs_max_updates > 0 ? record.reformations : record.iterations;
+  return set_.bfgs_max_updates > 0 || set_.bordered_max_reuses > 0 ? record.reformations : record.iterations;
 }
 
 std::string ImplicitIntegrator::name() const {

@@ -30,7 +30,8 @@
 // at most ksp_max_it / 4 -- and a Newton scheme halves it (down to dt_min) after 10 or more
 // (not counting the augmented Lagrangian's re-solves at the same load, below; with a penalty
 // continuation the count is that of the step's hardest solve, the first or a re-solve; with
-// bfgs_max_updates the iterations counted are those that assembled and factorised an operator).
+// bfgs_max_updates or bordered_max_reuses the iterations counted are those that assembled and
+// factorised an operator).
 // Augmented Lagrangian (static only; solver/core/augmented_lagrangian.hpp): after a converged load
 // step the terms with multipliers update them while max |J - r| exceeds their tolerance, and Newton
 // solves again from the converged state; a failed or interrupted attempt puts the state, the
@@ -76,6 +77,10 @@ struct ImplicitSettings {
   /// iteration); n > 0 = BFGS updates of the last factorised operator, at most n before it is
   /// assembled and factorised again (quasi_newton.hpp, damped_newton.hpp).
   int bfgs_max_updates = 0;
+  /// static, steps with cavity conditions (bordered Newton): 0 = full Newton; n > 0 = modified
+  /// Newton, the factorised operator reused for up to n further iterations while each one
+  /// contracts (bordered_newton.hpp); max_newton then bounds the factorisations.
+  int bordered_max_reuses = 0;
   std::string petsc_options;  ///< e.g. "-ksp_type cg -pc_type hypre"
   /// Called at every Newton iteration of every attempt with the iteration (0 = the start of the
   /// attempt) and its residual 2-norm (N): the run loop's progress lines inside a long step

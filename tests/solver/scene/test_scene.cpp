@@ -188,6 +188,19 @@ TEST(Scene, ImpossibleValuesAndWrongUnits) {
               std::string::npos)
         << bad;
   }
+  // Modified Newton in the cavity (bordered) steps: static only, a count in 0 ... 100.
+  const std::string reuse =
+      replaced(kBase, "type: symplectic_euler, dt: 10 us}", "type: static, dt: 1 ms, bordered_max_reuses: 4}");
+  EXPECT_EQ(test::load_scene(reuse).run.implicit.bordered_max_reuses, 4);
+  EXPECT_NE(test::scene_error(replaced(reuse, "type: static", "type: backward_euler_newton"))
+                .find("integrator.bordered_max_reuses: only the static integrator"),
+            std::string::npos);
+  for (const char* bad : {"bordered_max_reuses: -1", "bordered_max_reuses: 101"}) {
+    EXPECT_NE(test::scene_error(replaced(reuse, "bordered_max_reuses: 4", bad))
+                  .find("integrator.bordered_max_reuses: must be in 0 ... 100"),
+              std::string::npos)
+        << bad;
+  }
 }
 
 TEST(Scene, TimeStepFarBeyondTheCriticalStepIsAnError) {

@@ -2,6 +2,7 @@
 // bordered Newton with the cavity pressure as unknown).
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -209,4 +210,45 @@ TEST(CavityConstraint, WindkesselEjectionIsCoupledImplicitly) {
   }
   EXPECT_GE(ejection_steps, 3);
   EXPECT_EQ(cav.column_names(), (std::vector<std::string>{"aortic_pressure", "atrial_pressure", "outflow", "phase"}));
+}
+
+TEST(CavityConstraint, ReusedFactorisationsReachTheSameStates) {
+  // integrator.bordered_max_reuses (modified Newton in the bordered steps): the isovolumic
+  // contraction and the Windkessel ejection end every step where full Newton ends it, with fewer
+  // operators factorised (and more, cheaper, iterations).
+  for (const bool windkessel : {false, true}) {
+    SCOPED_TRACE(windkessel ? "Windkessel ejection" : "isovolumic contraction");
+    const auto scene = [&] {
+      return windkessel ? isovolumic_scene("volume_ratio: 1",
+                                           "circulation: {atrial_pressure: 0, contraction_onset: 0, windkessel: "
+                                           "{characteristic_impedance: 2e8, peripheral_resistance: 4e9, "
+                                           "compliance: 3.75e-10, initial_pressure: 0}}")
+                        : isovolumic_scene();
+    };
+    auto full = scene(), reused = scene();
+    reused.run.implicit.bordered_max_reuses = 5;
+    solver::System sys_f(full.model), sys_r(reused.model);
+    solver::ImplicitIntegrator int_f(sys_f, solver::ImplicitIntegrator::Kind::Static, full.run.implicit);
+    solver::ImplicitIntegrator int_r(sys_r, solver::ImplicitIntegrator::Kind::Static, reused.run.implicit);
+    solver::State sf = full.initial, sr = reused.initial;
+    int fact_f = 0, fact_r = 0, iter_f = 0, iter_r = 0;
+    for (int i = 0; i < 6; ++i) {
+      const auto rf = int_f.step(sf, 0.1), rr = int_r.step(sr, 0.1);
+      ASSERT_EQ(rf.dt, rr.dt) << "step " << i;
+      fact_f += rf.reformations;
+      fact_r += rr.reformations;
+      iter_f += rf.newton_iterations;
+      iter_r += rr.newton_iterations;
+      const double pf = full.model.cavities[0]->pressure(sf.t), pr = reused.model.cavities[0]->pressure(sr.t);
+      EXPECT_NEAR(pr, pf, 1e-6 * std::abs(pf)) << "step " << i;
+      EXPECT_LE((sr.x - sf.x).cwiseAbs().maxCoeff(), 1e-9) << "step " << i;
+      for (auto& t : full.model.terms) t->end_step({sf.x, sf.v, sf.t}, 0.1);
+      for (auto& t : reused.model.terms) t->end_step({sr.x, sr.v, sr.t}, 0.1);
+    }
+    EXPECT_EQ(fact_f, iter_f);  // full Newton: one operator per iteration
+    EXPECT_LT(fact_r, fact_f);
+    EXPECT_GT(iter_r, fact_r);
+    std::printf("  %s: full Newton %d iterations; reused %d iterations on %d factorisations\n",
+                windkessel ? "ejection" : "isovolumic", iter_f, iter_r, fact_r);
+  }
 }
