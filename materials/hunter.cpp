@@ -86,6 +86,23 @@ Matrix6d HunterPoleZero::tangent(const Eigen::Matrix3d& E) const {
   return D;
 }
 
+void HunterPoleZero::stress_and_tangent(const Eigen::Matrix3d& E, Eigen::Matrix3d& S, Matrix6d& D) const {
+  S.setZero();
+  D.setZero();
+  for (const Term& term : terms_) {
+    double g1 = 0.0, g2 = 0.0;
+    if (term.i == term.j) {
+      derivatives(term, E(term.i, term.i), g1, g2);
+      S(term.i, term.i) = term.k * g1;
+      D(term.voigt, term.voigt) = term.k * g2;
+    } else {
+      derivatives(term, 0.5 * (E(term.i, term.j) + E(term.j, term.i)), g1, g2);
+      S(term.i, term.j) = S(term.j, term.i) = 0.5 * term.k * g1;
+      D(term.voigt, term.voigt) = 0.25 * term.k * g2;
+    }
+  }
+}
+
 Eigen::Matrix3d HunterPoleZero::apply_tangent(const Eigen::Matrix3d& E, const Eigen::Matrix3d& dE) const {
   Eigen::Matrix3d dS = Eigen::Matrix3d::Zero();
   for (const Term& term : terms_) {

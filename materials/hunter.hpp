@@ -96,6 +96,8 @@ class HunterPoleZero {
 
   Eigen::Matrix3d stress(const Eigen::Matrix3d& E) const;
   Matrix6d tangent(const Eigen::Matrix3d& E) const;
+  /// Both, with one pole-zero evaluation (one pow) per term.
+  void stress_and_tangent(const Eigen::Matrix3d& E, Eigen::Matrix3d& S, Matrix6d& D) const;
   Eigen::Matrix3d apply_tangent(const Eigen::Matrix3d& E, const Eigen::Matrix3d& dE) const;
 
  private:

@@ -54,6 +54,15 @@ class NeoHookean {
     return voigt_of_pair_tangent(C.inverse(), lame_.lambda, lame_.mu - lame_.lambda * log_j);
   }
 
+  /// Both, sharing C^-1 and ln J.
+  void stress_and_tangent(const Eigen::Matrix3d& E, Eigen::Matrix3d& S, Matrix6d& D) const {
+    const Eigen::Matrix3d C = 2.0 * E + Eigen::Matrix3d::Identity();
+    const Eigen::Matrix3d Ci = C.inverse();
+    const double log_j = 0.5 * log_det_cauchy_green(E);
+    S = lame_.mu * (Eigen::Matrix3d::Identity() - Ci) + lame_.lambda * log_j * Ci;
+    D = voigt_of_pair_tangent(Ci, lame_.lambda, lame_.mu - lame_.lambda * log_j);
+  }
+
   Eigen::Matrix3d apply_tangent(const Eigen::Matrix3d& E, const Eigen::Matrix3d& dE) const {
     const Eigen::Matrix3d C = 2.0 * E + Eigen::Matrix3d::Identity();
     const Eigen::Matrix3d Ci = C.inverse();
