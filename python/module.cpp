@@ -90,6 +90,21 @@ py::dict run(const std::string& text, const std::string& origin, const std::stri
   r["wall_seconds"] = out.wall_seconds;
   r["newton_iterations"] = out.newton_iterations;
   r["linear_iterations"] = out.linear_iterations;
+  r["reformations"] = out.reformations;
+  py::dict split;  // summary.json "time_split_s" (docs/file-formats.md)
+  const auto part = [](const solver::TimePart& p) {
+    py::dict d;
+    d["seconds"] = p.seconds;
+    d["calls"] = p.count;
+    return d;
+  };
+  split["loop"] = out.loop_seconds;
+  split["forces"] = part(out.time_split.forces);
+  split["jacobians"] = part(out.time_split.jacobians);
+  split["factorisations"] = part(out.time_split.factorisations);
+  split["solves"] = part(out.time_split.solves);
+  split["other"] = out.loop_seconds - out.time_split.seconds();
+  r["time_split"] = split;
   r["output"] = writer.dir().string();
   r["frames"] = writer.frame_count();
   r["warnings"] = sc.warnings;

@@ -35,6 +35,12 @@ assert np.all(np.diff(g["t"]) > 0) and np.all(g["step"] == np.arange(r["steps"] 
 top = r["reference_positions"][:, 2] > 4e-3 - 1e-9
 assert np.allclose(r["displacement"][top, 2], 0.4e-3, atol=1e-12), r["displacement"][top, 2]
 assert os.path.exists(os.path.join(r["output"], "run.log"))
+# The time split (summary.json time_split_s): one assembly and one factorisation per reformation.
+ts = r["time_split"]
+assert ts["jacobians"]["calls"] == ts["factorisations"]["calls"] == r["reformations"] > 0, (ts, r["reformations"])
+assert ts["solves"]["calls"] >= r["reformations"] and ts["forces"]["calls"] > 0, ts
+parts = sum(ts[k]["seconds"] for k in ("forces", "jacobians", "factorisations", "solves"))
+assert 0 < parts <= ts["loop"] and abs(ts["other"] - (ts["loop"] - parts)) < 1e-9, ts
 
 bad = json.loads(json.dumps(scene))
 bad["run"]["tend"] = 1
