@@ -145,6 +145,17 @@ void load_loads(SceneNode& root, LoadedScene& sc, const fs::path& base) {
   }
 }
 
+/// A factorisation-reuse count of the static integrator, `key` in 0 ... max (0: full Newton, the
+/// default); InputError outside that or, when nonzero, for another integrator (`how`: the kind).
+int reuse_count(SceneNode& integ, const std::string& integrator, const char* key, long long max, const char* how) {
+  const long long n = integ.integer(key, 0);
+  if (n < 0 || n > max)
+    throw InputError(integ.at(key) + ": must be in 0 ... " + std::to_string(max) + " (0: full Newton)");
+  if (n > 0 && integrator != "static")
+    throw InputError(integ.at(key) + ": only the static integrator reuses its factorisation " + how);
+  return static_cast<int>(n);
+}
+
 /// `integrator:` into run; returns its check_dt flag.
 bool load_integrator(SceneNode integ, RunSettings& run) {
   run.integrator = integ.choice("type", integrator_names());
@@ -170,22 +181,9 @@ bool load_integrator(SceneNode integ, RunSettings& run) {
         integ.at("static_damping") +
         ": only the static integrator has it (the dynamic ones damp through their masses and damping terms)");
   }
-  const long long bfgs = integ.integer("bfgs_max_updates", 0);
-  if (bfgs < 0 || bfgs > 1000)
-    throw InputError(integ.at("bfgs_max_updates") + ": must be in 0 ... 1000 (0: full Newton)");
-  if (bfgs > 0 && run.integrator != "static") {
-    throw InputError(integ.at("bfgs_max_updates") +
-                     ": only the static integrator reuses its factorisation with BFGS updates");
-  }
-  imp.bfgs_max_updates = static_cast<int>(bfgs);
-  const long long reuses = integ.integer("bordered_max_reuses", 0);
-  if (reuses < 0 || reuses > 100)
-    throw InputError(integ.at("bordered_max_reuses") + ": must be in 0 ... 100 (0: full Newton)");
-  if (reuses > 0 && run.integrator != "static") {
-    throw InputError(integ.at("bordered_max_reuses") +
-                     ": only the static integrator reuses its factorisation in the cavity (bordered) steps");
-  }
-  imp.bordered_max_reuses = static_cast<int>(reuses);
+  imp.bfgs_max_updates = reuse_count(integ, run.integrator, "bfgs_max_updates", 1000, "with BFGS updates");
+  imp.bordered_max_reuses =
+      reuse_count(integ, run.integrator, "bordered_max_reuses", 100, "in the cavity (bordered) steps");
   imp.petsc_options = integ.text("petsc_options", "");
   if (imp.max_newton < 1) throw InputError(integ.at("max_newton") + ": must be >= 1");
   if (!(run.abm3.error_min < run.abm3.error_max))
