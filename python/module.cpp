@@ -91,6 +91,7 @@ py::dict run(const std::string& text, const std::string& origin, const std::stri
   r["newton_iterations"] = out.newton_iterations;
   r["linear_iterations"] = out.linear_iterations;
   r["reformations"] = out.reformations;
+  r["rejected_steps"] = out.rejected_steps;
   py::dict split;  // summary.json "time_split_s" (docs/file-formats.md)
   const auto part = [](const solver::TimePart& p) {
     py::dict d;

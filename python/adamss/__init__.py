@@ -36,12 +36,13 @@ def run(scene, output, cache=None, progress=False):
     """Run `scene` (a dict, a file path or YAML text) with its results in the folder `output`.
 
     Returns a dict: status ("completed", "unstable", ...), reason, steps, t (s), wall_seconds,
-    newton_iterations, linear_iterations, reformations, time_split {loop, forces, jacobians,
-    factorisations, solves: {seconds, calls}, other} (s), frames, warnings, output (the folder:
-    frames, series.pvd, globals.csv, run.log), reference_positions / positions / velocities / displacement (n x 3
-    arrays, m and m/s, final state), probes {name: {node, reference, final_position,
-    displacement, twist_about_z_deg}}, cavities {name: {volume_initial_m3, ... as summary.json}},
-    volume_relative_change, and globals {column of globals.csv: array} (t, kinetic_energy,
+    newton_iterations, linear_iterations, reformations, rejected_steps, time_split {loop,
+    forces, jacobians, factorisations, solves: {seconds, calls}, other} (s), frames, warnings,
+    output (the folder: frames, series.pvd, globals.csv, run.log), reference_positions /
+    positions / velocities / displacement (n x 3 arrays, m and m/s, final state), probes {name:
+    {node, reference, final_position, displacement, twist_about_z_deg}}, cavities {name:
+    {volume_initial_m3, ... as summary.json}}, volume_relative_change, and globals {column of
+    globals.csv: array} (t, kinetic_energy,
     NAME_volume, NAME_pressure, ... one value per logged step, SI).
     `cache` is the mesh-recipe cache folder (default as `adamss run`); `progress` prints the
     progress line on stderr.

@@ -5,35 +5,9 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "solver/core/scaled_sink.hpp"
 
 namespace adamss::solver {
-
-namespace {
-
-/// Hands every block and stencil on to `out` multiplied by `scale` (the stencil through one
-/// reused buffer: no allocation once the largest stencil has been seen).
-class ScaledSink final : public JacobianSink {
- public:
-  ScaledSink(JacobianSink& out, double scale, std::vector<double>& buffer) : out_(out), scale_(scale), buf_(buffer) {}
-  void add_block(Index a, Index b, const Eigen::Matrix3d& dfdx, const Eigen::Matrix3d& dfdv) override {
-    out_.add_block(a, b, scale_ * dfdx, scale_ * dfdv);
-  }
-  void add_stencil(const Index* nodes, int n, const double* dfdx, const double* dfdv) override {
-    const auto size = static_cast<std::size_t>(9 * n * n);
-    buf_.resize(2 * size);
-    for (std::size_t i = 0; i < size; ++i) buf_[i] = scale_ * dfdx[i];
-    for (std::size_t i = 0; i < size; ++i) buf_[size + i] = scale_ * dfdv[i];
-    out_.add_stencil(nodes, n, buf_.data(), buf_.data() + size);
-  }
-  [[nodiscard]] bool accepts(const Index* nodes, int n) const override { return out_.accepts(nodes, n); }
-
- private:
-  JacobianSink& out_;
-  double scale_;
-  std::vector<double>& buf_;
-};
-
-}  // namespace
 
 void check_continuation(const ContinuationSettings& c, const std::string& who) {
   if (!std::isfinite(c.start) || !(c.start > 0.0) || !(c.start < 1.0)) {

@@ -7,7 +7,7 @@
 // or Krylov iterations). Each part counts its calls; what is left of the run's wall time (set-up,
 // output, checks, the Newton loop's own vector work) is the caller's "other".
 //
-// summary.json "time_split_s" and the run log's last lines (solver/run/run.cpp) report it; the
+// summary.json "time_split_s" and a line of the run log (solver/run/run.cpp) report it; the
 // times are of this process (a resumed run starts from zero). Two steady_clock reads per call:
 // ~50 ns against >= 10 us for the cheapest force evaluation.
 #include <chrono>

@@ -39,7 +39,7 @@ struct ProgressSnapshot {
 /// t_end done (omitted before the first step).
 [[nodiscard]] std::string progress_text(const ProgressSnapshot& p);
 
-/// The run log's last line: where the loop's wall time `loop_seconds` went, e.g. "time split: forces
+/// The run log's line before the outcome: where the loop's wall time `loop_seconds` went, e.g. "time split: forces
 /// 0.312 s (1234 calls), jacobians 0.201 s (16), factorisations 0.220 s (16), solves 0.088 s (96),
 /// other 0.051 s, of 0.872 s"; the parts without calls are left out, other = loop - their sum.
 [[nodiscard]] std::string time_split_text(const TimeSplit& split, double loop_seconds);

@@ -95,6 +95,7 @@ RunLoop::RunLoop(Model& model, const RunSettings& settings, ResultsWriter& write
       dynamic_(integrator_info(settings.integrator).type != IntegratorType::Static) {}
 
 RunOutcome RunLoop::run(State& s, const StateArchive* resume) {
+  loop0_ = Clock::now();  // before start() or the restore, whose force evaluations the split counts
   loop_.dt = set_.dt;
   // The integrator (with its PETSc options) is built: only now may the output folder change.
   writer_.open();
@@ -105,7 +106,7 @@ RunOutcome RunLoop::run(State& s, const StateArchive* resume) {
     loop_ = restore_checkpoint(parts(), *resume, s);
     wall0_ -= std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(loop_.wall_seconds));
   }
-  last_progress_ = last_logged_progress_ = loop0_ = Clock::now();
+  last_progress_ = last_logged_progress_ = Clock::now();
   out_.resident_mb.start = resident_mb();
   writer_.log().line((resume == nullptr ? "start: " : "resumed: ") + progress_text(snapshot(s, 0.0)));
   for (;;) {

@@ -84,8 +84,8 @@ struct RunOutcome {
   std::optional<std::size_t> bad_element;  ///< element that inverted/flattened
   /// Where this process's loop time went (solver/core/time_split.hpp): the force evaluations and,
   /// implicit/static, the assemblies, factorisations and solves, all attempts counted (rejected
-  /// ones too); loop_seconds is this process's wall time from the start (or resume) of the loop
-  /// to its end, so loop_seconds - time_split.seconds() is the rest (output, checks, vector work).
+  /// ones too); loop_seconds is this process's wall time from the start of the loop (frame 0's
+  /// set-up, or the resume) to its end, so loop_seconds - time_split.seconds() is the rest (output, checks, vector work).
   TimeSplit time_split;
   double loop_seconds = 0.0;
   State final_state;  ///< the last good state

@@ -185,7 +185,8 @@ bool bordered_newton(StepEquations& eq, JacobianSolver& linear, CavityBorder& bo
     if (it == 0) r0 = std::max(nr, r0_floor);
     const bool forces_ok = nr <= settings.newton_atol || nr <= settings.newton_rtol * r0;
     if ((border.empty() || it > 0) && volumes_ok && forces_ok) return true;
-    if ((may_reuse ? factorised : it) >= settings.max_newton) return fail();
+    // max_newton bounds the iterations, or with reuse the factorisations (a reuse costs none).
+    if (may_reuse ? reform && factorised >= settings.max_newton : it >= settings.max_newton) return fail();
     if (reform) {
       eq.assemble_operator(u);
       ++record.reformations;

@@ -93,7 +93,7 @@ struct NewtonRecord {
   std::vector<double> residuals;  ///< |R| (2-norm) per iteration; a final 0 for the linearised step
                                   ///< and for backward Euler Newton ended by newton_xtol
   int iterations = 0;             ///< Newton updates taken (1 for the linearised step)
-  int reformations = 0;           ///< operators assembled for a direction (= iterations without BFGS)
+  int reformations = 0;           ///< operators assembled for a direction (= iterations without BFGS or reuse)
 };
 
 class CavityConstraintTerm;

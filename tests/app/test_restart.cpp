@@ -272,13 +272,15 @@ TEST(Restart, SigtermWritesAResumableCheckpoint) {
 }
 
 TEST(Restart, SigtermInsideALongStaticStepStopsAtOnce) {
-  // Land problem 1's beam (40 x 4 x 4 hexahedra) in one load step with the plain penalty and full
-  // Newton (the scene's continuation and BFGS updates removed): its Newton iterations and two retries take several
-  // seconds. SIGTERM 1.5 s in lands inside that step; the run must stop there (status interrupted, 0 steps, the
-  // checkpoint of t = 0) instead of finishing the step, and the resumed run's first step must equal that of an
-  // uninterrupted run bit for bit.
+  // Land problem 1's beam on 50 x 5 x 5 hexahedra in one load step with the plain penalty and full
+  // Newton (the scene's continuation and BFGS updates removed): its Newton iterations and two retries take
+  // ~3.5 s (one thread, 2026-12-01; on the scene's 40 x 4 x 4 they took 1.5 s once the Jacobians got
+  // cheaper, too close to the signal). SIGTERM 1.5 s in lands inside that step; the run must stop there
+  // (status interrupted, 0 steps, the checkpoint of t = 0) instead of finishing the step, and the resumed
+  // run's first step must equal that of an uninterrupted run bit for bit.
   const auto dir = scratch_dir("restart_sigterm_newton");
-  const auto scene = write_scene(dir, land_p1_scene({{", continuation: {from: 40 kPa, factor: 50}", ""},
+  const auto scene = write_scene(dir, land_p1_scene({{"divisions: [40, 4, 4]", "divisions: [50, 5, 5]"},
+                                                     {", continuation: {from: 40 kPa, factor: 50}", ""},
                                                      {", bfgs_max_updates: 10", ""},
                                                      {"frame_interval: 0.25 s", "frame_interval: 1 s"}}));
   const std::string cmd = "OMP_NUM_THREADS=1 timeout --preserve-status -s TERM 1.5 " + std::string(ADAMSS_BINARY) +

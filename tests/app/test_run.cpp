@@ -199,6 +199,7 @@ TEST(Run, TheTimeSplitCountsTheSolversWork) {
                                                                  "bfgs_max_updates: ") +
                                                          bfgs + "}");
     ASSERT_EQ(j["status"], "completed");
+    ASSERT_EQ(j["rejected_steps"], 0) << "the split counts rejected attempts, reformations does not";
     const auto reformations = j["reformations"].get<std::size_t>();
     ASSERT_GT(reformations, 4u);
     EXPECT_EQ(part(j, "jacobians", "calls").get<std::size_t>(), reformations);

@@ -37,6 +37,7 @@ assert np.allclose(r["displacement"][top, 2], 0.4e-3, atol=1e-12), r["displaceme
 assert os.path.exists(os.path.join(r["output"], "run.log"))
 # The time split (summary.json time_split_s): one assembly and one factorisation per reformation.
 ts = r["time_split"]
+assert r["rejected_steps"] == 0, r  # the split counts rejected attempts, reformations does not
 assert ts["jacobians"]["calls"] == ts["factorisations"]["calls"] == r["reformations"] > 0, (ts, r["reformations"])
 assert ts["solves"]["calls"] >= r["reformations"] and ts["forces"]["calls"] > 0, ts
 parts = sum(ts[k]["seconds"] for k in ("forces", "jacobians", "factorisations", "solves"))

@@ -5,24 +5,9 @@
 #include <stdexcept>
 
 #include "common/error.hpp"
+#include "solver/core/scaled_sink.hpp"
 
 namespace adamss::solver {
-
-namespace {
-/// Multiplies every block by a factor before passing it on.
-class ScaledSink final : public JacobianSink {
- public:
-  ScaledSink(JacobianSink& inner, double c) : inner_(inner), c_(c) {}
-  void add_block(Index a, Index b, const Eigen::Matrix3d& dfdx, const Eigen::Matrix3d& dfdv) override {
-    inner_.add_block(a, b, c_ * dfdx, c_ * dfdv);
-  }
-  [[nodiscard]] bool accepts(const Index* nodes, int n) const override { return inner_.accepts(nodes, n); }
-
- private:
-  JacobianSink& inner_;
-  double c_;
-};
-}  // namespace
 
 CavityConstraintTerm::CavityConstraintTerm(const Surface& surface, TimeCourse ratio, const Eigen::Matrix3Xd& x_ref)
     : surface_(surface), ratio_(std::move(ratio)) {
@@ -95,7 +80,8 @@ void CavityConstraintTerm::add_forces(const StateView& s, Eigen::Matrix3Xd& f) c
 }
 
 void CavityConstraintTerm::add_jacobian(const StateView& s, JacobianSink& sink) const {
-  ScaledSink scaled(sink, p_);
+  thread_local std::vector<double> buffer;
+  ScaledSink scaled(sink, p_, buffer);
   unit_->add_jacobian(s, scaled);
 }
 

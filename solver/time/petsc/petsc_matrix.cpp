@@ -99,11 +99,16 @@ class BlockMatrix::Sink final : public JacobianSink {
     const auto nn = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
     if (idx != cached_.size() || pos_.size() + nn > kMaxCached) return nullptr;
     const Cached e{nodes_.size(), pos_.size(), n};
-    for (int a = 0; a < n; ++a) {
-      const bool mine = m_.owned(nodes[a]);
-      const std::size_t ra = mine ? 3 * static_cast<std::size_t>(nodes[a] - m_.n0_) : 0;
-      for (int b = 0; b < n; ++b)
-        pos_.push_back(mine ? m_.row_start_[ra] + 3 * m_.block_position(nodes[a], nodes[b]) : PetscInt{-1});
+    try {
+      for (int a = 0; a < n; ++a) {
+        const bool mine = m_.owned(nodes[a]);
+        const std::size_t ra = mine ? 3 * static_cast<std::size_t>(nodes[a] - m_.n0_) : 0;
+        for (int b = 0; b < n; ++b)
+          pos_.push_back(mine ? m_.row_start_[ra] + 3 * m_.block_position(nodes[a], nodes[b]) : PetscInt{-1});
+      }
+    } catch (...) {  // a block outside the pattern: nothing of this stencil stays cached
+      pos_.resize(e.pos0);
+      throw;
     }
     nodes_.insert(nodes_.end(), nodes, nodes + n);
     cached_.push_back(e);
