@@ -30,39 +30,21 @@ class BlockMatrix::Sink final : public JacobianSink {
     PetscScalar* v = m_.values();
     const std::size_t ld = 3 * static_cast<std::size_t>(n);
     const bool with_v = cv != 0.0;
-    if (const PetscInt* pos = positions(nodes, n)) {
-      // The cached offsets: block (a, b) row r at pos[a n + b] + r * 3 nb_a (nb_a = a's block columns).
-      for (int a = 0; a < n; ++a) {
-        const PetscInt* pa = pos + static_cast<std::size_t>(a) * static_cast<std::size_t>(n);
-        if (pa[0] < 0) continue;  // another rank's row
-        const auto la = static_cast<std::size_t>(nodes[a] - m_.n0_);
-        const PetscInt stride = 3 * (m_.brow_[la + 1] - m_.brow_[la]);
-        for (int b = 0; b < n; ++b) {
-          const std::size_t e0 = (3 * static_cast<std::size_t>(b)) * ld + 3 * static_cast<std::size_t>(a);
-          for (int r = 0; r < 3; ++r) {
-            PetscScalar* row = v + pa[b] + r * stride;
-            for (std::size_t c = 0; c < 3; ++c) {
-              double add = cx * dfdx[e0 + static_cast<std::size_t>(r) + c * ld];
-              if (with_v) add += cv * dfdv[e0 + static_cast<std::size_t>(r) + c * ld];
-              row[c] += add;
-            }
-          }
-        }
-      }
-      return;
-    }
+    // Block (a, b) row r at pos[a n + b] + r * 3 nb_a (nb_a = a's block columns); column-major local
+    // matrices: entry (3a + r, 3b + c) at (3b + c) ld + 3a + r.
+    const PetscInt* pos = positions(nodes, n);
     for (int a = 0; a < n; ++a) {
-      if (!m_.owned(nodes[a])) continue;  // another rank's row
-      const std::size_t ra = 3 * static_cast<std::size_t>(nodes[a] - m_.n0_);
+      const PetscInt* pa = pos + static_cast<std::size_t>(a) * static_cast<std::size_t>(n);
+      if (pa[0] < 0) continue;  // another rank's row
+      const auto la = static_cast<std::size_t>(nodes[a] - m_.n0_);
+      const PetscInt stride = 3 * (m_.brow_[la + 1] - m_.brow_[la]);
       for (int b = 0; b < n; ++b) {
-        const PetscInt k = 3 * m_.block_position(nodes[a], nodes[b]);
+        const std::size_t e0 = (3 * static_cast<std::size_t>(b)) * ld + 3 * static_cast<std::size_t>(a);
         for (int r = 0; r < 3; ++r) {
-          PetscScalar* row = v + m_.row_start_[ra + static_cast<std::size_t>(r)] + k;
-          // Column-major local matrices: entry (3a + r, 3b + c) at (3b + c) ld + 3a + r.
-          const std::size_t e0 = (3 * static_cast<std::size_t>(b)) * ld + 3 * static_cast<std::size_t>(a) + r;
+          PetscScalar* row = v + pa[b] + r * stride;
           for (std::size_t c = 0; c < 3; ++c) {
-            double add = cx * dfdx[e0 + c * ld];
-            if (with_v) add += cv * dfdv[e0 + c * ld];
+            double add = cx * dfdx[e0 + static_cast<std::size_t>(r) + c * ld];
+            if (with_v) add += cv * dfdv[e0 + static_cast<std::size_t>(r) + c * ld];
             row[c] += add;
           }
         }
@@ -79,13 +61,25 @@ class BlockMatrix::Sink final : public JacobianSink {
     std::size_t nodes0 = 0, pos0 = 0;
     int n = 0;
   };
-  /// Upper bound of the cached offsets (PetscInt each): beyond it the stencils are searched.
+  /// Upper bound of the cached offsets (PetscInt each): beyond it the stencils are searched each time.
   static constexpr std::size_t kMaxCached = std::size_t{1} << 26;
 
-  /// The value offsets of the blocks of the next stencil, pos[a n + b] = where row 0 of block
-  /// (nodes[a], nodes[b]) starts (-1 for a row of another rank), from the cache when the stencil is
-  /// the one the same call of the last assembly had; else found by block_position and cached
-  /// (a different stencil there drops the cache from that call on). nullptr past kMaxCached.
+  /// Appends the value offsets of a stencil's blocks to `out`: out[a n + b] = where row 0 of block
+  /// (nodes[a], nodes[b]) starts, -1 for a row of another rank (NumericalError from block_position
+  /// for a block outside the pattern).
+  void append_offsets(const Index* nodes, int n, std::vector<PetscInt>& out) const {
+    for (int a = 0; a < n; ++a) {
+      const bool mine = m_.owned(nodes[a]);
+      const std::size_t ra = mine ? 3 * static_cast<std::size_t>(nodes[a] - m_.n0_) : 0;
+      for (int b = 0; b < n; ++b)
+        out.push_back(mine ? m_.row_start_[ra] + 3 * m_.block_position(nodes[a], nodes[b]) : PetscInt{-1});
+    }
+  }
+
+  /// The offsets (append_offsets) of the next stencil: from the cache when the stencil is the one
+  /// the same call of the last assembly had; else found and cached (a different stencil there drops
+  /// the cache from that call on); past kMaxCached, or after such a call, found into a scratch
+  /// buffer without caching.
   const PetscInt* positions(const Index* nodes, int n) {
     const std::size_t idx = next_++;
     if (idx < cached_.size()) {
@@ -97,15 +91,14 @@ class BlockMatrix::Sink final : public JacobianSink {
       cached_.resize(idx);
     }
     const auto nn = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
-    if (idx != cached_.size() || pos_.size() + nn > kMaxCached) return nullptr;
+    if (idx != cached_.size() || pos_.size() + nn > kMaxCached) {
+      scratch_.clear();
+      append_offsets(nodes, n, scratch_);
+      return scratch_.data();
+    }
     const Cached e{nodes_.size(), pos_.size(), n};
     try {
-      for (int a = 0; a < n; ++a) {
-        const bool mine = m_.owned(nodes[a]);
-        const std::size_t ra = mine ? 3 * static_cast<std::size_t>(nodes[a] - m_.n0_) : 0;
-        for (int b = 0; b < n; ++b)
-          pos_.push_back(mine ? m_.row_start_[ra] + 3 * m_.block_position(nodes[a], nodes[b]) : PetscInt{-1});
-      }
+      append_offsets(nodes, n, pos_);
     } catch (...) {  // a block outside the pattern: nothing of this stencil stays cached
       pos_.resize(e.pos0);
       throw;
@@ -116,10 +109,11 @@ class BlockMatrix::Sink final : public JacobianSink {
   }
 
   BlockMatrix& m_;
-  std::vector<Cached> cached_;  ///< one per add_stencil call of an assembly, in call order
-  std::vector<Index> nodes_;    ///< their stencils
-  std::vector<PetscInt> pos_;   ///< their block offsets (n x n each)
-  std::size_t next_ = 0;        ///< the next call's index in cached_
+  std::vector<Cached> cached_;     ///< one per add_stencil call of an assembly, in call order
+  std::vector<Index> nodes_;       ///< their stencils
+  std::vector<PetscInt> pos_;      ///< their block offsets (n x n each)
+  std::vector<PetscInt> scratch_;  ///< the offsets of a stencil that is not cached
+  std::size_t next_ = 0;           ///< the next call's index in cached_
 };
 
 BlockMatrix::BlockMatrix(const preprocess::Mesh& mesh, const std::vector<std::unique_ptr<ForceTerm>>* terms)
