@@ -87,6 +87,9 @@ struct JacobianSolver::Petsc {
   /// KSP solve of a u = b with the current matrix; adds the Krylov iterations to `its`. A matrix
   /// changed since the last solve (`fresh`) is set up first (factorised), timed apart.
   bool solve(int& its, TimeSplit& times);
+  /// The fixed coordinates eliminated from `a` (with x and b: BlockMatrix::eliminate's prescribed
+  /// values), timed with the assembly; the KSP sets the changed matrix up at the next solve.
+  void eliminate(TimeSplit& times, Vec x, Vec b);
 
   BlockMatrix a;
   std::vector<PetscInt> fixed;
@@ -187,10 +190,14 @@ void JacobianSolver::assemble(const std::vector<std::unique_ptr<ForceTerm>>& ter
   a.assemble();
 }
 
+void JacobianSolver::Petsc::eliminate(TimeSplit& times, Vec x, Vec b) {
+  const ScopedTimer timer(times.jacobians, false);  // part of the assembly just counted
+  fresh = true;
+  a.eliminate(fixed, x, b);
+}
+
 void JacobianSolver::eliminate() {
-  const ScopedTimer timer(times_.jacobians, false);  // part of the assembly just counted
-  petsc_->fresh = true;
-  petsc_->a.eliminate(petsc_->fixed);
+  petsc_->eliminate(times_, nullptr, nullptr);
 }
 
 bool JacobianSolver::solve(const Eigen::Matrix3Xd& rhs, Eigen::Matrix3Xd& u) {
@@ -205,11 +212,7 @@ bool JacobianSolver::solve_prescribed(const Eigen::Matrix3Xd& rhs, const Eigen::
                                       Eigen::Matrix3Xd& u) {
   to_vec(rhs, petsc_->b);
   to_vec(values, petsc_->u);
-  {
-    const ScopedTimer timer(times_.jacobians, false);
-    petsc_->fresh = true;
-    petsc_->a.eliminate(petsc_->fixed, petsc_->u, petsc_->b);
-  }
+  petsc_->eliminate(times_, petsc_->u, petsc_->b);
   if (!petsc_->solve(iterations_, times_)) return false;
   u.resize(3, rhs.cols());
   from_vec(petsc_->u, petsc_->all, petsc_->whole, u);
