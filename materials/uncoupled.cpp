@@ -98,8 +98,10 @@ Matrix6d tangent_of(const Split& s, const Matrix6d& Db) {
 }  // namespace
 
 Matrix6d UncoupledLaw::tangent(const Eigen::Matrix3d& E) const {
-  const Split s = split(*base_, E);
-  return tangent_of(s, base_->tangent(s.Eb));
+  Eigen::Matrix3d S;  // the tangent needs the base stress at Ebar anyway
+  Matrix6d D;
+  stress_and_tangent(E, S, D);
+  return D;
 }
 
 void UncoupledLaw::stress_and_tangent(const Eigen::Matrix3d& E, Eigen::Matrix3d& S, Matrix6d& D) const {
