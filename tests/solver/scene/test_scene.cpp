@@ -172,34 +172,34 @@ TEST(Scene, ImpossibleValuesAndWrongUnits) {
                                        "static_damping: 50 Pa}"))
                 .find("expected a rate"),
             std::string::npos);
-  // BFGS updates of the factorisation: static only, a count in 0 ... 1000.
-  const std::string bfgs =
-      replaced(kBase, "type: symplectic_euler, dt: 10 us}", "type: static, dt: 1 ms, bfgs_max_updates: 8}");
-  EXPECT_EQ(test::load_scene(bfgs).run.implicit.bfgs_max_updates, 8);
-  EXPECT_EQ(test::load_scene(replaced(kBase, "type: symplectic_euler, dt: 10 us}", "type: static, dt: 1 ms}"))
-                .run.implicit.bfgs_max_updates,
-            0);
-  EXPECT_NE(test::scene_error(replaced(bfgs, "type: static", "type: backward_euler_newton"))
-                .find("integrator.bfgs_max_updates: only the static integrator"),
-            std::string::npos);
-  for (const char* bad : {"bfgs_max_updates: -1", "bfgs_max_updates: 1001"}) {
-    EXPECT_NE(test::scene_error(replaced(bfgs, "bfgs_max_updates: 8", bad))
-                  .find("integrator.bfgs_max_updates: must be in 0 ... 1000"),
-              std::string::npos)
-        << bad;
-  }
-  // Modified Newton in the cavity (bordered) steps: static only, a count in 0 ... 100.
-  const std::string reuse =
-      replaced(kBase, "type: symplectic_euler, dt: 10 us}", "type: static, dt: 1 ms, bordered_max_reuses: 4}");
-  EXPECT_EQ(test::load_scene(reuse).run.implicit.bordered_max_reuses, 4);
-  EXPECT_NE(test::scene_error(replaced(reuse, "type: static", "type: backward_euler_newton"))
-                .find("integrator.bordered_max_reuses: only the static integrator"),
-            std::string::npos);
-  for (const char* bad : {"bordered_max_reuses: -1", "bordered_max_reuses: 101"}) {
-    EXPECT_NE(test::scene_error(replaced(reuse, "bordered_max_reuses: 4", bad))
-                  .find("integrator.bordered_max_reuses: must be in 0 ... 100"),
-              std::string::npos)
-        << bad;
+  // The factorisation-reuse counts, BFGS updates (0 ... 1000) and modified Newton in the cavity
+  // (bordered) steps (0 ... 100): static only, 0 by default.
+  struct Reuse {
+    const char* key;
+    int solver::ImplicitSettings::*field;
+    const char* too_big;
+    const char* range;
+  };
+  for (const Reuse& k : {Reuse{"bfgs_max_updates", &solver::ImplicitSettings::bfgs_max_updates, "1001", "1000"},
+                         Reuse{"bordered_max_reuses", &solver::ImplicitSettings::bordered_max_reuses, "101", "100"}}) {
+    SCOPED_TRACE(k.key);
+    const std::string key = k.key;
+    const std::string on =
+        replaced(kBase, "type: symplectic_euler, dt: 10 us}", "type: static, dt: 1 ms, " + key + ": 8}");
+    EXPECT_EQ(test::load_scene(on).run.implicit.*k.field, 8);
+    EXPECT_EQ(test::load_scene(replaced(kBase, "type: symplectic_euler, dt: 10 us}", "type: static, dt: 1 ms}"))
+                      .run.implicit.*
+                  k.field,
+              0);
+    EXPECT_NE(test::scene_error(replaced(on, "type: static", "type: backward_euler_newton"))
+                  .find("integrator." + key + ": only the static integrator"),
+              std::string::npos);
+    for (const std::string bad : {key + ": -1", key + ": " + k.too_big}) {
+      EXPECT_NE(
+          test::scene_error(replaced(on, key + ": 8", bad)).find("integrator." + key + ": must be in 0 ... " + k.range),
+          std::string::npos)
+          << bad;
+    }
   }
 }
 
