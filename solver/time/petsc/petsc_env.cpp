@@ -15,6 +15,7 @@
 
 #include "common/error.hpp"
 #include "solver/core/stop_flag.hpp"
+#include "solver/time/petsc/mpi_session_dir.hpp"
 
 namespace adamss::solver {
 
@@ -30,8 +31,11 @@ bool g_started = false;
 /// sibling ranks to keep apart, its OpenMP threads must not share one core, and the binding
 /// setup is most of what remained of MPI_Init: 26 -> 6 ms (a bare MPI_Init/MPI_Finalize program
 /// with these settings, fastest of 3, 2026-11-28).
+/// And a session directory of its own (mpi_session_dir.hpp): concurrent singletons otherwise
+/// share one and may abort each other's MPI_Init.
 void prepare_singleton_mpi() {
   if (launched_by_mpi()) return;  // mpirun / srun: leave MPI alone
+  make_private_session_root();
   setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
   setenv("OMPI_MCA_pml", "ob1", 0);
   setenv("OMPI_MCA_btl", "self", 0);
@@ -184,8 +188,11 @@ void ensure_petsc(const std::string& options) {
 #if defined(__SANITIZE_ADDRESS__)
     __lsan_enable();
 #endif
-    if (ierr != 0)
+    forget_private_session_root_variable();
+    if (ierr != 0) {
+      remove_private_session_root();
       throw NumericalError("PETSc failed to initialise (error " + std::to_string(static_cast<int>(ierr)) + ")");
+    }
     PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
     g_started = true;
     std::atexit(finalize_petsc);
@@ -201,6 +208,7 @@ void finalize_petsc() {
   PetscBool finalized = PETSC_FALSE;
   PetscFinalized(&finalized);
   if (running && !finalized) PetscFinalize();
+  remove_private_session_root();
   g_started = false;
 }
 
