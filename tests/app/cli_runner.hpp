@@ -14,8 +14,9 @@ struct RunResult {
   std::string output;  // stdout and stderr together
 };
 
-inline RunResult run_adamss(const std::string& args) {
-  const std::string cmd = std::string(ADAMSS_BINARY) + " " + args + " 2>&1";
+/// `env`: variable assignments put before the command ("TMPDIR=/x"), none by default.
+inline RunResult run_adamss(const std::string& args, const std::string& env = "") {
+  const std::string cmd = (env.empty() ? "" : env + " ") + std::string(ADAMSS_BINARY) + " " + args + " 2>&1";
   RunResult r;
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) return r;

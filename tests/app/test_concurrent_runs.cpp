@@ -7,8 +7,6 @@
 // deterministically that Open MPI's session tree is in the private root.
 #include <gtest/gtest.h>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <string>
 #include <thread>
@@ -18,32 +16,18 @@
 
 namespace fs = std::filesystem;
 
-namespace {
-
-/// Runs adamss with TMPDIR set to `tmp`; the exit code and the output.
-adamss::test::RunResult run_with_tmpdir(const fs::path& tmp, const std::string& args) {
-  const std::string cmd = "TMPDIR=" + tmp.string() + " " + ADAMSS_BINARY + " " + args + " 2>&1";
-  adamss::test::RunResult r;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (pipe == nullptr) return r;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), static_cast<int>(buf.size()), pipe) != nullptr) r.output += buf.data();
-  const int status = pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-}  // namespace
-
 TEST(ConcurrentRuns, ImplicitRunsStartedTogetherAllCompleteAndLeaveTmpdirClean) {
   const fs::path dir = adamss::test::scratch_dir("concurrent_runs");
   const fs::path tmp = dir / "tmp";
   fs::create_directories(tmp);
   const fs::path scene = adamss::test::write_scene(
       dir, adamss::test::slab_scene_head() + "{type: static, dt: 1 ms, adapt: false}\nrun: {t_end: 2 ms}\n");
+  const auto run = [&](const fs::path& out) {
+    return adamss::test::run_adamss("run " + scene.string() + " -q -o " + out.string() + adamss::test::cache_arg(dir),
+                                    "TMPDIR=" + tmp.string());
+  };
   // Mesh once, so that the concurrent runs read the cache instead of writing it together.
-  const auto first = run_with_tmpdir(
-      tmp, "run " + scene.string() + " -q -o " + (dir / "out0").string() + adamss::test::cache_arg(dir));
+  const auto first = run(dir / "out0");
   ASSERT_EQ(first.exit_code, 0) << first.output;
   constexpr int kRounds = 3, kTogether = 6;
   for (int round = 0; round < kRounds; ++round) {
@@ -51,10 +35,7 @@ TEST(ConcurrentRuns, ImplicitRunsStartedTogetherAllCompleteAndLeaveTmpdirClean) 
     std::vector<std::thread> runs;
     for (int i = 0; i < kTogether; ++i) {
       const fs::path out = dir / ("out" + std::to_string(round) + "_" + std::to_string(i));
-      runs.emplace_back([&, i, out] {
-        results[i] =
-            run_with_tmpdir(tmp, "run " + scene.string() + " -q -o " + out.string() + adamss::test::cache_arg(dir));
-      });
+      runs.emplace_back([&, i, out] { results[i] = run(out); });
     }
     for (auto& t : runs) t.join();
     for (int i = 0; i < kTogether; ++i) {

@@ -3,30 +3,27 @@
 #include <cstdlib>
 #include <filesystem>
 #include <system_error>
-#include <vector>
 
 namespace adamss::solver {
 
 namespace {
 constexpr const char* kVariable = "OMPI_MCA_orte_tmpdir_base";
+/// The root made here, empty if none; OMPI_MCA_orte_tmpdir_base names it from
+/// make_private_session_root to forget_private_session_root_variable.
 std::string g_root;
-bool g_set_variable = false;
 }  // namespace
 
 void make_private_session_root() {
   if (!g_root.empty() || std::getenv(kVariable) != nullptr) return;
   const char* tmp = std::getenv("TMPDIR");
-  const std::string pattern = std::string(tmp != nullptr && *tmp != '\0' ? tmp : "/tmp") + "/adamss-mpi-XXXXXX";
-  std::vector<char> name(pattern.begin(), pattern.end());
-  name.push_back('\0');
+  std::string name = std::string(tmp != nullptr && *tmp != '\0' ? tmp : "/tmp") + "/adamss-mpi-XXXXXX";
   if (mkdtemp(name.data()) == nullptr) return;
-  g_root = name.data();
-  g_set_variable = setenv(kVariable, g_root.c_str(), 1) == 0;
+  g_root = name;
+  setenv(kVariable, g_root.c_str(), 1);
 }
 
 void forget_private_session_root_variable() {
-  if (g_set_variable) unsetenv(kVariable);
-  g_set_variable = false;
+  if (!g_root.empty()) unsetenv(kVariable);
 }
 
 void remove_private_session_root() {

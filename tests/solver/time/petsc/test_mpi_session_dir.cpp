@@ -15,10 +15,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
+/// True when the launcher (mpirun) or the user chose the session directory: no private root.
+bool root_chosen_elsewhere() {
+  return launched_by_mpi() || std::getenv("OMPI_MCA_orte_tmpdir_base") != nullptr;
+}
+
 TEST(MpiSessionDir, ASingletonRunsOpenMpiInARootOfItsOwn) {
-  if (launched_by_mpi() || std::getenv("OMPI_MCA_orte_tmpdir_base") != nullptr) {
-    GTEST_SKIP() << "the launcher or the user chose the session directory";
-  }
+  if (root_chosen_elsewhere()) GTEST_SKIP() << "the launcher or the user chose the session directory";
   ensure_petsc();
   const fs::path root = private_session_root();
   ASSERT_FALSE(root.empty());
@@ -36,9 +39,7 @@ TEST(MpiSessionDir, ASingletonRunsOpenMpiInARootOfItsOwn) {
 }
 
 TEST(MpiSessionDir, TheRootIsRemovedWithEverythingInIt) {
-  if (launched_by_mpi() || std::getenv("OMPI_MCA_orte_tmpdir_base") != nullptr) {
-    GTEST_SKIP() << "the launcher or the user chose the session directory";
-  }
+  if (root_chosen_elsewhere()) GTEST_SKIP() << "the launcher or the user chose the session directory";
   PetscBool running = PETSC_FALSE;
   PetscInitialized(&running);
   if (running == PETSC_TRUE) GTEST_SKIP() << "PETSc runs in this process: its root is in use";
