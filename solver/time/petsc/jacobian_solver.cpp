@@ -23,6 +23,13 @@ PetscErrorCode converged_or_stopped(KSP ksp, PetscInt it, PetscReal rnorm, KSPCo
   return 0;
 }
 
+/// Sets a PETSc option unless the user's options already name it.
+void default_option(const char* name, const char* value) {
+  PetscBool given = PETSC_FALSE;
+  petsc_check(PetscOptionsHasName(nullptr, nullptr, name, &given), "PetscOptionsHasName");
+  if (given == PETSC_FALSE) petsc_check(PetscOptionsSetValue(nullptr, name, value), "PETSc options");
+}
+
 /// Below this many unknowns the default linear solver is a direct LU factorisation.
 constexpr PetscInt kDirectSolveMaxDofs = 60000;
 
@@ -51,21 +58,46 @@ void from_vec(Vec v, VecScatter all, Vec whole, Eigen::Matrix3Xd& m) {
   petsc_check(VecRestoreArrayRead(src, &a), "VecRestoreArrayRead");
 }
 
+/// The package of pc's LU or Cholesky factorisation ("mumps", "petsc", ...; PETSc's own when
+/// none is named), or nullptr when pc does not factorise.
+const char* factorisation_package(PC pc) {
+  PCType type = nullptr;
+  petsc_check(PCGetType(pc, &type), "PCGetType");
+  if (type == nullptr || (std::strcmp(type, PCLU) != 0 && std::strcmp(type, PCCHOLESKY) != 0)) return nullptr;
+  MatSolverType solver = nullptr;
+  petsc_check(PCFactorGetMatSolverType(pc, &solver), "PCFactorGetMatSolverType");
+  return solver != nullptr ? solver : MATSOLVERPETSC;
+}
+
 /// Several ranks: an LU or Cholesky preconditioner needs a distributed factorisation (MUMPS or
 /// SuperLU_dist); PETSc's own is serial and would fail inside the first solve.
 void require_parallel_factorisation(PC pc) {
+  const char* solver = factorisation_package(pc);
+  if (solver == nullptr || std::strcmp(solver, MATSOLVERMUMPS) == 0 || std::strcmp(solver, MATSOLVERSUPERLU_DIST) == 0)
+    return;
   PCType type = nullptr;
   petsc_check(PCGetType(pc, &type), "PCGetType");
-  if (type == nullptr || (std::strcmp(type, PCLU) != 0 && std::strcmp(type, PCCHOLESKY) != 0)) return;
-  MatSolverType solver = nullptr;
-  petsc_check(PCFactorGetMatSolverType(pc, &solver), "PCFactorGetMatSolverType");
-  if (solver != nullptr &&
-      (std::strcmp(solver, MATSOLVERMUMPS) == 0 || std::strcmp(solver, MATSOLVERSUPERLU_DIST) == 0))
-    return;
   throw InputError(std::string("the ") + type + " factorisation on several MPI ranks needs MUMPS or SuperLU_dist (" +
-                   (solver != nullptr ? solver : "PETSc's own") +
+                   (std::strcmp(solver, MATSOLVERPETSC) != 0 ? solver : "PETSc's own") +
                    " is serial): add -pc_factor_mat_solver_type mumps, choose an iterative solver "
                    "(--petsc \"-ksp_type gmres -pc_type gamg\") or run on one rank");
+}
+
+/// adamss's MUMPS settings, for a MUMPS factorisation chosen here or by the user's options; an
+/// option the user gives wins. MUMPS reads them when it first factorises.
+void default_mumps_options() {
+  // MUMPS sizes its workspace from the analysis plus ICNTL(14) per cent (default 20) for the
+  // pivots that numerical pivoting delays. Near a loss of stability more are delayed: the heart
+  // soak's isovolumic relaxation in beat 45 failed with INFOG(1) = -9 (FACTOR_OUTMEMORY) at
+  // every step size on one machine's BLAS kernels and not on another's. Allow 100 % (a larger
+  // allowance only reserves memory).
+  default_option("-mat_mumps_icntl_14", "100");
+  // No row/column scaling (ICNTL(8) = 0 instead of MUMPS's automatic choice, 77): every row of
+  // these operators is a force balance in N/m (mass, stiffness and damping alike), so the
+  // scaling has little to equilibrate and cost 15-20 % of each factorisation (one thread,
+  // 2026-12-02: Land problem 1 0.205 -> 0.162 s for its 16, problem 2 0.122 -> 0.096 s for 21,
+  // the coarse biventricular inflation 12.9 -> 11.9 s for 64 -> 66; the same answers to 1e-11).
+  default_option("-mat_mumps_icntl_8", "0");
 }
 
 }  // namespace
@@ -82,7 +114,8 @@ struct JacobianSolver::Petsc {
   Petsc(const Petsc&) = delete;
   Petsc& operator=(const Petsc&) = delete;
 
-  /// The KSP on `a`: LU for small systems, GMRES + GAMG (with the coordinates x_ref) above.
+  /// The KSP on `a`: LU for small systems, GMRES + GAMG above; GAMG, whoever chose it, gets the
+  /// coordinates x_ref.
   void configure(const Eigen::Matrix3Xd& x_ref, double ksp_rtol, int ksp_max_it);
   /// KSP solve of a u = b with the current matrix; adds the Krylov iterations to `its`. A matrix
   /// changed since the last solve (`fresh`) is set up first (factorised), timed apart.
@@ -116,24 +149,10 @@ void JacobianSolver::Petsc::configure(const Eigen::Matrix3Xd& x_ref, double ksp_
     // -log_view, with OpenBLAS as the BLAS).
     PetscBool mumps = PETSC_FALSE;
     petsc_check(MatGetFactorAvailable(a.mat(), MATSOLVERMUMPS, MAT_FACTOR_LU, &mumps), "MatGetFactorAvailable");
-    if (mumps == PETSC_TRUE) {
-      petsc_check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
-      // MUMPS sizes its workspace from the analysis plus ICNTL(14) per cent (default 20) for the
-      // pivots that numerical pivoting delays. Near a loss of stability more are delayed: the heart
-      // soak's isovolumic relaxation in beat 45 failed with INFOG(1) = -9 (FACTOR_OUTMEMORY) at
-      // every step size on one machine's BLAS kernels and not on another's. Allow 100 % unless the
-      // user's PETSc options say otherwise (a larger allowance only reserves memory).
-      PetscBool given = PETSC_FALSE;
-      petsc_check(PetscOptionsHasName(nullptr, nullptr, "-mat_mumps_icntl_14", &given), "PetscOptionsHasName");
-      if (given == PETSC_FALSE)
-        petsc_check(PetscOptionsSetValue(nullptr, "-mat_mumps_icntl_14", "100"), "PETSc options");
-    }
+    if (mumps == PETSC_TRUE) petsc_check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
   } else {
     petsc_check(KSPSetType(ksp, KSPGMRES), "KSPSetType");
     petsc_check(PCSetType(pc, PCGAMG), "PCSetType");
-    // Particle coordinates (this rank's): GAMG builds the rigid-body near-null space from them.
-    Eigen::Matrix3Xd xr = x_ref.middleCols(a.owned_begin(), a.owned_end() - a.owned_begin());
-    petsc_check(PCSetCoordinates(pc, 3, static_cast<PetscInt>(xr.cols()), xr.data()), "PCSetCoordinates");
   }
   petsc_check(KSPSetTolerances(ksp, ksp_rtol, PETSC_DEFAULT, PETSC_DEFAULT, ksp_max_it), "KSPSetTolerances");
   void* conv = nullptr;
@@ -142,6 +161,17 @@ void JacobianSolver::Petsc::configure(const Eigen::Matrix3Xd& x_ref, double ksp_
               "KSPSetConvergenceTest");
   petsc_check(KSPSetFromOptions(ksp), "KSPSetFromOptions");
   if (all != nullptr) require_parallel_factorisation(pc);
+  const char* package = factorisation_package(pc);
+  if (package != nullptr && std::strcmp(package, MATSOLVERMUMPS) == 0) default_mumps_options();
+  // GAMG, whether chosen here (large systems) or by the user's options at any size: the particle
+  // coordinates (this rank's) give it the six rigid-body modes as the near-null space. Without
+  // them it coarsens with the three translations alone, and its iterations grow with the mesh.
+  PetscBool gamg = PETSC_FALSE;
+  petsc_check(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCGAMG, &gamg), "PetscObjectTypeCompare");
+  if (gamg == PETSC_TRUE) {
+    Eigen::Matrix3Xd xr = x_ref.middleCols(a.owned_begin(), a.owned_end() - a.owned_begin());
+    petsc_check(PCSetCoordinates(pc, 3, static_cast<PetscInt>(xr.cols()), xr.data()), "PCSetCoordinates");
+  }
 }
 
 bool JacobianSolver::Petsc::solve(int& its, TimeSplit& times) {
