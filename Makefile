@@ -70,6 +70,7 @@ bench: configure
 	  --benchmark_out=$(BENCH_RESULTS)/kernels.json --benchmark_out_format=json
 	@bench/hybmss_cube.sh $(BUILD_DIR)/app/adamss $(BENCH_RESULTS)/hybmss_cube.json
 	@bench/solver.sh $(BUILD_DIR)/app/adamss $(BENCH_RESULTS)/solver.json
+	@bench/solver_scaling.sh $(BUILD_DIR)/app/adamss $(BENCH_RESULTS)/solver_scaling.json
 	@if [ "$(BENCH_QUICK)" != 1 ]; then bench/mpi.sh $(BUILD_DIR)/app/adamss $(BENCH_RESULTS)/mpi.json; fi
 	@if [ -f bench/pareto/run.sh ] && [ "$(BENCH_QUICK)" != 1 ]; then \
 	  bash bench/pareto/run.sh $(BUILD_DIR)/app/adamss $(BENCH_RESULTS); fi

@@ -359,6 +359,31 @@ PY
     echo "(no solver.json)"
   fi
   echo
+  echo "## Implicit solver against mesh size (bench/solver_scaling.sh)"
+  echo
+  if [[ -f $res/solver_scaling.json ]]; then
+    echo "The iterative path (GMRES + GAMG, soft penalty + augmented Lagrangian), one thread, one run per"
+    echo "size; cost per Newton iteration = (forces + Jacobians + GAMG set-ups + solves) / Newton iterations."
+    echo
+    echo "| hexahedra | unknowns | Newton | GMRES a solve | s per Newton iteration | Jacobian | GAMG set-up | solves | peak MB |"
+    echo "|---|---|---|---|---|---|---|---|---|"
+    python3 - "$res/solver_scaling.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+for r in d["runs"]:
+    p = r["per_newton_phase_s"]
+    print(f"| {r['elements']} | {r['unknowns']} | {r['newton_iterations']} | {r['gmres_per_solve']:.1f} | {r['per_newton_s']:.3f} |"
+          f" {p['jacobians']:.3f} | {p['factorisations']:.3f} | {p['solves']:.3f} | {r['peak_memory_MB']:.0f} |")
+s = d["loglog_slopes_from_1e4_elements"]
+if s.get("per_newton") is not None:
+    print()
+    print("Log-log slopes from 10^4 elements: " + ", ".join(f"{k} {v:.2f}" for k, v in s.items() if v is not None) + ".")
+PY
+    if [[ -f $res/solver_scaling.png ]]; then echo; echo "![solver scaling]($resrel/solver_scaling.png)"; fi
+  else
+    echo "(no solver_scaling.json)"
+  fi
+  echo
   echo "## MPI ranks (bench/mpi.sh)"
   echo
   if [[ -f $res/mpi.json ]]; then
