@@ -1,6 +1,7 @@
 // The implicit solvers' linear-solver set-up as a run sees it: GAMG gets the rigid-body
-// near-null space and MUMPS no scaling (ICNTL(8) = 0) whoever chose them (the size rule or the user's
-// PETSc options), and an option the user names wins. Read from PETSc's own -ksp_view report.
+// near-null space and MUMPS its workspace allowance (ICNTL(14) = 100) whoever chose them (the
+// size rule or the user's PETSc options), an option the user names wins, and a run without MUMPS
+// gets no MUMPS options. Read from PETSc's own reports (-ksp_view, -options_view).
 #include <gtest/gtest.h>
 
 #include <string>
@@ -59,22 +60,27 @@ TEST(LinearSolverOptions, GamgChosenByTheUserCoarsensWithTheSixRigidBodyModes) {
   EXPECT_TRUE(has(out, "bs=6")) << out;
 }
 
-TEST(LinearSolverOptions, MumpsChosenByTheUserGetsNoScaling) {
+// adamss's MUMPS workspace allowance (-mat_mumps_icntl_14 100) is set in PETSc's option table,
+// which -options_view prints when PETSc finalises.
+TEST(LinearSolverOptions, MumpsChosenByTheUserGetsTheLargerWorkspace) {
   const std::string out =
-      run_block("lso_mumps", "-ksp_type preonly -pc_type cholesky -pc_factor_mat_solver_type mumps -ksp_view");
-  ASSERT_TRUE(has(out, "type: mumps")) << out;
-  EXPECT_TRUE(has(out, "INFOG(33) (value used for ICNTL(8)): 0")) << out;
+      run_block("lso_mumps", "-ksp_type preonly -pc_type cholesky -pc_factor_mat_solver_type mumps -options_view");
+  EXPECT_TRUE(has(out, "\n-mat_mumps_icntl_14 100\n")) << out;
 }
 
-TEST(LinearSolverOptions, TheDefaultMumpsLuGetsNoScaling) {
-  const std::string out = run_block("lso_default", "-ksp_view");
-  ASSERT_TRUE(has(out, "type: mumps")) << out;
-  EXPECT_TRUE(has(out, "INFOG(33) (value used for ICNTL(8)): 0")) << out;
+TEST(LinearSolverOptions, TheDefaultMumpsLuGetsTheSameWorkspace) {
+  const std::string out = run_block("lso_default", "-options_view");
+  EXPECT_TRUE(has(out, "\n-mat_mumps_icntl_14 100\n")) << out;
 }
 
 TEST(LinearSolverOptions, AnOptionTheUserNamesWins) {
-  // 77: MUMPS's automatic choice (it picks 7 here, simultaneous row and column iterative scaling).
-  const std::string out = run_block("lso_user", "-mat_mumps_icntl_8 77 -ksp_view");
-  ASSERT_TRUE(has(out, "type: mumps")) << out;
-  EXPECT_FALSE(has(out, "INFOG(33) (value used for ICNTL(8)): 0")) << out;
+  const std::string out = run_block("lso_user", "-mat_mumps_icntl_14 30 -options_view");
+  EXPECT_TRUE(has(out, "\n-mat_mumps_icntl_14 30\n")) << out;
+  EXPECT_FALSE(has(out, "-mat_mumps_icntl_14 100")) << out;
+}
+
+TEST(LinearSolverOptions, NoMumpsNoMumpsOptions) {
+  const std::string out = run_block("lso_petsc", "-pc_factor_mat_solver_type petsc -options_view");
+  EXPECT_TRUE(has(out, "#PETSc Option Table entries")) << out;
+  EXPECT_FALSE(has(out, "-mat_mumps_icntl_14")) << out;
 }

@@ -83,21 +83,17 @@ void require_parallel_factorisation(PC pc) {
                    "(--petsc \"-ksp_type gmres -pc_type gamg\") or run on one rank");
 }
 
-/// adamss's MUMPS settings, for a MUMPS factorisation chosen here or by the user's options; an
-/// option the user gives wins. MUMPS reads them when it first factorises.
+/// adamss's MUMPS setting, for a MUMPS factorisation chosen here or by the user's options (an
+/// option the user gives wins; MUMPS reads it when it first factorises). MUMPS sizes its
+/// workspace from the analysis plus ICNTL(14) per cent (default 20) for the pivots that numerical
+/// pivoting delays. Near a loss of stability more are delayed: the heart soak's isovolumic
+/// relaxation in beat 45 failed with INFOG(1) = -9 (FACTOR_OUTMEMORY) at every step size on one
+/// machine's BLAS kernels and not on another's. Allow 100 % (a larger allowance only reserves
+/// memory). MUMPS's scaling (ICNTL(8), automatic) stays: without it factorisations are 15-20 %
+/// cheaper (Land problem 1: 0.205 -> 0.162 s for 16), but the quick LV beat's relaxation then
+/// fails at t = 0.909 s with no usable Newton direction at any step size.
 void default_mumps_options() {
-  // MUMPS sizes its workspace from the analysis plus ICNTL(14) per cent (default 20) for the
-  // pivots that numerical pivoting delays. Near a loss of stability more are delayed: the heart
-  // soak's isovolumic relaxation in beat 45 failed with INFOG(1) = -9 (FACTOR_OUTMEMORY) at
-  // every step size on one machine's BLAS kernels and not on another's. Allow 100 % (a larger
-  // allowance only reserves memory).
   default_option("-mat_mumps_icntl_14", "100");
-  // No row/column scaling (ICNTL(8) = 0 instead of MUMPS's automatic choice, 77): every row of
-  // these operators is a force balance in N/m (mass, stiffness and damping alike), so the
-  // scaling has little to equilibrate and cost 15-20 % of each factorisation (one thread,
-  // 2026-12-02: Land problem 1 0.205 -> 0.162 s for its 16, problem 2 0.122 -> 0.096 s for 21,
-  // the coarse biventricular inflation 12.9 -> 11.9 s for 64 -> 66; the same answers to 1e-11).
-  default_option("-mat_mumps_icntl_8", "0");
 }
 
 }  // namespace
