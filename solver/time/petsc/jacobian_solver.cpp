@@ -70,30 +70,18 @@ const char* factorisation_package(PC pc) {
 }
 
 /// Several ranks: an LU or Cholesky preconditioner needs a distributed factorisation (MUMPS or
-/// SuperLU_dist); PETSc's own is serial and would fail inside the first solve.
-void require_parallel_factorisation(PC pc) {
-  const char* solver = factorisation_package(pc);
-  if (solver == nullptr || std::strcmp(solver, MATSOLVERMUMPS) == 0 || std::strcmp(solver, MATSOLVERSUPERLU_DIST) == 0)
+/// SuperLU_dist); PETSc's own is serial and would fail inside the first solve. `package`: the
+/// factorisation_package of pc.
+void require_parallel_factorisation(PC pc, const char* package) {
+  if (package == nullptr || std::strcmp(package, MATSOLVERMUMPS) == 0 ||
+      std::strcmp(package, MATSOLVERSUPERLU_DIST) == 0)
     return;
   PCType type = nullptr;
   petsc_check(PCGetType(pc, &type), "PCGetType");
   throw InputError(std::string("the ") + type + " factorisation on several MPI ranks needs MUMPS or SuperLU_dist (" +
-                   (std::strcmp(solver, MATSOLVERPETSC) != 0 ? solver : "PETSc's own") +
+                   (std::strcmp(package, MATSOLVERPETSC) != 0 ? package : "PETSc's own") +
                    " is serial): add -pc_factor_mat_solver_type mumps, choose an iterative solver "
                    "(--petsc \"-ksp_type gmres -pc_type gamg\") or run on one rank");
-}
-
-/// adamss's MUMPS setting, for a MUMPS factorisation chosen here or by the user's options (an
-/// option the user gives wins; MUMPS reads it when it first factorises). MUMPS sizes its
-/// workspace from the analysis plus ICNTL(14) per cent (default 20) for the pivots that numerical
-/// pivoting delays. Near a loss of stability more are delayed: the heart soak's isovolumic
-/// relaxation in beat 45 failed with INFOG(1) = -9 (FACTOR_OUTMEMORY) at every step size on one
-/// machine's BLAS kernels and not on another's. Allow 100 % (a larger allowance only reserves
-/// memory). MUMPS's scaling (ICNTL(8), automatic) stays: without it factorisations are 15-20 %
-/// cheaper (Land problem 1: 0.205 -> 0.162 s for 16), but the quick LV beat's relaxation then
-/// fails at t = 0.909 s with no usable Newton direction at any step size.
-void default_mumps_options() {
-  default_option("-mat_mumps_icntl_14", "100");
 }
 
 }  // namespace
@@ -156,9 +144,16 @@ void JacobianSolver::Petsc::configure(const Eigen::Matrix3Xd& x_ref, double ksp_
   petsc_check(KSPSetConvergenceTest(ksp, converged_or_stopped, conv, KSPConvergedDefaultDestroy),
               "KSPSetConvergenceTest");
   petsc_check(KSPSetFromOptions(ksp), "KSPSetFromOptions");
-  if (all != nullptr) require_parallel_factorisation(pc);
   const char* package = factorisation_package(pc);
-  if (package != nullptr && std::strcmp(package, MATSOLVERMUMPS) == 0) default_mumps_options();
+  if (all != nullptr) require_parallel_factorisation(pc, package);
+  // A MUMPS factorisation, chosen here or by the user's options (whose own value wins; MUMPS reads
+  // it when it first factorises): MUMPS sizes its workspace from the analysis plus ICNTL(14) per
+  // cent (default 20) for the pivots that numerical pivoting delays. Near a loss of stability more
+  // are delayed: the heart soak's isovolumic relaxation in beat 45 failed with INFOG(1) = -9
+  // (FACTOR_OUTMEMORY) at every step size on one machine's BLAS kernels and not on another's.
+  // Allow 100 % (a larger allowance only reserves memory). MUMPS's own scaling (ICNTL(8)) stays:
+  // without it the quick LV beat fails (bench/README.md).
+  if (package != nullptr && std::strcmp(package, MATSOLVERMUMPS) == 0) default_option("-mat_mumps_icntl_14", "100");
   // GAMG, whether chosen here (large systems) or by the user's options at any size: the particle
   // coordinates (this rank's) give it the six rigid-body modes as the near-null space. Without
   // them it coarsens with the three translations alone: 135-158 GMRES iterations a solve instead
