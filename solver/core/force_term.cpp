@@ -16,6 +16,18 @@ void JacobianSink::add_stencil(const Index* nodes, int n, const double* dfdx, co
   }
 }
 
+void JacobianSink::add_outer(const Index* nodes, int n, const double* g, double c) {
+  const Eigen::Matrix3d zero = Eigen::Matrix3d::Zero();
+  for (int a = 0; a < n; ++a) {
+    if (!accepts(nodes + a, 1)) continue;  // another MPI rank's row
+    const Eigen::Map<const Eigen::Vector3d> ga(g + 3 * a);
+    for (int b = 0; b < n; ++b) {
+      const Eigen::Map<const Eigen::Vector3d> gb(g + 3 * b);
+      add_block(nodes[a], nodes[b], c * ga * gb.transpose(), zero);
+    }
+  }
+}
+
 void require_jacobians(const std::vector<std::unique_ptr<ForceTerm>>& terms, const std::string& solver_name) {
   std::string missing;
   for (const auto& t : terms) {

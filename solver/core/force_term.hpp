@@ -43,6 +43,13 @@ class JacobianSink {
   /// default hands them on block by block (add_block); a sparse-matrix sink scatters the whole
   /// stencil through its precomputed positions (solver/time/petsc/petsc_matrix.hpp).
   virtual void add_stencil(const Index* nodes, int n, const double* dfdx, const double* dfdv);
+  /// Adds the rank-one Jacobian c g g^T over a stencil of n distinct nodes: d f_{nodes[a]} / d x_{nodes[b]}
+  /// += c g_a g_b^T, with g (3n values, g_a at 3a) and c in N/m per (unit of g)^2; df/dv gets nothing.
+  /// The nodal volume terms hand their patch curvature -(U''_n / V0_n) g_n g_n^T over here. The default
+  /// adds the n^2 blocks (add_block, the rows this sink accepts); the direct solver's sink instead
+  /// keeps c and g as one border row and column of a sparser bordered operator
+  /// (solver/time/petsc/bordered_operator.hpp), so the patch's pairs two elements apart never enter the matrix.
+  virtual void add_outer(const Index* nodes, int n, const double* g, double c);
   /// False when the sink keeps none of the stencil's blocks (on several MPI ranks, a stencil with
   /// none of this rank's particles: its rows belong to other ranks), so that the term may skip
   /// computing it. A term that ignores this only wastes the work: the sink drops such blocks.
@@ -99,6 +106,10 @@ class ForceTerm {
   /// further apart (the nodal volume term's patches) lists them here so that the matrix is
   /// preallocated for them. Duplicates are fine. The default adds nothing.
   virtual void add_couplings(std::vector<std::vector<Index>>& /*adj*/) const {}
+  /// True when every block that add_couplings lists beyond the element pairs is reached only
+  /// through JacobianSink::add_outer (the nodal volume terms): a sink that keeps the outer products
+  /// apart (the bordered operator) preallocates the matrix without those pairs. Default false.
+  [[nodiscard]] virtual bool couplings_through_outer() const { return false; }
   /// The cavity volume constraint this term is, or nullptr (every other term, the default). The
   /// integrators find the constraints' pressure unknowns through it (cavity_constraints below).
   [[nodiscard]] virtual CavityConstraintTerm* cavity_constraint() { return nullptr; }

@@ -78,6 +78,7 @@ class PenaltyContinuation final : public ForceTerm {
   void load_state(const StateArchive& archive) override { inner_->load_state(archive); }
   [[nodiscard]] std::string describe() const override;
   void add_couplings(std::vector<std::vector<Index>>& adj) const override { inner_->add_couplings(adj); }
+  [[nodiscard]] bool couplings_through_outer() const override { return inner_->couplings_through_outer(); }
   [[nodiscard]] double constraint_violation(const StateView& s) const override {
     return inner_->constraint_violation(s);
   }

@@ -25,6 +25,9 @@ class ScaledSink final : public JacobianSink {
     for (std::size_t i = 0; i < size; ++i) buf_[size + i] = scale_ * dfdv[i];
     out_.add_stencil(nodes, n, buf_.data(), buf_.data() + size);
   }
+  void add_outer(const Index* nodes, int n, const double* g, double c) override {
+    out_.add_outer(nodes, n, g, scale_ * c);
+  }
   [[nodiscard]] bool accepts(const Index* nodes, int n) const override { return out_.accepts(nodes, n); }
 
  private:

@@ -35,6 +35,7 @@ class NodalVolumeTerm final : public NodalConstraintTerm {
   void add_forces(const StateView& s, Eigen::Matrix3Xd& f) const override;
   void add_jacobian(const StateView& s, JacobianSink& sink) const override;
   void add_couplings(std::vector<std::vector<Index>>& adj) const override;
+  [[nodiscard]] bool couplings_through_outer() const override { return true; }
   /// constrain_fixed_nodes: false. A node whose three coordinates are fixed or prescribed gives its
   /// share of each element's volume to the element's other nodes (w_ea = 0 for it, 1 / (number of
   /// free nodes of e) for those), so it carries no constraint, V_n = sum_e w_en V_e still sums to
@@ -205,30 +206,23 @@ void NodalVolumeTerm<K>::add_jacobian(const StateView& s, JacobianSink& sink) co
       }
     }
   }
-  // -(U''_n / V0_n) g_n g_n^T on each node's patch.
-  std::vector<Eigen::Vector3d> g;
+  // -(U''_n / V0_n) g_n g_n^T on each node's patch, as one outer product (JacobianSink::add_outer).
+  Eigen::Matrix3Xd g;
+  std::vector<Index> patch;
   for (std::size_t n = 0; n < nodes_.size(); ++n) {
+    if (!active(n)) continue;  // a released constraint (constrain_fixed_nodes: false)
     const std::size_t p0 = patch_start_[n], m = patch_start_[n + 1] - p0;
-    g.assign(m, Eigen::Vector3d::Zero());
+    g.setZero(3, static_cast<Eigen::Index>(m));
+    patch.resize(m);
+    for (std::size_t p = 0; p < m; ++p) patch[p] = nodes_[static_cast<std::size_t>(patch_[p0 + p])];
     for (std::size_t j = around_start_[n]; j < around_start_[n + 1]; ++j) {
       const std::size_t e = around_[j];
       const auto& le = local_[e];
       const double wn =
           share_[e][static_cast<std::size_t>(std::find(le.begin(), le.end(), static_cast<int>(n)) - le.begin())];
-      for (int a = 0; a < K; ++a) {
-        const auto at = static_cast<std::size_t>(place_[j][static_cast<std::size_t>(a)]);
-        g[at] += wn * dv[e].col(a);
-      }
+      for (int a = 0; a < K; ++a) g.col(place_[j][static_cast<std::size_t>(a)]) += wn * dv[e].col(a);
     }
-    if (!active(n)) continue;  // a released constraint (constrain_fixed_nodes: false)
-    const double w = penalty_.curvature(jn[n], r) / volume0_[n];
-    for (std::size_t p = 0; p < m; ++p) {
-      const Index np = nodes_[static_cast<std::size_t>(patch_[p0 + p])];
-      if (!sink.accepts(&np, 1)) continue;  // another MPI rank's row
-      for (std::size_t q = 0; q < m; ++q) {
-        sink.add_block(np, nodes_[static_cast<std::size_t>(patch_[p0 + q])], -w * g[p] * g[q].transpose(), zero);
-      }
-    }
+    sink.add_outer(patch.data(), static_cast<int>(m), g.data(), -penalty_.curvature(jn[n], r) / volume0_[n]);
   }
 }
 

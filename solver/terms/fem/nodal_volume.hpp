@@ -20,8 +20,10 @@
 // so forces cost two element loops. Jacobian (H_e = d^2 V_e / dx^2, element stencil):
 //   df/dx = -sum_e c_e H_e  -  sum_n (U''_n / V0_n) g_n g_n^T,   g_n = sum_{e ∋ n} dV_e/dx / K
 // The second sum couples every pair of nodes of node n's patch (the nodes of its elements), i.e.
-// nodes two elements apart; the term reports those pairs through add_couplings so that the sparse
-// matrix is preallocated for them. df/dv = 0.
+// nodes two elements apart; the term hands each patch's part to the sink as one outer product
+// (JacobianSink::add_outer, coefficient -U''_n / V0_n, vector g_n) and reports the pairs through
+// add_couplings so that a sink that writes them out has them preallocated; the direct solver keeps
+// each as a border row instead (solver/time/petsc/bordered_operator.hpp). df/dv = 0.
 // Summing the nodal volumes gives the total volume, so the total volume change is exact; what is
 // relaxed is only where inside a patch the volume may move.
 #include <memory>

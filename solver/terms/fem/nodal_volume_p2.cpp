@@ -65,6 +65,7 @@ class QuadraticNodalVolumeTerm final : public NodalConstraintTerm {
   void add_forces(const StateView& s, Eigen::Matrix3Xd& f) const override;
   void add_jacobian(const StateView& s, JacobianSink& sink) const override;
   void add_couplings(std::vector<std::vector<Index>>& adj) const override;
+  [[nodiscard]] bool couplings_through_outer() const override { return true; }
   /// `volumetric_stress` per element: the mean of p_e over the element, sum_c U'_c v_ec / V_e.
   void add_cell_fields(const StateView& s, std::size_t element_count,
                        std::map<std::string, Eigen::VectorXd>& fields) const override;
@@ -189,10 +190,10 @@ void QuadraticNodalVolumeTerm::add_jacobian(const StateView& s, JacobianSink& si
       }
     }
   }
-  std::vector<Eigen::Vector3d> g;
+  Eigen::Matrix3Xd g;
   for (std::size_t c = 0; c < volume0_.size(); ++c) {
     const std::size_t p0 = patch_start_[c], m = patch_start_[c + 1] - p0;
-    g.assign(m, Eigen::Vector3d::Zero());
+    g.setZero(3, static_cast<Eigen::Index>(m));
     for (std::size_t j = around_start_[c]; j < around_start_[c + 1]; ++j) {
       const std::size_t e = around_[j];
       const auto lc = static_cast<std::size_t>(std::find(corner_[e].begin(), corner_[e].end(), static_cast<int>(c)) -
@@ -202,15 +203,11 @@ void QuadraticNodalVolumeTerm::add_jacobian(const StateView& s, JacobianSink& si
                                                                   patch_.begin() + static_cast<std::ptrdiff_t>(p0 + m),
                                                                   elements_[e][a]) -
                                                  (patch_.begin() + static_cast<std::ptrdiff_t>(p0)));
-        g[at] += dv[e][lc].col(static_cast<Eigen::Index>(a));
+        g.col(static_cast<Eigen::Index>(at)) += dv[e][lc].col(static_cast<Eigen::Index>(a));
       }
     }
-    const double w = penalty_.curvature(jc[c], r) / volume0_[c];
-    for (std::size_t p = 0; p < m; ++p) {
-      for (std::size_t q = 0; q < m; ++q) {
-        sink.add_block(patch_[p0 + p], patch_[p0 + q], -w * g[p] * g[q].transpose(), zero);
-      }
-    }
+    // -(U''_c / V0_c) g_c g_c^T on the corner's patch, as one outer product (JacobianSink::add_outer).
+    sink.add_outer(&patch_[p0], static_cast<int>(m), g.data(), -penalty_.curvature(jc[c], r) / volume0_[c]);
   }
 }
 

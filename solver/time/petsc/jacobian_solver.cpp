@@ -2,11 +2,13 @@
 
 #include <petscksp.h>
 
+#include <algorithm>
 #include <cstring>
 #include <exception>
 
 #include "common/error.hpp"
 #include "solver/core/stop_flag.hpp"
+#include "solver/time/petsc/bordered_operator.hpp"
 #include "solver/time/petsc/petsc_env.hpp"
 #include "solver/time/petsc/petsc_matrix.hpp"
 
@@ -33,13 +35,16 @@ void default_option(const char* name, const char* value) {
 /// Below this many unknowns the default linear solver is a direct LU factorisation.
 constexpr PetscInt kDirectSolveMaxDofs = 60000;
 
-/// This rank's slice of the whole vector m (3 x n, replicated on every rank) into v.
+/// This rank's slice of the whole vector m (3 x n, replicated on every rank) into v. A longer v
+/// (one rank, the bordered operator's [u; q]) gets zeros after m's 3n values.
 void to_vec(const Eigen::Matrix3Xd& m, Vec v) {
   PetscInt lo = 0, hi = 0;
   petsc_check(VecGetOwnershipRange(v, &lo, &hi), "VecGetOwnershipRange");
   PetscScalar* a = nullptr;
   petsc_check(VecGetArray(v, &a), "VecGetArray");
-  std::memcpy(a, m.data() + lo, sizeof(double) * static_cast<std::size_t>(hi - lo));
+  const auto count = static_cast<std::size_t>(std::min<PetscInt>(hi, static_cast<PetscInt>(m.size())) - lo);
+  std::memcpy(a, m.data() + lo, sizeof(double) * count);
+  std::fill(a + count, a + (hi - lo), 0.0);
   petsc_check(VecRestoreArray(v, &a), "VecRestoreArray");
 }
 
@@ -87,7 +92,7 @@ void require_parallel_factorisation(PC pc, const char* package) {
 }  // namespace
 
 struct JacobianSolver::Petsc {
-  Petsc(const preprocess::Mesh& mesh, const std::vector<std::unique_ptr<ForceTerm>>& terms) : a(mesh, &terms) {}
+  Petsc() = default;
   ~Petsc() {
     if (all != nullptr) VecScatterDestroy(&all);
     if (whole != nullptr) VecDestroy(&whole);
@@ -98,17 +103,24 @@ struct JacobianSolver::Petsc {
   Petsc(const Petsc&) = delete;
   Petsc& operator=(const Petsc&) = delete;
 
-  /// The KSP on `a`: LU for small systems, GMRES + GAMG above; GAMG, whoever chose it, gets the
-  /// coordinates x_ref.
-  void configure(const Eigen::Matrix3Xd& x_ref, double ksp_rtol, int ksp_max_it);
+  /// The KSP and the operator: LU for small systems, GMRES + GAMG above; GAMG, whoever chose it,
+  /// gets the coordinates x_ref; a factorisation on one rank of terms with outer products
+  /// (ForceTerm::couplings_through_outer) factorises the bordered operator, unless the option
+  /// -adamss_bordered false says not to.
+  void configure(const Model& model, double ksp_rtol, int ksp_max_it);
+  /// The matrix the KSP solves with: the bordered operator, or `a`.
+  [[nodiscard]] Mat op() const { return border ? border->mat() : a->mat(); }
+  /// u and b sized for op() (made again when the bordered operator changed its size).
+  void make_vectors();
   /// KSP solve of a u = b with the current matrix; adds the Krylov iterations to `its`. A matrix
   /// changed since the last solve (`fresh`) is set up first (factorised), timed apart.
   bool solve(int& its, TimeSplit& times);
   /// The fixed coordinates eliminated from `a` (with x and b: BlockMatrix::eliminate's prescribed
   /// values), timed with the assembly; the KSP sets the changed matrix up at the next solve.
-  void eliminate(TimeSplit& times, Vec x, Vec b);
+  void eliminate(TimeSplit& times, Vec x, Vec rhs);
 
-  BlockMatrix a;
+  std::unique_ptr<BorderedOperator> border;  ///< the bordered form of `a`, when chosen (configure)
+  std::unique_ptr<BlockMatrix> a;
   std::vector<PetscInt> fixed;
   KSP ksp = nullptr;
   Vec b = nullptr, u = nullptr;
@@ -117,14 +129,11 @@ struct JacobianSolver::Petsc {
   bool fresh = true;         ///< `a` assembled or eliminated since the KSP last set it up
 };
 
-void JacobianSolver::Petsc::configure(const Eigen::Matrix3Xd& x_ref, double ksp_rtol, int ksp_max_it) {
-  petsc_check(MatCreateVecs(a.mat(), &u, &b), "MatCreateVecs");
-  if (mpi_size() > 1) petsc_check(VecScatterCreateToAll(u, &all, &whole), "VecScatterCreateToAll");
+void JacobianSolver::Petsc::configure(const Model& model, double ksp_rtol, int ksp_max_it) {
   petsc_check(KSPCreate(PETSC_COMM_WORLD, &ksp), "KSPCreate");
-  petsc_check(KSPSetOperators(ksp, a.mat(), a.mat()), "KSPSetOperators");  // PCSetCoordinates needs them
   PC pc = nullptr;
   petsc_check(KSPGetPC(ksp, &pc), "KSPGetPC");
-  if (a.size() <= kDirectSolveMaxDofs) {
+  if (3 * static_cast<PetscInt>(model.node_count()) <= kDirectSolveMaxDofs) {
     petsc_check(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
     petsc_check(PCSetType(pc, PCLU), "PCSetType");
     // MUMPS when PETSc has it: its own fill-reducing ordering (chosen by MUMPS; Debian's MUMPS
@@ -132,7 +141,7 @@ void JacobianSolver::Petsc::configure(const Eigen::Matrix3Xd& x_ref, double ksp_
     // dissection needed 2x the time per factorisation on Land problem 1 (40 x 4 x 4 hexahedra: 37 ms -> 18 ms,
     // -log_view, with OpenBLAS as the BLAS).
     PetscBool mumps = PETSC_FALSE;
-    petsc_check(MatGetFactorAvailable(a.mat(), MATSOLVERMUMPS, MAT_FACTOR_LU, &mumps), "MatGetFactorAvailable");
+    petsc_check(PetscHasExternalPackage("mumps", &mumps), "PetscHasExternalPackage");
     if (mumps == PETSC_TRUE) petsc_check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
   } else {
     petsc_check(KSPSetType(ksp, KSPGMRES), "KSPSetType");
@@ -145,7 +154,20 @@ void JacobianSolver::Petsc::configure(const Eigen::Matrix3Xd& x_ref, double ksp_
               "KSPSetConvergenceTest");
   petsc_check(KSPSetFromOptions(ksp), "KSPSetFromOptions");
   const char* package = factorisation_package(pc);
-  if (all != nullptr) require_parallel_factorisation(pc, package);
+  if (mpi_size() > 1) require_parallel_factorisation(pc, package);
+  // The bordered operator (bordered_operator.hpp) for a factorisation on one rank: the nodal volume
+  // terms' patches then add one border row each instead of their two-ring blocks.
+  PetscBool bordered = PETSC_TRUE;
+  petsc_check(PetscOptionsGetBool(nullptr, nullptr, "-adamss_bordered", &bordered, nullptr), "PetscOptionsGetBool");
+  const bool outer = std::any_of(model.terms.begin(), model.terms.end(),
+                                 [](const std::unique_ptr<ForceTerm>& t) { return t->couplings_through_outer(); });
+  if (bordered == PETSC_TRUE && outer && package != nullptr && mpi_size() == 1)
+    border = std::make_unique<BorderedOperator>();
+  a = std::make_unique<BlockMatrix>(*model.mesh, &model.terms, border.get());
+  if (!border) {
+    make_vectors();
+    petsc_check(KSPSetOperators(ksp, a->mat(), a->mat()), "KSPSetOperators");  // PCSetCoordinates needs them
+  }
   // A MUMPS factorisation, chosen here or by the user's options (whose own value wins; MUMPS reads
   // it when it first factorises): MUMPS sizes its workspace from the analysis plus ICNTL(14) per
   // cent (default 20) for the pivots that numerical pivoting delays. Near a loss of stability more
@@ -161,9 +183,22 @@ void JacobianSolver::Petsc::configure(const Eigen::Matrix3Xd& x_ref, double ksp_
   PetscBool gamg = PETSC_FALSE;
   petsc_check(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCGAMG, &gamg), "PetscObjectTypeCompare");
   if (gamg == PETSC_TRUE) {
-    Eigen::Matrix3Xd xr = x_ref.middleCols(a.owned_begin(), a.owned_end() - a.owned_begin());
+    Eigen::Matrix3Xd xr = model.x_ref.middleCols(a->owned_begin(), a->owned_end() - a->owned_begin());
     petsc_check(PCSetCoordinates(pc, 3, static_cast<PetscInt>(xr.cols()), xr.data()), "PCSetCoordinates");
   }
+}
+
+void JacobianSolver::Petsc::make_vectors() {
+  if (u != nullptr) {
+    PetscInt have = 0, want = 0;
+    petsc_check(VecGetSize(u, &have), "VecGetSize");
+    petsc_check(MatGetSize(op(), &want, nullptr), "MatGetSize");
+    if (have == want) return;
+    petsc_check(VecDestroy(&u), "VecDestroy");
+    petsc_check(VecDestroy(&b), "VecDestroy");
+  }
+  petsc_check(MatCreateVecs(op(), &u, &b), "MatCreateVecs");
+  if (mpi_size() > 1 && all == nullptr) petsc_check(VecScatterCreateToAll(u, &all, &whole), "VecScatterCreateToAll");
 }
 
 bool JacobianSolver::Petsc::solve(int& its, TimeSplit& times) {
@@ -171,7 +206,7 @@ bool JacobianSolver::Petsc::solve(int& its, TimeSplit& times) {
     // KSPSetUp runs PCSetUp for the new matrix (the LU factorisation, or the AMG hierarchy), which
     // KSPSolve would otherwise do inside the first solve; KSPSolve then finds it up to date.
     const ScopedTimer timer(times.factorisations);
-    petsc_check(KSPSetOperators(ksp, a.mat(), a.mat()), "KSPSetOperators");
+    petsc_check(KSPSetOperators(ksp, op(), op()), "KSPSetOperators");
     petsc_check(KSPSetUp(ksp), "KSPSetUp");
     fresh = false;
   }
@@ -186,11 +221,15 @@ bool JacobianSolver::Petsc::solve(int& its, TimeSplit& times) {
 }
 
 JacobianSolver::JacobianSolver(const Model& model, const std::string& petsc_options, double ksp_rtol, int ksp_max_it)
-    : petsc_(std::make_unique<Petsc>(*model.mesh, model.terms)) {
+    : petsc_(std::make_unique<Petsc>()) {
   ensure_petsc(petsc_options);
   petsc_->fixed = constrained_dofs(model.constraints.mask());
   fixed_.assign(petsc_->fixed.begin(), petsc_->fixed.end());
-  petsc_->configure(model.x_ref, ksp_rtol, ksp_max_it);
+  petsc_->configure(model, ksp_rtol, ksp_max_it);
+}
+
+std::size_t JacobianSolver::border_rows() const {
+  return petsc_->border ? petsc_->border->rows() : 0;
 }
 
 JacobianSolver::~JacobianSolver() = default;
@@ -198,7 +237,7 @@ JacobianSolver::~JacobianSolver() = default;
 void JacobianSolver::assemble(const std::vector<std::unique_ptr<ForceTerm>>& terms, const StateView& at, double cx,
                               double cv, const Eigen::VectorXd* mass) {
   const ScopedTimer timer(times_.jacobians);
-  BlockMatrix& a = petsc_->a;
+  BlockMatrix& a = *petsc_->a;
   petsc_->fresh = true;
   a.zero();
   std::exception_ptr error;  // several ranks: a bad element of one rank's rows ends every rank's assembly
@@ -210,12 +249,21 @@ void JacobianSolver::assemble(const std::vector<std::unique_ptr<ForceTerm>>& ter
   }
   agree_on_error(error);
   a.assemble();
+  if (petsc_->border) {
+    petsc_->border->fill(a.mat());
+    petsc_->make_vectors();
+  }
 }
 
-void JacobianSolver::Petsc::eliminate(TimeSplit& times, Vec x, Vec b) {
+void JacobianSolver::Petsc::eliminate(TimeSplit& times, Vec x, Vec rhs) {
   const ScopedTimer timer(times.jacobians, false);  // part of the assembly just counted
   fresh = true;
-  a.eliminate(fixed, x, b);
+  if (border) {
+    petsc_check(MatZeroRowsColumns(border->mat(), static_cast<PetscInt>(fixed.size()), fixed.data(), 1.0, x, rhs),
+                "MatZeroRowsColumns");
+  } else {
+    a->eliminate(fixed, x, rhs);
+  }
 }
 
 void JacobianSolver::eliminate() {

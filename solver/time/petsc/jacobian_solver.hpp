@@ -14,6 +14,7 @@
 // (-ksp_type, -pc_type, -ksp_monitor, ...) overrides them (KSPSetFromOptions). The KSP starts
 // every solve from a zero initial guess.
 #include <Eigen/Core>
+#include <cstddef>
 #include <memory>
 #include <string>
 #include <vector>
@@ -47,6 +48,10 @@ class JacobianSolver {
 
   /// The fixed and controlled coordinates (3 i + c), ascending.
   [[nodiscard]] const std::vector<Eigen::Index>& fixed_dofs() const { return fixed_; }
+  /// Border rows of the bordered operator the direct solver factorises (bordered_operator.hpp;
+  /// one per nodal volume constraint) as of the last assembly; 0 before the first one, and when it
+  /// factorises A itself or solves iteratively.
+  [[nodiscard]] std::size_t border_rows() const;
   /// Krylov iterations summed over the solves since the last reset_iterations().
   [[nodiscard]] int iterations() const { return iterations_; }
   void reset_iterations() { iterations_ = 0; }

@@ -1,9 +1,11 @@
 #include "solver/time/petsc/petsc_matrix.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 #include <string>
 
 #include "common/error.hpp"
+#include "solver/time/petsc/bordered_operator.hpp"
 #include "solver/time/petsc/petsc_env.hpp"
 
 namespace adamss::solver {
@@ -49,6 +51,13 @@ class BlockMatrix::Sink final : public JacobianSink {
           }
         }
       }
+    }
+  }
+  void add_outer(const Index* nodes, int n, const double* g, double c) override {
+    if (m_.border_ == nullptr) {
+      JacobianSink::add_outer(nodes, n, g, c);
+    } else {
+      m_.border_->add(nodes, n, g, cx * c);
     }
   }
   /// A new assembly begins: the stencils are expected again in the same order.
@@ -116,12 +125,15 @@ class BlockMatrix::Sink final : public JacobianSink {
   std::size_t next_ = 0;           ///< the next call's index in cached_
 };
 
-BlockMatrix::BlockMatrix(const preprocess::Mesh& mesh, const std::vector<std::unique_ptr<ForceTerm>>* terms)
-    : n_(static_cast<PetscInt>(mesh.node_count())) {
+BlockMatrix::BlockMatrix(const preprocess::Mesh& mesh, const std::vector<std::unique_ptr<ForceTerm>>* terms,
+                         BorderedOperator* border)
+    : n_(static_cast<PetscInt>(mesh.node_count())), border_(border) {
   const OwnedNodes mine = particle_split(static_cast<preprocess::Index>(n_));
   n0_ = mine.begin;
   nloc_ = mine.end - mine.begin;
   distributed_ = mpi_size() > 1;
+  if (distributed_ && border_ != nullptr)
+    throw std::logic_error("BlockMatrix: the bordered operator needs one MPI rank");
   // Node adjacency from the elements (sorted, unique), for the block preallocation; only the
   // owned rows are kept.
   const int k = preprocess::nodes_per_element(mesh.type);
@@ -134,7 +146,9 @@ BlockMatrix::BlockMatrix(const preprocess::Mesh& mesh, const std::vector<std::un
     }
   }
   if (terms != nullptr) {
-    for (const auto& t : *terms) t->add_couplings(adj);
+    for (const auto& t : *terms) {
+      if (border_ == nullptr || !t->couplings_through_outer()) t->add_couplings(adj);
+    }
   }
   std::vector<PetscInt> dnz(static_cast<std::size_t>(nloc_)), onz(static_cast<std::size_t>(nloc_));
   brow_.assign(static_cast<std::size_t>(nloc_) + 1, 0);
@@ -247,6 +261,7 @@ PetscScalar* BlockMatrix::values() {
 
 void BlockMatrix::zero() {
   sink_->restart();
+  if (border_ != nullptr) border_->begin();
   staged_ = distributed_;
   PetscScalar* v = values();
   std::fill(v, v + 9 * static_cast<std::size_t>(brow_.back()), 0.0);

@@ -43,11 +43,17 @@
 
 namespace adamss::solver {
 
+class BorderedOperator;  // solver/time/petsc/bordered_operator.hpp
+
 class BlockMatrix {
  public:
   /// The pattern: pairs of particles that share an element of `mesh`, plus the pairs each of
-  /// `terms` adds through ForceTerm::add_couplings (when given).
-  explicit BlockMatrix(const preprocess::Mesh& mesh, const std::vector<std::unique_ptr<ForceTerm>>* terms = nullptr);
+  /// `terms` adds through ForceTerm::add_couplings (when given). With `border` (one rank), the
+  /// outer products the terms hand the sink (JacobianSink::add_outer) go to it instead of into the
+  /// matrix, and the couplings of the terms that make theirs only that way
+  /// (ForceTerm::couplings_through_outer) stay out of the pattern (bordered_operator.hpp).
+  explicit BlockMatrix(const preprocess::Mesh& mesh, const std::vector<std::unique_ptr<ForceTerm>>* terms = nullptr,
+                       BorderedOperator* border = nullptr);
   ~BlockMatrix();
   BlockMatrix(const BlockMatrix&) = delete;
   BlockMatrix& operator=(const BlockMatrix&) = delete;
@@ -94,6 +100,7 @@ class BlockMatrix {
   std::vector<PetscInt> scol_;       ///< several ranks: scalar columns of each block row (3 per block)
   PetscScalar* vals_ = nullptr;      ///< the value array while open (zero() .. assemble())
   std::unique_ptr<Sink> sink_;
+  BorderedOperator* border_ = nullptr;  ///< receives the outer products, when given
 };
 
 /// The degrees of freedom (3 i + c) that carry a boundary condition.
