@@ -382,6 +382,8 @@ RunOutcome RunLoop::finish(State& s) {
   out.time_split = sys_.times();
   out.time_split += integ_->linear_times();
   out.loop_seconds = std::chrono::duration<double>(Clock::now() - loop0_).count();
+  if (const std::string linear = integ_->linear_solver(); !linear.empty())
+    writer_.log().line("linear solver: " + linear);
   writer_.log().line(time_split_text(out.time_split, out.loop_seconds));
   out.resident_mb.final = resident_mb();
   out.resident_mb.peak = peak_resident_mb();

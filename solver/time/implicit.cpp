@@ -56,6 +56,10 @@ ImplicitIntegrator::ImplicitIntegrator(System& system, Kind kind, const Implicit
 
 ImplicitIntegrator::~ImplicitIntegrator() = default;
 
+std::string ImplicitIntegrator::linear_solver() const {
+  return linear_->describe();
+}
+
 int ImplicitIntegrator::effort(const NewtonRecord& record) const {
   return set_.bfgs_max_updates > 0 || set_.bordered_max_reuses > 0 ? record.reformations : record.iterations;
 }

@@ -123,6 +123,7 @@ class ImplicitIntegrator : public Integrator {
   void save_state(StateArchive& archive) const override;
   void load_state(const StateArchive& archive) override;
   [[nodiscard]] TimeSplit linear_times() const override;
+  [[nodiscard]] std::string linear_solver() const override;
 
   /// Residual 2-norms of the Newton iterations of the last attempt (for tests and logs).
   [[nodiscard]] const std::vector<double>& residual_history() const { return record_.residuals; }

@@ -105,6 +105,9 @@ class Integrator {
   /// The wall time of the linear algebra so far: Jacobian assemblies, factorisations and solves
   /// (solver/core/time_split.hpp; forces are System::times()'s). None for the explicit schemes.
   [[nodiscard]] virtual TimeSplit linear_times() const { return {}; }
+  /// What solves the linear systems ("GMRES + gamg, 103 428 unknowns"), for the run log; empty for
+  /// the explicit schemes.
+  [[nodiscard]] virtual std::string linear_solver() const { return {}; }
 };
 
 /// Settings of the adaptive ABM3 scheme (sec. 2.5.4).

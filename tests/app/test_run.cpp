@@ -230,4 +230,9 @@ TEST(Run, TheTimeSplitCountsTheSolversWork) {
   std::stringstream text;
   text << log.rdbuf();
   EXPECT_NE(text.str().find("time split: forces "), std::string::npos) << text.str();
+  EXPECT_EQ(text.str().find("linear solver:"), std::string::npos) << "an explicit run solves no linear system";
+  std::ifstream static_log(dir / "static0" / "out" / "run.log");
+  std::stringstream static_text;
+  static_text << static_log.rdbuf();
+  EXPECT_NE(static_text.str().find("linear solver: preonly + lu (mumps), "), std::string::npos) << static_text.str();
 }

@@ -228,6 +228,20 @@ JacobianSolver::JacobianSolver(const Model& model, const std::string& petsc_opti
   petsc_->configure(model, ksp_rtol, ksp_max_it);
 }
 
+std::string JacobianSolver::describe() const {
+  KSPType ksp = nullptr;
+  petsc_check(KSPGetType(petsc_->ksp, &ksp), "KSPGetType");
+  PC pc = nullptr;
+  petsc_check(KSPGetPC(petsc_->ksp, &pc), "KSPGetPC");
+  PCType pct = nullptr;
+  petsc_check(PCGetType(pc, &pct), "PCGetType");
+  std::string out = std::string(ksp != nullptr ? ksp : "?") + " + " + (pct != nullptr ? pct : "?");
+  if (const char* package = factorisation_package(pc)) out += std::string(" (") + package + ")";
+  const std::string n = std::to_string(petsc_->a->size());
+  if (petsc_->border) return out + ", bordered operator: " + n + " + " + std::to_string(border_rows()) + " unknowns";
+  return out + ", " + n + " unknowns";
+}
+
 std::size_t JacobianSolver::border_rows() const {
   return petsc_->border ? petsc_->border->rows() : 0;
 }

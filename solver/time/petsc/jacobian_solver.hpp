@@ -48,6 +48,9 @@ class JacobianSolver {
 
   /// The fixed and controlled coordinates (3 i + c), ascending.
   [[nodiscard]] const std::vector<Eigen::Index>& fixed_dofs() const { return fixed_; }
+  /// The KSP and preconditioner types, the factorisation package and the system's size, e.g.
+  /// "preonly + lu (mumps), bordered operator: 75885 + 25295 unknowns" (the run log's line).
+  [[nodiscard]] std::string describe() const;
   /// Border rows of the bordered operator the direct solver factorises (bordered_operator.hpp;
   /// one per nodal volume constraint) as of the last assembly; 0 before the first one, and when it
   /// factorises A itself or solves iteratively.

@@ -194,7 +194,7 @@ TEST(Scene, ImpossibleValuesAndWrongUnits) {
     EXPECT_NE(test::scene_error(replaced(on, "type: static", "type: backward_euler_newton"))
                   .find("integrator." + key + ": only the static integrator"),
               std::string::npos);
-    for (const std::string bad : {key + ": -1", key + ": " + k.too_big}) {
+    for (const std::string& bad : {key + ": -1", key + ": " + k.too_big}) {
       EXPECT_NE(
           test::scene_error(replaced(on, key + ": 8", bad)).find("integrator." + key + ": must be in 0 ... " + k.range),
           std::string::npos)
