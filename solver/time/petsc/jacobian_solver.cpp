@@ -263,8 +263,10 @@ void JacobianSolver::assemble(const std::vector<std::unique_ptr<ForceTerm>>& ter
   }
   agree_on_error(error);
   a.assemble();
-  if (petsc_->border) {
-    petsc_->border->fill(a.mat());
+  if (petsc_->border && petsc_->border->fill(a.mat())) {
+    // A new bordered matrix (the first, or other outer products: possibly another size): the KSP
+    // forgets the old one's set-up, and the vectors follow its size.
+    petsc_check(KSPReset(petsc_->ksp), "KSPReset");
     petsc_->make_vectors();
   }
 }

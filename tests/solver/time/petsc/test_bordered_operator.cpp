@@ -8,6 +8,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "force_term_harness.hpp"
 #include "scene_fixtures.hpp"
@@ -89,7 +90,66 @@ void check_same_solutions(const std::string& order) {
   }
 }
 
+/// A test term: c g g^T over a set of nodes that changes between assemblies (`first` or not), so the
+/// bordered matrix must be rebuilt with another number of border rows.
+class SwitchingOuter final : public solver::ForceTerm {
+ public:
+  [[nodiscard]] std::string name() const override { return "switching_outer"; }
+  [[nodiscard]] bool has_energy() const override { return false; }
+  [[nodiscard]] bool has_jacobian() const override { return true; }
+  [[nodiscard]] double energy(const solver::StateView& /*s*/) const override { return 0.0; }
+  void add_forces(const solver::StateView& /*s*/, Eigen::Matrix3Xd& /*f*/) const override {}
+  void add_jacobian(const solver::StateView& /*s*/, solver::JacobianSink& sink) const override {
+    const std::vector<preprocess::Index> a{3, 17, 30, 44}, b{5, 9, 40}, c{12, 20, 33, 41, 44};
+    const std::vector<double> g = {1.0, -2.0, 0.5, 0.3, 1.1, -0.7, 2.0, 0.1, -1.3, 0.6, 0.9, -0.4, 1.5, 0.2, -0.8};
+    if (first) {
+      sink.add_outer(a.data(), 4, g.data(), -50.0);
+      sink.add_outer(b.data(), 3, g.data() + 3, -20.0);
+    } else {
+      sink.add_outer(c.data(), 5, g.data(), -80.0);
+    }
+  }
+  void add_couplings(std::vector<std::vector<preprocess::Index>>& adj) const override {
+    std::vector<preprocess::Index> all{3, 5, 9, 12, 17, 20, 30, 33, 40, 41, 44};
+    for (const auto i : all)
+      adj[static_cast<std::size_t>(i)].insert(adj[static_cast<std::size_t>(i)].end(), all.begin(), all.end());
+  }
+  [[nodiscard]] bool couplings_through_outer() const override { return true; }
+  bool first = true;
+};
+
 }  // namespace
+
+TEST(BorderedOperator, IsRebuiltWhenTheOuterProductsChange) {
+  auto loaded = test::load_scene(test::replaced(kScene, "ORDER", "1"));
+  solver::Model& model = loaded.model;
+  auto* term = new SwitchingOuter;
+  model.terms.push_back(std::unique_ptr<solver::ForceTerm>(term));
+  const Eigen::Matrix3Xd x = test::perturbed(model.mesh->nodes, 1e-3, 0.05);
+  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, x.cols());
+  const solver::StateView at{x, v, 1.0};
+  solver::JacobianSolver bordered(model, "", 1e-12, 100);
+  std::unique_ptr<solver::JacobianSolver> plain;
+  {
+    const TwoRing two_ring;
+    plain = std::make_unique<solver::JacobianSolver>(model, "", 1e-12, 100);
+  }
+  Eigen::Matrix3Xd rhs = test::perturbed(Eigen::Matrix3Xd::Zero(3, x.cols()), 1.0, 1.0, 11);
+  solver::zero_dofs(rhs, bordered.fixed_dofs());
+  for (const bool first : {true, false, true}) {
+    SCOPED_TRACE(first ? "two products" : "one product");
+    term->first = first;
+    Eigen::Matrix3Xd ub, up;
+    for (solver::JacobianSolver* s : {&bordered, plain.get()}) {
+      s->assemble(model.terms, at, -1.0, 0.0);
+      s->eliminate();
+    }
+    EXPECT_EQ(bordered.border_rows(), 45U + (first ? 2U : 1U));  // the nodal volume's 45 and the term's
+    ASSERT_TRUE(bordered.solve(rhs, ub));
+    ASSERT_TRUE(plain->solve(rhs, up));
+    EXPECT_LT(relative(ub, up), 1e-9);
+  }
+}
 
 TEST(BorderedOperator, LinearTetrahedraSolveAsTheTwoRingOperator) {
   check_same_solutions("1");
