@@ -1,6 +1,5 @@
 #include "solver/time/petsc/petsc_env.hpp"
 
-#include <dlfcn.h>
 #include <omp.h>
 #include <unistd.h>
 
@@ -66,22 +65,11 @@ void share_cores_between_ranks() {
   omp_set_num_threads(std::max(1, bound ? procs : procs / local));
 }
 
-/// Several ranks: the threaded OpenBLAS behind MUMPS (libopenblas0-pthread, scripts/install-deps)
-/// takes as many threads as the rank's OpenMP loops. On its own it starts one per core it sees, so
-/// unbound ranks (--oversubscribe) would each spin two threads on the two cores. Found at run time:
-/// another BLAS (no such symbol) is left alone.
-void share_blas_threads() {
-  using SetThreads = void (*)(int);
-  if (auto* set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads")))
-    set(omp_get_max_threads());
-}
-
 void start_ranks() {
   PetscMPIInt size = 1;
   MPI_Comm_size(PETSC_COMM_WORLD, &size);
   if (size <= 1) return;
   share_cores_between_ranks();
-  share_blas_threads();
   set_stop_agreement(any_rank_stops);
 }
 /// True when MPI is up: PETSc running, or started here when a launcher started the process (the
