@@ -61,11 +61,11 @@ class NodalVolumeTerm final : public NodalConstraintTerm {
   std::vector<std::size_t> mesh_element_;       ///< mesh element index of each element
   std::vector<Index> nodes_;                    ///< global index of each local node (V0_n: volume0_)
   // Node patches, CSR over local nodes: the elements around node n are
-  // around_[around_start_[n] .. around_start_[n + 1]); the patch nodes (sorted local indices)
-  // patch_[patch_start_[n] .. patch_start_[n + 1]); place_[j][a] is where node a of element
-  // around_[j] sits in node n's patch.
+  // around_[around_start_[n] .. around_start_[n + 1]); the patch nodes (global indices, in the
+  // order of their local ones) patch_[patch_start_[n] .. patch_start_[n + 1]); place_[j][a] is
+  // where node a of element around_[j] sits in node n's patch.
   std::vector<std::size_t> around_start_, around_, patch_start_;
-  std::vector<int> patch_;
+  std::vector<Index> patch_;
   std::vector<std::array<int, K>> place_;
   std::vector<double> element_volume0_;       ///< V0_e (m^3)
   std::vector<std::array<double, K>> share_;  ///< w_ea: node a's share of V_e (1/K; see set_boundary_mask)
@@ -145,7 +145,7 @@ void NodalVolumeTerm<K>::build_patches() {
             static_cast<int>(std::lower_bound(members.begin(), members.end(), m) - members.begin());
       }
     }
-    patch_.insert(patch_.end(), members.begin(), members.end());
+    for (const int m : members) patch_.push_back(nodes_[static_cast<std::size_t>(m)]);
     patch_start_[n + 1] = patch_.size();
   }
 }
@@ -208,13 +208,10 @@ void NodalVolumeTerm<K>::add_jacobian(const StateView& s, JacobianSink& sink) co
   }
   // -(U''_n / V0_n) g_n g_n^T on each node's patch, as one outer product (JacobianSink::add_outer).
   Eigen::Matrix3Xd g;
-  std::vector<Index> patch;
   for (std::size_t n = 0; n < nodes_.size(); ++n) {
     if (!active(n)) continue;  // a released constraint (constrain_fixed_nodes: false)
     const std::size_t p0 = patch_start_[n], m = patch_start_[n + 1] - p0;
     g.setZero(3, static_cast<Eigen::Index>(m));
-    patch.resize(m);
-    for (std::size_t p = 0; p < m; ++p) patch[p] = nodes_[static_cast<std::size_t>(patch_[p0 + p])];
     for (std::size_t j = around_start_[n]; j < around_start_[n + 1]; ++j) {
       const std::size_t e = around_[j];
       const auto& le = local_[e];
@@ -222,7 +219,7 @@ void NodalVolumeTerm<K>::add_jacobian(const StateView& s, JacobianSink& sink) co
           share_[e][static_cast<std::size_t>(std::find(le.begin(), le.end(), static_cast<int>(n)) - le.begin())];
       for (int a = 0; a < K; ++a) g.col(place_[j][static_cast<std::size_t>(a)]) += wn * dv[e].col(a);
     }
-    sink.add_outer(patch.data(), static_cast<int>(m), g.data(), -penalty_.curvature(jn[n], r) / volume0_[n]);
+    sink.add_outer(&patch_[p0], static_cast<int>(m), g.data(), -penalty_.curvature(jn[n], r) / volume0_[n]);
   }
 }
 
@@ -262,9 +259,9 @@ template <int K>
 void NodalVolumeTerm<K>::add_couplings(std::vector<std::vector<Index>>& adj) const {
   for (std::size_t n = 0; n < nodes_.size(); ++n) {
     for (std::size_t p = patch_start_[n]; p < patch_start_[n + 1]; ++p) {
-      auto& row = adj[static_cast<std::size_t>(nodes_[static_cast<std::size_t>(patch_[p])])];
-      for (std::size_t q = patch_start_[n]; q < patch_start_[n + 1]; ++q)
-        row.push_back(nodes_[static_cast<std::size_t>(patch_[q])]);
+      auto& row = adj[static_cast<std::size_t>(patch_[p])];
+      row.insert(row.end(), patch_.begin() + static_cast<std::ptrdiff_t>(patch_start_[n]),
+                 patch_.begin() + static_cast<std::ptrdiff_t>(patch_start_[n + 1]));
     }
   }
 }

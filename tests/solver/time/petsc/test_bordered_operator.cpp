@@ -8,6 +8,7 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "force_term_harness.hpp"
@@ -35,13 +36,19 @@ integrator: {type: static, dt: 1 s}
 run: {t_end: 1 s}
 )";
 
-/// A two-ring solver: the option read when a JacobianSolver is configured.
-struct TwoRing {
-  TwoRing() { PetscOptionsSetValue(nullptr, "-adamss_bordered", "false"); }
-  ~TwoRing() { PetscOptionsClearValue(nullptr, "-adamss_bordered"); }
-  TwoRing(const TwoRing&) = delete;
-  TwoRing& operator=(const TwoRing&) = delete;
-};
+/// A solver of `model` on the two-ring matrix: -adamss_bordered false while it is configured (PETSc
+/// runs already: the caller built a bordered solver first).
+std::unique_ptr<solver::JacobianSolver> two_ring_solver(const solver::Model& model) {
+  PetscOptionsSetValue(nullptr, "-adamss_bordered", "false");
+  auto plain = std::make_unique<solver::JacobianSolver>(model, "", 1e-12, 100);
+  PetscOptionsClearValue(nullptr, "-adamss_bordered");
+  return plain;
+}
+
+/// The model's reference positions, randomly moved by 5 % of 1 mm.
+Eigen::Matrix3Xd deformed(const solver::Model& model) {
+  return test::perturbed(model.mesh->nodes, 1e-3, 0.05);
+}
 
 /// Relative 2-norm difference of two solutions.
 double relative(const Eigen::Matrix3Xd& a, const Eigen::Matrix3Xd& b) {
@@ -51,15 +58,11 @@ double relative(const Eigen::Matrix3Xd& a, const Eigen::Matrix3Xd& b) {
 void check_same_solutions(const std::string& order) {
   const auto loaded = test::load_scene(test::replaced(kScene, "ORDER", order));
   const solver::Model& model = loaded.model;
-  const Eigen::Matrix3Xd x = test::perturbed(model.mesh->nodes, 1e-3, 0.05);
+  const Eigen::Matrix3Xd x = deformed(model);
   const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, x.cols());
   const solver::StateView at{x, v, 1.0};
   solver::JacobianSolver bordered(model, "", 1e-12, 100);
-  std::unique_ptr<solver::JacobianSolver> plain;
-  {
-    const TwoRing two_ring;
-    plain = std::make_unique<solver::JacobianSolver>(model, "", 1e-12, 100);
-  }
+  const auto plain = two_ring_solver(model);
   EXPECT_EQ(plain->border_rows(), 0U);
   Eigen::Matrix3Xd rhs = test::perturbed(Eigen::Matrix3Xd::Zero(3, x.cols()), 1.0, 1.0, 7);
   solver::zero_dofs(rhs, bordered.fixed_dofs());
@@ -123,17 +126,14 @@ class SwitchingOuter final : public solver::ForceTerm {
 TEST(BorderedOperator, IsRebuiltWhenTheOuterProductsChange) {
   auto loaded = test::load_scene(test::replaced(kScene, "ORDER", "1"));
   solver::Model& model = loaded.model;
-  auto* term = new SwitchingOuter;
-  model.terms.push_back(std::unique_ptr<solver::ForceTerm>(term));
-  const Eigen::Matrix3Xd x = test::perturbed(model.mesh->nodes, 1e-3, 0.05);
+  auto owned = std::make_unique<SwitchingOuter>();
+  SwitchingOuter* term = owned.get();
+  model.terms.push_back(std::move(owned));
+  const Eigen::Matrix3Xd x = deformed(model);
   const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, x.cols());
   const solver::StateView at{x, v, 1.0};
   solver::JacobianSolver bordered(model, "", 1e-12, 100);
-  std::unique_ptr<solver::JacobianSolver> plain;
-  {
-    const TwoRing two_ring;
-    plain = std::make_unique<solver::JacobianSolver>(model, "", 1e-12, 100);
-  }
+  const auto plain = two_ring_solver(model);
   Eigen::Matrix3Xd rhs = test::perturbed(Eigen::Matrix3Xd::Zero(3, x.cols()), 1.0, 1.0, 11);
   solver::zero_dofs(rhs, bordered.fixed_dofs());
   for (const bool first : {true, false, true}) {
