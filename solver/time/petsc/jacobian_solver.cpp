@@ -11,6 +11,7 @@
 #include "solver/time/petsc/bordered_operator.hpp"
 #include "solver/time/petsc/petsc_env.hpp"
 #include "solver/time/petsc/petsc_matrix.hpp"
+#include "solver/time/petsc/symmetry_probe.hpp"
 
 namespace adamss::solver {
 
@@ -118,6 +119,9 @@ struct JacobianSolver::Petsc {
   /// The fixed coordinates eliminated from `a` (with x and b: BlockMatrix::eliminate's prescribed
   /// values), timed with the assembly; the KSP sets the changed matrix up at the next solve.
   void eliminate(TimeSplit& times, Vec x, Vec rhs);
+  /// With `symmetric_choice`: the MUMPS factorisation of op() as L D L^T (PCCHOLESKY) when op() is
+  /// symmetric (symmetry_probe.hpp), as L U otherwise; called before each set-up.
+  void choose_factorisation();
 
   std::unique_ptr<BorderedOperator> border;  ///< the bordered form of `a`, when chosen (configure)
   std::unique_ptr<BlockMatrix> a;
@@ -127,6 +131,10 @@ struct JacobianSolver::Petsc {
   VecScatter all = nullptr;  ///< several ranks: u gathered onto every rank
   Vec whole = nullptr;       ///< several ranks: the gathered u
   bool fresh = true;         ///< `a` assembled or eliminated since the KSP last set it up
+  /// One rank, a MUMPS LU chosen by default or by the options, -adamss_symmetric_factorisation not
+  /// false: the factorisation follows the operator's symmetry (choose_factorisation).
+  bool symmetric_choice = false;
+  SymmetryProbe probe;
 };
 
 void JacobianSolver::Petsc::configure(const Model& model, double ksp_rtol, int ksp_max_it) {
@@ -176,6 +184,15 @@ void JacobianSolver::Petsc::configure(const Model& model, double ksp_rtol, int k
   // Allow 100 % (a larger allowance only reserves memory). MUMPS's own scaling (ICNTL(8)) stays:
   // without it the quick LV beat fails (bench/README.md).
   if (package != nullptr && std::strcmp(package, MATSOLVERMUMPS) == 0) default_option("-mat_mumps_icntl_14", "100");
+  // MUMPS's L D L^T for symmetric operators (choose_factorisation), unless the options ask for
+  // -adamss_symmetric_factorisation false or for a Cholesky factorisation themselves.
+  PetscBool follow = PETSC_TRUE;
+  petsc_check(PetscOptionsGetBool(nullptr, nullptr, "-adamss_symmetric_factorisation", &follow, nullptr),
+              "PetscOptionsGetBool");
+  PCType type = nullptr;
+  petsc_check(PCGetType(pc, &type), "PCGetType");
+  symmetric_choice = follow == PETSC_TRUE && mpi_size() == 1 && package != nullptr &&
+                     std::strcmp(package, MATSOLVERMUMPS) == 0 && type != nullptr && std::strcmp(type, PCLU) == 0;
   // GAMG, whether chosen here (large systems) or by the user's options at any size: the particle
   // coordinates (this rank's) give it the six rigid-body modes as the near-null space. Without
   // them it coarsens with the three translations alone: 135-158 GMRES iterations a solve instead
@@ -206,6 +223,7 @@ bool JacobianSolver::Petsc::solve(int& its, TimeSplit& times) {
     // KSPSetUp runs PCSetUp for the new matrix (the LU factorisation, or the AMG hierarchy), which
     // KSPSolve would otherwise do inside the first solve; KSPSolve then finds it up to date.
     const ScopedTimer timer(times.factorisations);
+    if (symmetric_choice) choose_factorisation();
     petsc_check(KSPSetOperators(ksp, op(), op()), "KSPSetOperators");
     petsc_check(KSPSetUp(ksp), "KSPSetUp");
     fresh = false;
@@ -218,6 +236,19 @@ bool JacobianSolver::Petsc::solve(int& its, TimeSplit& times) {
   KSPConvergedReason reason;
   KSPGetConvergedReason(ksp, &reason);
   return reason > 0;
+}
+
+void JacobianSolver::Petsc::choose_factorisation() {
+  PC pc = nullptr;
+  petsc_check(KSPGetPC(ksp, &pc), "KSPGetPC");
+  const char* want = probe.symmetric(op()) ? PCCHOLESKY : PCLU;
+  PCType type = nullptr;
+  petsc_check(PCGetType(pc, &type), "PCGetType");
+  if (type != nullptr && std::strcmp(type, want) == 0) return;
+  // Another factorisation: a new PC of that type (the MUMPS options are read again when it
+  // creates its factor), analysed afresh at this set-up.
+  petsc_check(PCSetType(pc, want), "PCSetType");
+  petsc_check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
 }
 
 JacobianSolver::JacobianSolver(const Model& model, const std::string& petsc_options, double ksp_rtol, int ksp_max_it)
@@ -268,6 +299,7 @@ void JacobianSolver::assemble(const std::vector<std::unique_ptr<ForceTerm>>& ter
     // forgets the old one's set-up, and the vectors follow its size.
     petsc_check(KSPReset(petsc_->ksp), "KSPReset");
     petsc_->make_vectors();
+    petsc_->probe = SymmetryProbe{};  // its mirror map belongs to the old matrix
   }
 }
 

@@ -1,0 +1,42 @@
+#pragma once
+// Is an assembled one-rank operator symmetric? The direct solver asks before each factorisation
+// (jacobian_solver.hpp): a symmetric operator is factorised as L D L^T (MUMPS with SYM = 2, 2 x 2
+// pivots for the indefinite bordered operator) instead of L U, which halves the factorisation's
+// flops and its factors (biv-inflation.yaml's bordered operator: 1.13e11 -> 5.9e10 flops,
+// 1.06e8 -> 5.4e7 factor entries; bench/README.md).
+//
+// Which operators are symmetric is not a property of the scene alone: -dF/dx of forces with a
+// potential is (the laws, springs, volume terms, Robin supports), a follower pressure's is only
+// where the loaded surface is closed or its rim is held (then p V is its potential), and the
+// fixed rows and columns are eliminated symmetrically. So the values are compared:
+//
+//   symmetric  <=>  |a_ij - a_ji| <= tol max_kl |a_kl|  for every stored (i, j)
+//
+// an entry whose mirror is not stored compares against 0. The mirror positions are found once per
+// sparsity pattern (binary search in the sorted CSR rows, O(nnz log(row length))); each check is
+// then one pass over the values (biv-inflation's 4.7e6 entries: a few ms against ~3 s per
+// factorisation).
+#include <petscmat.h>
+
+#include <vector>
+
+namespace adamss::solver {
+
+class SymmetryProbe {
+ public:
+  /// Relative tolerance of the comparison: rounding in the assembly leaves ~1e-17 (the heart's
+  /// operator), a follower pressure on an open surface ~1e-6 and more.
+  static constexpr double kTolerance = 1e-10;
+
+  /// Whether `a` (MATSEQAIJ, square) is symmetric to kTolerance. The mirror map is rebuilt when
+  /// `a` is another Mat or its pattern changed size.
+  bool symmetric(Mat a);
+
+ private:
+  void map(Mat a);
+  Mat mapped_ = nullptr;
+  PetscInt rows_ = 0, nonzeros_ = 0;
+  std::vector<PetscInt> mirror_;  ///< per stored entry: the position of its transpose, -1 if not stored
+};
+
+}  // namespace adamss::solver

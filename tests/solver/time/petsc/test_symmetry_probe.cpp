@@ -1,0 +1,148 @@
+// The symmetry probe (solver/time/petsc/symmetry_probe.hpp) and the direct solver's choice it
+// drives: MUMPS's L D L^T for a symmetric operator, L U otherwise, the same solutions either way.
+#include <gtest/gtest.h>
+#include <petscmat.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "force_term_harness.hpp"
+#include "scene_fixtures.hpp"
+#include "solver/time/petsc/jacobian_solver.hpp"
+#include "solver/time/petsc/petsc_env.hpp"
+#include "solver/time/petsc/symmetry_probe.hpp"
+
+using namespace adamss;
+
+namespace {
+
+/// A 4 x 4 MATSEQAIJ from its dense values (the zeros not stored, except where `keep` says).
+Mat dense_to_aij(const double (&v)[4][4], const double (&keep)[4][4]) {
+  Mat a = nullptr;
+  MatCreateSeqAIJ(PETSC_COMM_SELF, 4, 4, 4, nullptr, &a);
+  for (PetscInt i = 0; i < 4; ++i)
+    for (PetscInt j = 0; j < 4; ++j)
+      if (v[i][j] != 0.0 || keep[i][j] != 0.0) MatSetValue(a, i, j, v[i][j], INSERT_VALUES);
+  MatAssemblyBegin(a, MAT_FINAL_ASSEMBLY);
+  MatAssemblyEnd(a, MAT_FINAL_ASSEMBLY);
+  return a;
+}
+
+bool probe(const double (&v)[4][4], const double (&keep)[4][4]) {
+  Mat a = dense_to_aij(v, keep);
+  solver::SymmetryProbe p;
+  const bool out = p.symmetric(a);
+  MatDestroy(&a);
+  return out;
+}
+
+const double kNone[4][4] = {};
+
+}  // namespace
+
+TEST(SymmetryProbe, ComparesEveryEntryWithItsMirror) {
+  solver::ensure_petsc();
+  const double sym[4][4] = {{4, 1, 0, 2}, {1, 5, 3, 0}, {0, 3, 6, -1}, {2, 0, -1, 7}};
+  EXPECT_TRUE(probe(sym, kNone));
+  double off[4][4];
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) off[i][j] = sym[i][j];
+  off[2][1] = 3.0 * (1.0 + 1e-6);  // one entry off by 1e-6: a follower pressure's size of asymmetry
+  EXPECT_FALSE(probe(off, kNone));
+  off[2][1] = 3.0 * (1.0 + 1e-13);  // assembly rounding
+  EXPECT_TRUE(probe(off, kNone));
+  // An entry whose mirror is not stored compares with zero: stored zeros are symmetric, others not.
+  double lone[4][4];
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) lone[i][j] = sym[i][j];
+  lone[0][2] = 0.5;
+  EXPECT_FALSE(probe(lone, kNone));
+  double keep[4][4] = {};
+  keep[0][2] = 1.0;
+  lone[0][2] = 0.0;
+  EXPECT_TRUE(probe(lone, keep));
+}
+
+TEST(SymmetryProbe, FollowsTheValuesOfTheSameMatrix) {
+  solver::ensure_petsc();
+  const double sym[4][4] = {{4, 1, 0, 2}, {1, 5, 3, 0}, {0, 3, 6, -1}, {2, 0, -1, 7}};
+  Mat a = dense_to_aij(sym, kNone);
+  solver::SymmetryProbe p;
+  EXPECT_TRUE(p.symmetric(a));
+  MatSetValue(a, 3, 0, 2.5, INSERT_VALUES);  // same pattern, other values: the map is kept
+  MatAssemblyBegin(a, MAT_FINAL_ASSEMBLY);
+  MatAssemblyEnd(a, MAT_FINAL_ASSEMBLY);
+  EXPECT_FALSE(p.symmetric(a));
+  MatSetValue(a, 0, 3, 2.5, INSERT_VALUES);
+  MatAssemblyBegin(a, MAT_FINAL_ASSEMBLY);
+  MatAssemblyEnd(a, MAT_FINAL_ASSEMBLY);
+  EXPECT_TRUE(p.symmetric(a));
+  MatDestroy(&a);
+}
+
+namespace {
+
+// A clamped block with a nodal volume term (bordered operator) and, with PRESSURE, a follower
+// pressure on its free top face: an open surface whose rim moves, so the operator is not symmetric.
+const std::string kScene = R"(
+name: symmetry
+mesh: {box: [4 mm, 2 mm, 2 mm], divisions: [4, 2, 2], topology: tet6m}
+materials:
+  - name: m
+    labels: [1]
+    density: 1000 kg/m^3
+    terms:
+      - fem_element: {law: neo_hookean, parameters: {E: 10 kPa, nu: 0.3}}
+      - volume: {p: 100 kPa, distribution: nodal}
+PRESSURE
+boundary:
+  - select: {region: {plane: {point: [0, 0, 0], normal: [1, 0, 0], tolerance: 0.001 mm}}}
+    fix: xyz
+integrator: {type: static, dt: 1 s}
+run: {t_end: 1 s}
+)";
+
+const std::string kTopPressure = R"(loads:
+  pressure:
+    - name: top
+      surface: {region: {plane: {point: [0, 0, 2 mm], normal: [0, 0, 1], tolerance: 0.001 mm}}}
+      pressure: 2 kPa
+)";
+
+/// Solves -K u = rhs at a deformed state with the default solver and with
+/// -adamss_symmetric_factorisation false; returns the first's description after the solve.
+std::string solve_both(const std::string& pressure, double& difference) {
+  const auto loaded = test::load_scene(test::replaced(kScene, "PRESSURE", pressure));
+  const solver::Model& model = loaded.model;
+  const Eigen::Matrix3Xd x = test::perturbed(model.mesh->nodes, 1e-3, 0.05);
+  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, x.cols());
+  const solver::StateView at{x, v, 1.0};
+  solver::JacobianSolver chosen(model, "", 1e-12, 100);
+  PetscOptionsSetValue(nullptr, "-adamss_symmetric_factorisation", "false");
+  solver::JacobianSolver lu(model, "", 1e-12, 100);
+  PetscOptionsClearValue(nullptr, "-adamss_symmetric_factorisation");
+  Eigen::Matrix3Xd rhs = test::perturbed(Eigen::Matrix3Xd::Zero(3, x.cols()), 1.0, 1.0, 5);
+  solver::zero_dofs(rhs, chosen.fixed_dofs());
+  Eigen::Matrix3Xd uc, ul;
+  for (solver::JacobianSolver* s : {&chosen, &lu}) {
+    s->assemble(model.terms, at, -1.0, 0.0);
+    s->eliminate();
+  }
+  EXPECT_TRUE(chosen.solve(rhs, uc));
+  EXPECT_TRUE(lu.solve(rhs, ul));
+  EXPECT_EQ(lu.describe().substr(0, 20), "preonly + lu (mumps)");
+  difference = (uc - ul).norm() / ul.norm();
+  return chosen.describe();
+}
+
+}  // namespace
+
+TEST(SymmetricFactorisation, IsChosenForASymmetricOperatorOnly) {
+  double difference = 1.0;
+  const std::string n = "bordered operator: 135 + 45 unknowns";
+  EXPECT_EQ(solve_both("", difference), "preonly + cholesky (mumps), " + n);
+  EXPECT_LT(difference, 1e-9);
+  EXPECT_EQ(solve_both(kTopPressure, difference), "preonly + lu (mumps), " + n);
+  EXPECT_LT(difference, 1e-12);  // the same factorisation
+}
