@@ -12,7 +12,8 @@
 //   static                  quasi-static equilibrium f(x, 0, t) = 0 at each load step t (all
 //                           loads are time courses, so "time" is the load parameter), Jacobian
 //                           -K: Newton damped by a backtracking line search (damped_newton.hpp),
-//                           from the secant extrapolation of the last two load steps; with
+//                           from the secant extrapolation of the last two load steps (from
+//                           the last solution after a step of 10 or more iterations); with
 //                           cavity constraints undamped bordered Newton from the last solution,
 //                           except in steps where every cavity's pressure is given (filling):
 //                           damped Newton on that pressure load

@@ -630,3 +630,54 @@ TEST(Implicit, StaticDampingMovesAFreeBodyLikeADashpot) {
   EXPECT_NEAR(rep.damping_work, work, 1e-12 * work);
   EXPECT_GT(work, 0.0);
 }
+
+TEST(Implicit, AHardStaticStepIsNoSecantForTheNextOne) {
+  // The static predictor (implicit.cpp, step()): after a load step of 10 or more Newton iterations
+  // the next step starts from the last solution, after an easier one from the secant
+  // extrapolation. Seen through the checkpoint's have_prev. The hard step: a Guccione cantilever
+  // with a stiff volume penalty whose free end is lifted 0.08 mm in a first step, then to 7.2 mm in one.
+  auto mesh = std::make_shared<preprocess::Mesh>(preprocess::make_box_mesh({10e-3, 1e-3, 1e-3}, {8, 1, 2}, "hex"));
+  auto model = std::make_unique<solver::Model>();
+  model->mesh = mesh;
+  model->x_ref = mesh->nodes;
+  model->mass = solver::voronoi_masses(*mesh, std::vector<double>(mesh->element_count(), 1000.0));
+  model->constraints = solver::Constraints(mesh->node_count());
+  model->terms.push_back(solver::make_gauss_point_term(*mesh, materials::make_law("guccione_land_problem1", {}),
+                                                       nullptr, "virtual_hexahedron"));
+  solver::VolumeParams vp;
+  vp.p = 2e6;
+  vp.distribution = solver::VolumeDistribution::Isotropic;
+  model->terms.push_back(solver::make_volume_term(*mesh, nullptr, vp));
+  for (Eigen::Index i = 0; i < model->x_ref.cols(); ++i) {
+    const auto n = static_cast<preprocess::Index>(i);
+    if (model->x_ref(0, i) < 1e-9) model->constraints.fix(n, 7, "clamp");
+    if (model->x_ref(0, i) > 10e-3 - 1e-9)
+      model->constraints.control(n, 2, solver::TimeCourse::ramp(0.0, 8e-3, 0.0, 1.0), false, "lift");
+  }
+  solver::System sys(*model);
+  solver::ImplicitSettings set;
+  set.adapt = false;
+  set.newton_rtol = 1e-10;
+  set.newton_atol = 1e-16;
+  set.newton_xtol = 1e-14;
+  solver::ImplicitIntegrator integ(sys, solver::ImplicitIntegrator::Kind::Static, set);
+  State s{model->x_ref, Eigen::Matrix3Xd::Zero(3, model->x_ref.cols()), 0.0};
+  const auto has_secant = [&] {
+    solver::StateArchive archive;
+    integ.save_state(archive);
+    return archive.integer("have_prev") != 0;
+  };
+  const auto easy = integ.step(s, 0.01);
+  std::printf("lift: easy step %d Newton iterations\n", easy.newton_iterations);
+  ASSERT_LT(easy.newton_iterations, 10);
+  EXPECT_TRUE(has_secant());
+  const auto hard = integ.step(s, 0.89);
+  std::printf("lift: hard step %d Newton iterations\n", hard.newton_iterations);
+  ASSERT_GE(hard.newton_iterations, 10);
+  EXPECT_FALSE(has_secant());
+  // A short step after it (from the last solution): easy again, and the secant is back.
+  const auto after = integ.step(s, 0.01);
+  std::printf("lift: short step %d Newton iterations\n", after.newton_iterations);
+  ASSERT_LT(after.newton_iterations, 10);
+  EXPECT_TRUE(has_secant());
+}
