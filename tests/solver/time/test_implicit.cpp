@@ -93,6 +93,30 @@ std::unique_ptr<solver::Model> stretched_hunter_block(std::vector<preprocess::In
   return model;
 }
 
+/// A 10 x 1 x 1 mm Guccione cantilever (8 x 1 x 2 hexahedra, Gauss-point law) with a volume
+/// penalty p = 1000 C, clamped at x = 0, its free end lifted by `lift` (m) along z over t = 0 ... 1 s.
+std::unique_ptr<solver::Model> lifted_penalty_cantilever(double lift) {
+  auto mesh = std::make_shared<preprocess::Mesh>(preprocess::make_box_mesh({10e-3, 1e-3, 1e-3}, {8, 1, 2}, "hex"));
+  auto model = std::make_unique<solver::Model>();
+  model->mesh = mesh;
+  model->x_ref = mesh->nodes;
+  model->mass = solver::voronoi_masses(*mesh, std::vector<double>(mesh->element_count(), 1000.0));
+  model->constraints = solver::Constraints(mesh->node_count());
+  model->terms.push_back(solver::make_gauss_point_term(*mesh, materials::make_law("guccione_land_problem1", {}),
+                                                       nullptr, "virtual_hexahedron"));
+  solver::VolumeParams vp;
+  vp.p = 2e6;
+  vp.distribution = solver::VolumeDistribution::Isotropic;
+  model->terms.push_back(solver::make_volume_term(*mesh, nullptr, vp));
+  for (Eigen::Index i = 0; i < model->x_ref.cols(); ++i) {
+    const auto n = static_cast<preprocess::Index>(i);
+    if (model->x_ref(0, i) < 1e-9) model->constraints.fix(n, 7, "clamp");
+    if (model->x_ref(0, i) > 10e-3 - 1e-9)
+      model->constraints.control(n, 2, solver::TimeCourse::ramp(0.0, lift, 0.0, 1.0), false, "lift");
+  }
+  return model;
+}
+
 }  // namespace
 
 TEST(Implicit, AssembledJacobianEqualsTheBlockwiseProduct) {
@@ -408,24 +432,8 @@ TEST(Implicit, StaticNewtonConvergesOnAPenaltyDominatedBend) {
   // orders of magnitude on a converging Newton step; the natural monotonicity test must still
   // accept full steps. Checks: both step sequences complete, reach the same equilibrium, and
   // the 4-step run needs at most 10 Newton iterations per step and no step is rejected.
-  auto mesh = std::make_shared<preprocess::Mesh>(preprocess::make_box_mesh({10e-3, 1e-3, 1e-3}, {8, 1, 2}, "hex"));
-  auto model = std::make_unique<solver::Model>();
-  model->mesh = mesh;
-  model->x_ref = mesh->nodes;
-  model->mass = solver::voronoi_masses(*mesh, std::vector<double>(mesh->element_count(), 1000.0));
-  model->constraints = solver::Constraints(mesh->node_count());
-  model->terms.push_back(solver::make_gauss_point_term(*mesh, materials::make_law("guccione_land_problem1", {}),
-                                                       nullptr, "virtual_hexahedron"));
-  solver::VolumeParams vp;
-  vp.p = 2e6;
-  vp.distribution = solver::VolumeDistribution::Isotropic;
-  model->terms.push_back(solver::make_volume_term(*mesh, nullptr, vp));
-  for (Eigen::Index i = 0; i < model->x_ref.cols(); ++i) {
-    const auto n = static_cast<preprocess::Index>(i);
-    if (model->x_ref(0, i) < 1e-9) model->constraints.fix(n, 7, "clamp");
-    if (model->x_ref(0, i) > 10e-3 - 1e-9)
-      model->constraints.control(n, 2, solver::TimeCourse::ramp(0.0, 2e-3, 0.0, 1.0), false, "lift");
-  }
+  auto model = lifted_penalty_cantilever(2e-3);
+  const preprocess::Mesh* mesh = model->mesh.get();
   solver::System sys(*model);
   int rejected = 0;
   auto run = [&](double dt, int& newton, int& steps) {
@@ -636,24 +644,7 @@ TEST(Implicit, AHardStaticStepIsNoSecantForTheNextOne) {
   // the next step starts from the last solution, after an easier one from the secant
   // extrapolation. Seen through the checkpoint's have_prev. The hard step: a Guccione cantilever
   // with a stiff volume penalty whose free end is lifted 0.08 mm in a first step, then to 7.2 mm in one.
-  auto mesh = std::make_shared<preprocess::Mesh>(preprocess::make_box_mesh({10e-3, 1e-3, 1e-3}, {8, 1, 2}, "hex"));
-  auto model = std::make_unique<solver::Model>();
-  model->mesh = mesh;
-  model->x_ref = mesh->nodes;
-  model->mass = solver::voronoi_masses(*mesh, std::vector<double>(mesh->element_count(), 1000.0));
-  model->constraints = solver::Constraints(mesh->node_count());
-  model->terms.push_back(solver::make_gauss_point_term(*mesh, materials::make_law("guccione_land_problem1", {}),
-                                                       nullptr, "virtual_hexahedron"));
-  solver::VolumeParams vp;
-  vp.p = 2e6;
-  vp.distribution = solver::VolumeDistribution::Isotropic;
-  model->terms.push_back(solver::make_volume_term(*mesh, nullptr, vp));
-  for (Eigen::Index i = 0; i < model->x_ref.cols(); ++i) {
-    const auto n = static_cast<preprocess::Index>(i);
-    if (model->x_ref(0, i) < 1e-9) model->constraints.fix(n, 7, "clamp");
-    if (model->x_ref(0, i) > 10e-3 - 1e-9)
-      model->constraints.control(n, 2, solver::TimeCourse::ramp(0.0, 8e-3, 0.0, 1.0), false, "lift");
-  }
+  auto model = lifted_penalty_cantilever(8e-3);
   solver::System sys(*model);
   solver::ImplicitSettings set;
   set.adapt = false;
