@@ -36,21 +36,22 @@ void default_option(const char* name, const char* value) {
 /// Below this many unknowns the default linear solver is a direct LU factorisation.
 constexpr PetscInt kDirectSolveMaxDofs = 60000;
 
-/// This rank's slice of the whole vector m (3 x n, replicated on every rank) into v. A longer v
-/// (one rank, the bordered operator's [u; q]) gets zeros after m's 3n values.
-void to_vec(const Eigen::Matrix3Xd& m, Vec v) {
-  PetscInt lo = 0, hi = 0;
-  petsc_check(VecGetOwnershipRange(v, &lo, &hi), "VecGetOwnershipRange");
+/// This rank's particle coordinates [lo, hi) of the whole vector m (3 x n, replicated on every
+/// rank) into the first hi - lo entries of v's local part; the rest of it (the bordered operator's
+/// border rows of this rank) gets zeros.
+void to_vec(const Eigen::Matrix3Xd& m, PetscInt lo, PetscInt hi, Vec v) {
+  PetscInt vlo = 0, vhi = 0;
+  petsc_check(VecGetOwnershipRange(v, &vlo, &vhi), "VecGetOwnershipRange");
   PetscScalar* a = nullptr;
   petsc_check(VecGetArray(v, &a), "VecGetArray");
-  const auto count = static_cast<std::size_t>(std::min<PetscInt>(hi, static_cast<PetscInt>(m.size())) - lo);
+  const auto count = static_cast<std::size_t>(hi - lo);
   std::memcpy(a, m.data() + lo, sizeof(double) * count);
-  std::fill(a + count, a + (hi - lo), 0.0);
+  std::fill(a + count, a + (vhi - vlo), 0.0);
   petsc_check(VecRestoreArray(v, &a), "VecRestoreArray");
 }
 
-/// The whole vector v into m on every rank: on one rank a copy, on several a gather through
-/// `all` (VecScatterCreateToAll, made once) into `whole`.
+/// The whole vector v into m on every rank: on one rank a copy (of the first 3n entries), on
+/// several a gather through `all` into `whole` (the particle coordinates in order).
 void from_vec(Vec v, VecScatter all, Vec whole, Eigen::Matrix3Xd& m) {
   Vec src = v;
   if (all != nullptr) {
@@ -111,8 +112,12 @@ struct JacobianSolver::Petsc {
   void configure(const Model& model, double ksp_rtol, int ksp_max_it);
   /// The matrix the KSP solves with: the bordered operator, or `a`.
   [[nodiscard]] Mat op() const { return border ? border->mat() : a->mat(); }
-  /// u and b sized for op() (made again when the bordered operator changed its size).
-  void make_vectors();
+  /// u and b sized for op(), and on several ranks the gather of u (made again when the bordered
+  /// operator changed its size, or with `new_layout`: its rows).
+  void make_vectors(bool new_layout = false);
+  /// This rank's particle coordinates [lo, hi) (3 x its particle range).
+  [[nodiscard]] PetscInt owned_lo() const { return 3 * static_cast<PetscInt>(a->owned_begin()); }
+  [[nodiscard]] PetscInt owned_hi() const { return 3 * static_cast<PetscInt>(a->owned_end()); }
   /// KSP solve of a u = b with the current matrix; adds the Krylov iterations to `its`. A matrix
   /// changed since the last solve (`fresh`) is set up first (factorised), timed apart.
   bool solve(int& its, TimeSplit& times);
@@ -128,9 +133,10 @@ struct JacobianSolver::Petsc {
   std::vector<PetscInt> fixed;
   KSP ksp = nullptr;
   Vec b = nullptr, u = nullptr;
-  VecScatter all = nullptr;  ///< several ranks: u gathered onto every rank
-  Vec whole = nullptr;       ///< several ranks: the gathered u
-  bool fresh = true;         ///< `a` assembled or eliminated since the KSP last set it up
+  VecScatter all = nullptr;            ///< several ranks: u's particle coordinates gathered onto every rank
+  Vec whole = nullptr;                 ///< several ranks: the gathered coordinates (3n)
+  std::vector<PetscInt> border_fixed;  ///< with the border: this rank's fixed coordinates as rows of B
+  bool fresh = true;                   ///< `a` assembled or eliminated since the KSP last set it up
   /// One rank, a MUMPS LU chosen by default or by the options, -adamss_symmetric_factorisation not
   /// false: the factorisation follows the operator's symmetry (choose_factorisation).
   bool symmetric_choice = false;
@@ -163,14 +169,13 @@ void JacobianSolver::Petsc::configure(const Model& model, double ksp_rtol, int k
   petsc_check(KSPSetFromOptions(ksp), "KSPSetFromOptions");
   const char* package = factorisation_package(pc);
   if (mpi_size() > 1) require_parallel_factorisation(pc, package);
-  // The bordered operator (bordered_operator.hpp) for a factorisation on one rank: the nodal volume
-  // terms' patches then add one border row each instead of their two-ring blocks.
+  // The bordered operator (bordered_operator.hpp) for a factorisation: the nodal volume terms'
+  // patches then add one border row each instead of their two-ring blocks.
   PetscBool bordered = PETSC_TRUE;
   petsc_check(PetscOptionsGetBool(nullptr, nullptr, "-adamss_bordered", &bordered, nullptr), "PetscOptionsGetBool");
   const bool outer = std::any_of(model.terms.begin(), model.terms.end(),
                                  [](const std::unique_ptr<ForceTerm>& t) { return t->couplings_through_outer(); });
-  if (bordered == PETSC_TRUE && outer && package != nullptr && mpi_size() == 1)
-    border = std::make_unique<BorderedOperator>();
+  if (bordered == PETSC_TRUE && outer && package != nullptr) border = std::make_unique<BorderedOperator>();
   a = std::make_unique<BlockMatrix>(*model.mesh, &model.terms, border.get());
   if (!border) {
     make_vectors();
@@ -191,8 +196,8 @@ void JacobianSolver::Petsc::configure(const Model& model, double ksp_rtol, int k
               "PetscOptionsGetBool");
   PCType type = nullptr;
   petsc_check(PCGetType(pc, &type), "PCGetType");
-  symmetric_choice = follow == PETSC_TRUE && mpi_size() == 1 && package != nullptr &&
-                     std::strcmp(package, MATSOLVERMUMPS) == 0 && type != nullptr && std::strcmp(type, PCLU) == 0;
+  symmetric_choice = follow == PETSC_TRUE && package != nullptr && std::strcmp(package, MATSOLVERMUMPS) == 0 &&
+                     type != nullptr && std::strcmp(type, PCLU) == 0;
   // GAMG, whether chosen here (large systems) or by the user's options at any size: the particle
   // coordinates (this rank's) give it the six rigid-body modes as the near-null space. Without
   // them it coarsens with the three translations alone: 135-158 GMRES iterations a solve instead
@@ -205,17 +210,32 @@ void JacobianSolver::Petsc::configure(const Model& model, double ksp_rtol, int k
   }
 }
 
-void JacobianSolver::Petsc::make_vectors() {
+void JacobianSolver::Petsc::make_vectors(bool new_layout) {
   if (u != nullptr) {
     PetscInt have = 0, want = 0;
     petsc_check(VecGetSize(u, &have), "VecGetSize");
     petsc_check(MatGetSize(op(), &want, nullptr), "MatGetSize");
-    if (have == want) return;
+    if (have == want && !new_layout) return;
     petsc_check(VecDestroy(&u), "VecDestroy");
     petsc_check(VecDestroy(&b), "VecDestroy");
   }
   petsc_check(MatCreateVecs(op(), &u, &b), "MatCreateVecs");
-  if (mpi_size() > 1 && all == nullptr) petsc_check(VecScatterCreateToAll(u, &all, &whole), "VecScatterCreateToAll");
+  if (mpi_size() == 1) return;
+  if (all != nullptr) petsc_check(VecScatterDestroy(&all), "VecScatterDestroy");
+  if (whole != nullptr) petsc_check(VecDestroy(&whole), "VecDestroy");
+  if (!border) {
+    petsc_check(VecScatterCreateToAll(u, &all, &whole), "VecScatterCreateToAll");
+    return;
+  }
+  // The bordered operator's particle rows, gathered in the particles' order onto every rank.
+  const std::vector<PetscInt>& rows = border->particle_rows();
+  const auto n = static_cast<PetscInt>(rows.size());
+  petsc_check(VecCreateSeq(PETSC_COMM_SELF, n, &whole), "VecCreateSeq");
+  IS from = nullptr;
+  petsc_check(ISCreateGeneral(PETSC_COMM_SELF, n, rows.data(), PETSC_USE_POINTER, &from), "ISCreateGeneral");
+  const PetscErrorCode ierr = VecScatterCreate(u, from, whole, nullptr, &all);
+  ISDestroy(&from);
+  petsc_check(ierr, "VecScatterCreate");
 }
 
 bool JacobianSolver::Petsc::solve(int& its, TimeSplit& times) {
@@ -293,22 +313,26 @@ void JacobianSolver::assemble(const std::vector<std::unique_ptr<ForceTerm>>& ter
     error = std::current_exception();
   }
   agree_on_error(error);
-  a.assemble();
-  if (petsc_->border && petsc_->border->fill(a.mat())) {
-    // A new bordered matrix (the first, or other outer products: possibly another size): the KSP
-    // forgets the old one's set-up, and the vectors follow its size.
+  if (petsc_->border && petsc_->border->fill(a.owned_rows())) {
+    // A new bordered matrix (the first, or other outer products: possibly another size and other
+    // rows): the KSP forgets the old one's set-up, the vectors and the fixed rows follow it.
     petsc_check(KSPReset(petsc_->ksp), "KSPReset");
-    petsc_->make_vectors();
+    petsc_->make_vectors(true);
     petsc_->probe = SymmetryProbe{};  // its mirror map belongs to the old matrix
+    petsc_->border_fixed.clear();
+    for (const PetscInt d : petsc_->fixed)
+      if (d >= petsc_->owned_lo() && d < petsc_->owned_hi()) petsc_->border_fixed.push_back(petsc_->border->row(d));
   }
+  a.assemble();
 }
 
 void JacobianSolver::Petsc::eliminate(TimeSplit& times, Vec x, Vec rhs) {
   const ScopedTimer timer(times.jacobians, false);  // part of the assembly just counted
   fresh = true;
   if (border) {
-    petsc_check(MatZeroRowsColumns(border->mat(), static_cast<PetscInt>(fixed.size()), fixed.data(), 1.0, x, rhs),
-                "MatZeroRowsColumns");
+    petsc_check(
+        MatZeroRowsColumns(border->mat(), static_cast<PetscInt>(border_fixed.size()), border_fixed.data(), 1.0, x, rhs),
+        "MatZeroRowsColumns");
   } else {
     a->eliminate(fixed, x, rhs);
   }
@@ -319,7 +343,7 @@ void JacobianSolver::eliminate() {
 }
 
 bool JacobianSolver::solve(const Eigen::Matrix3Xd& rhs, Eigen::Matrix3Xd& u) {
-  to_vec(rhs, petsc_->b);
+  to_vec(rhs, petsc_->owned_lo(), petsc_->owned_hi(), petsc_->b);
   if (!petsc_->solve(iterations_, times_)) return false;
   u.resize(3, rhs.cols());
   from_vec(petsc_->u, petsc_->all, petsc_->whole, u);
@@ -328,8 +352,8 @@ bool JacobianSolver::solve(const Eigen::Matrix3Xd& rhs, Eigen::Matrix3Xd& u) {
 
 bool JacobianSolver::solve_prescribed(const Eigen::Matrix3Xd& rhs, const Eigen::Matrix3Xd& values,
                                       Eigen::Matrix3Xd& u) {
-  to_vec(rhs, petsc_->b);
-  to_vec(values, petsc_->u);
+  to_vec(rhs, petsc_->owned_lo(), petsc_->owned_hi(), petsc_->b);
+  to_vec(values, petsc_->owned_lo(), petsc_->owned_hi(), petsc_->u);
   petsc_->eliminate(times_, petsc_->u, petsc_->b);
   if (!petsc_->solve(iterations_, times_)) return false;
   u.resize(3, rhs.cols());

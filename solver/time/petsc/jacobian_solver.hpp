@@ -10,7 +10,7 @@
 // Linear solver: by default a direct LU factorisation (KSPPREONLY + PCLU, by MUMPS when PETSc
 // has it, else PETSc's own) up to 60 000 unknowns -- exact Newton steps, robust for nearly incompressible and thin
 // structures where Krylov + AMG struggles -- and GMRES + GAMG above, with the particle reference coordinates for GAMG's
-// rigid-body near-null space. On one rank a MUMPS LU factorises a symmetric operator as L D L^T
+// rigid-body near-null space. A MUMPS LU factorises a symmetric operator as L D L^T
 // instead (symmetry_probe.hpp; checked before every factorisation; -adamss_symmetric_factorisation
 // false keeps LU). Tolerances ksp_rtol and ksp_max_it; any PETSc option
 // (-ksp_type, -pc_type, -ksp_monitor, ...) overrides them (KSPSetFromOptions). The KSP starts

@@ -132,8 +132,6 @@ BlockMatrix::BlockMatrix(const preprocess::Mesh& mesh, const std::vector<std::un
   n0_ = mine.begin;
   nloc_ = mine.end - mine.begin;
   distributed_ = mpi_size() > 1;
-  if (distributed_ && border_ != nullptr)
-    throw std::logic_error("BlockMatrix: the bordered operator needs one MPI rank");
   // Node adjacency from the elements (sorted, unique), for the block preallocation; only the
   // owned rows are kept.
   const int k = preprocess::nodes_per_element(mesh.type);
@@ -186,6 +184,10 @@ BlockMatrix::BlockMatrix(const preprocess::Mesh& mesh, const std::vector<std::un
   }
   petsc_check(MatAssemblyBegin(a_, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
   petsc_check(MatAssemblyEnd(a_, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+  const PetscInt* dof_ranges = nullptr;
+  petsc_check(MatGetOwnershipRanges(a_, &dof_ranges), "MatGetOwnershipRanges");
+  ranges_.resize(static_cast<std::size_t>(mpi_size()) + 1);
+  for (std::size_t r = 0; r < ranges_.size(); ++r) ranges_[r] = dof_ranges[r] / 3;
   if (distributed_) {
     stage_layout();
   } else {
@@ -282,9 +284,25 @@ void BlockMatrix::add_diagonal(const Eigen::VectorXd& mass, double c) {
   }
 }
 
+OwnedBlockRows BlockMatrix::owned_rows() {
+  OwnedBlockRows out;
+  out.n0 = n0_;
+  out.nloc = nloc_;
+  out.brow = brow_.data();
+  out.bcol = bcol_.data();
+  out.row_start = row_start_.data();
+  out.values = values();
+  out.ranges = &ranges_;
+  return out;
+}
+
 void BlockMatrix::assemble() {
   if (distributed_) {
     if (!staged_) return;
+    if (border_ != nullptr) {  // the bordered operator reads the staged rows (owned_rows); a_ stays unused
+      staged_ = false;
+      return;
+    }
     for (PetscInt la = 0; la < nloc_; ++la) {
       const PetscInt b0 = brow_[static_cast<std::size_t>(la)], nb = brow_[static_cast<std::size_t>(la) + 1] - b0;
       const PetscInt* cols = scol_.data() + 3 * b0;

@@ -44,11 +44,12 @@
 namespace adamss::solver {
 
 class BorderedOperator;  // solver/time/petsc/bordered_operator.hpp
+struct OwnedBlockRows;   // solver/time/petsc/bordered_operator.hpp
 
 class BlockMatrix {
  public:
   /// The pattern: pairs of particles that share an element of `mesh`, plus the pairs each of
-  /// `terms` adds through ForceTerm::add_couplings (when given). With `border` (one rank), the
+  /// `terms` adds through ForceTerm::add_couplings (when given). With `border`, the
   /// outer products the terms hand the sink (JacobianSink::add_outer) go to it instead of into the
   /// matrix, and the couplings of the terms that make theirs only that way
   /// (ForceTerm::couplings_through_outer) stay out of the pattern (bordered_operator.hpp).
@@ -70,7 +71,12 @@ class BlockMatrix {
   JacobianSink& sink(double cx, double cv);
   /// Adds c * m_i on the three diagonal entries of each particle i.
   void add_diagonal(const Eigen::VectorXd& mass, double c);
-  /// Closes the value array: PETSc sees a new matrix (its factorisation is redone).
+  /// This rank's rows as written since zero() (before assemble(): on one rank the value array is
+  /// still open), for the bordered operator.
+  [[nodiscard]] OwnedBlockRows owned_rows();
+  /// Closes the value array: PETSc sees a new matrix (its factorisation is redone). With a
+  /// border on several ranks the staged rows stay with the bordered operator and the matrix is not
+  /// written.
   void assemble();
   /// Zeroes the rows and columns of `dofs`, puts 1 on their diagonal; when b and x are given,
   /// b is adjusted so that the solution takes x's values on those dofs (PETSc semantics).
@@ -91,6 +97,7 @@ class BlockMatrix {
   Mat a_ = nullptr;
   PetscInt n_ = 0;                   ///< particles
   PetscInt n0_ = 0, nloc_ = 0;       ///< this rank's particles [n0, n0 + nloc)
+  std::vector<PetscInt> ranges_;     ///< every rank's first particle, and n (size + 1)
   bool distributed_ = false;         ///< several ranks: values staged in stage_
   bool staged_ = false;              ///< several ranks: stage_ written since the last assemble()
   std::vector<PetscInt> brow_;       ///< block row pointers of the owned particles (nloc + 1)

@@ -30,6 +30,17 @@ void SymmetryProbe::map(Mat a) {
 }
 
 bool SymmetryProbe::symmetric(Mat a) {
+  PetscBool seq = PETSC_FALSE;
+  petsc_check(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(a), MATSEQAIJ, &seq), "PetscObjectTypeCompare");
+  if (seq != PETSC_TRUE) {
+    // Distributed: PETSc compares the diagonal blocks and, through a gather of the other ranks'
+    // rows, the off-diagonal ones (|a_ij - a_ji| <= tol).
+    PetscReal largest = 0.0;
+    petsc_check(MatNorm(a, NORM_MAX, &largest), "MatNorm");
+    PetscBool same = PETSC_FALSE;
+    petsc_check(MatIsSymmetric(a, kTolerance * largest, &same), "MatIsSymmetric");
+    return same == PETSC_TRUE;
+  }
   PetscInt n = 0;
   petsc_check(MatGetSize(a, &n, nullptr), "MatGetSize");
   MatInfo info;

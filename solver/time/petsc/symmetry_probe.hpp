@@ -1,5 +1,5 @@
 #pragma once
-// Is an assembled one-rank operator symmetric? The direct solver asks before each factorisation
+// Is an assembled operator symmetric? The direct solver asks before each factorisation
 // (jacobian_solver.hpp): a symmetric operator is factorised as L D L^T (MUMPS with SYM = 2, 2 x 2
 // pivots for the indefinite bordered operator) instead of L U, which halves the factorisation's
 // flops and its factors (biv-inflation.yaml's bordered operator: 1.13e11 -> 5.9e10 flops,
@@ -28,8 +28,9 @@ class SymmetryProbe {
   /// operator), a follower pressure on an open surface ~1e-6 and more.
   static constexpr double kTolerance = 1e-10;
 
-  /// Whether `a` (MATSEQAIJ, square) is symmetric to kTolerance. The mirror map is rebuilt when
-  /// `a` is another Mat or its pattern changed size.
+  /// Whether `a` (square AIJ) is symmetric to kTolerance. MATSEQAIJ: through the mirror map,
+  /// rebuilt when `a` is another Mat or its pattern changed size; several ranks: PETSc's
+  /// MatIsSymmetric with the same tolerance.
   bool symmetric(Mat a);
 
  private:
