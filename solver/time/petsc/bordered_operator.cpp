@@ -237,7 +237,10 @@ void BorderedOperator::map_to_blocks(const std::vector<PetscInt>& b_start, const
   }
   petsc_check(MatRestoreRowIJ(o, 0, PETSC_FALSE, PETSC_FALSE, &no, &io, &jo, &done_o), "MatRestoreRowIJ");
   petsc_check(MatRestoreRowIJ(d, 0, PETSC_FALSE, PETSC_FALSE, &nd, &id, &jd, &done_d), "MatRestoreRowIJ");
-  if (!ok) throw NumericalError("bordered operator: PETSc's distributed storage of B is not the CSR it was given");
+  // Every rank throws if one finds a mismatch (the others would wait in the next collective call).
+  int all = ok ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &all, 1, MPI_INT, MPI_LAND, PetscObjectComm(reinterpret_cast<PetscObject>(b_)));
+  if (all == 0) throw NumericalError("bordered operator: PETSc's distributed storage of B is not the CSR it was given");
 }
 
 void BorderedOperator::write(const OwnedBlockRows& a, PetscScalar* v) const {

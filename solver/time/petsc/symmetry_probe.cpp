@@ -29,18 +29,35 @@ void SymmetryProbe::map(Mat a) {
   mapped_ = a;
 }
 
+bool SymmetryProbe::symmetric_distributed(Mat a) {
+  // The largest |a_kl| over both blocks of every rank (MatNorm's NORM_MAX is the largest row sum).
+  Mat d = nullptr, o = nullptr;
+  petsc_check(MatMPIAIJGetSeqAIJ(a, &d, &o, nullptr), "MatMPIAIJGetSeqAIJ");
+  double largest = 0.0;
+  for (Mat part : {d, o}) {
+    MatInfo info;
+    petsc_check(MatGetInfo(part, MAT_LOCAL, &info), "MatGetInfo");
+    const PetscScalar* v = nullptr;
+    petsc_check(MatSeqAIJGetArrayRead(part, &v), "MatSeqAIJGetArrayRead");
+    for (PetscInt k = 0; k < static_cast<PetscInt>(info.nz_used); ++k) largest = std::max(largest, std::abs(v[k]));
+    petsc_check(MatSeqAIJRestoreArrayRead(part, &v), "MatSeqAIJRestoreArrayRead");
+  }
+  const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(a));
+  MPI_Allreduce(MPI_IN_PLACE, &largest, 1, MPI_DOUBLE, MPI_MAX, comm);
+  // PETSc compares the diagonal blocks and, through a gather of the other ranks' rows, the
+  // off-diagonal ones (|a_ij - a_ji| <= tol); each rank sees only its own off-diagonal pairs, so
+  // the answers are joined (every rank must choose the same factorisation).
+  PetscBool same = PETSC_FALSE;
+  petsc_check(MatIsSymmetric(a, kTolerance * largest, &same), "MatIsSymmetric");
+  int all = same == PETSC_TRUE ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &all, 1, MPI_INT, MPI_LAND, comm);
+  return all == 1;
+}
+
 bool SymmetryProbe::symmetric(Mat a) {
   PetscBool seq = PETSC_FALSE;
   petsc_check(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(a), MATSEQAIJ, &seq), "PetscObjectTypeCompare");
-  if (seq != PETSC_TRUE) {
-    // Distributed: PETSc compares the diagonal blocks and, through a gather of the other ranks'
-    // rows, the off-diagonal ones (|a_ij - a_ji| <= tol).
-    PetscReal largest = 0.0;
-    petsc_check(MatNorm(a, NORM_MAX, &largest), "MatNorm");
-    PetscBool same = PETSC_FALSE;
-    petsc_check(MatIsSymmetric(a, kTolerance * largest, &same), "MatIsSymmetric");
-    return same == PETSC_TRUE;
-  }
+  if (seq != PETSC_TRUE) return symmetric_distributed(a);
   PetscInt n = 0;
   petsc_check(MatGetSize(a, &n, nullptr), "MatGetSize");
   MatInfo info;

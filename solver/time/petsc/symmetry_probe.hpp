@@ -29,12 +29,14 @@ class SymmetryProbe {
   static constexpr double kTolerance = 1e-10;
 
   /// Whether `a` (square AIJ) is symmetric to kTolerance. MATSEQAIJ: through the mirror map,
-  /// rebuilt when `a` is another Mat or its pattern changed size; several ranks: PETSc's
-  /// MatIsSymmetric with the same tolerance.
+  /// rebuilt when `a` is another Mat or its pattern changed size; several ranks (MATMPIAIJ):
+  /// PETSc's MatIsSymmetric with the same tolerance, the answer agreed by all ranks.
   bool symmetric(Mat a);
 
  private:
   void map(Mat a);
+  /// The MATMPIAIJ case of symmetric().
+  static bool symmetric_distributed(Mat a);
   Mat mapped_ = nullptr;
   PetscInt rows_ = 0, nonzeros_ = 0;
   std::vector<PetscInt> mirror_;  ///< per stored entry: the position of its transpose, -1 if not stored

@@ -39,7 +39,40 @@ bool probe(const double (&v)[4][4], const double (&keep)[4][4]) {
 
 const double kNone[4][4] = {};
 
+/// A dense n x n operator on PETSC_COMM_WORLD, 4 rows per rank (MATMPIAIJ on several ranks): 2 on
+/// the diagonal, 1 elsewhere, and entry (0, n - 1) off its mirror by `delta`. On several ranks that
+/// pair couples the first and the last rank only: the ranks between see no asymmetry of their own.
+/// The largest entry is 2, a row sum n + 1.
+bool probe_dense(double delta) {
+  const PetscInt n = 4 * solver::mpi_size();
+  Mat a = nullptr;
+  MatCreateAIJ(PETSC_COMM_WORLD, 4, 4, n, n, n, nullptr, n, nullptr, &a);
+  PetscInt lo = 0, hi = 0;
+  MatGetOwnershipRange(a, &lo, &hi);
+  for (PetscInt i = lo; i < hi; ++i)
+    for (PetscInt j = 0; j < n; ++j) MatSetValue(a, i, j, i == j ? 2.0 : 1.0, INSERT_VALUES);
+  if (lo == 0) MatSetValue(a, 0, n - 1, 1.0 + delta, INSERT_VALUES);
+  MatAssemblyBegin(a, MAT_FINAL_ASSEMBLY);
+  MatAssemblyEnd(a, MAT_FINAL_ASSEMBLY);
+  solver::SymmetryProbe p;
+  const bool out = p.symmetric(a);
+  MatDestroy(&a);
+  return out;
+}
+
 }  // namespace
+
+// Run on 1 rank (MATSEQAIJ) and by mpi.unit.np2 / np3 (MATMPIAIJ).
+TEST(SymmetryProbeOnRanks, EveryRankGetsTheSameAnswerAgainstTheLargestEntry) {
+  solver::ensure_petsc();
+  EXPECT_TRUE(probe_dense(0.0));
+  EXPECT_TRUE(probe_dense(1e-13));  // rounding
+  // Seen by the first and the last rank only; every rank must answer no (on 3 ranks the middle
+  // one compares none of its pairs with that entry).
+  EXPECT_FALSE(probe_dense(1e-6));
+  // 2.5e-10 of the largest entry: outside the tolerance 1e-10 x 2, inside 1e-10 x the row sum.
+  EXPECT_FALSE(probe_dense(5e-10));
+}
 
 TEST(SymmetryProbe, ComparesEveryEntryWithItsMirror) {
   solver::ensure_petsc();
