@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "solver/time/petsc/petsc_env.hpp"
 
@@ -29,6 +30,72 @@ void SymmetryProbe::map(Mat a) {
   mapped_ = a;
 }
 
+void SymmetryProbe::plan_exchange(Mat a, Mat o, const PetscInt* garray) {
+  const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(a));
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  const PetscInt* cranges = nullptr;
+  petsc_check(MatGetOwnershipRangesColumn(a, &cranges), "MatGetOwnershipRangesColumn");
+  PetscInt r0 = 0;
+  petsc_check(MatGetOwnershipRange(a, &r0, nullptr), "MatGetOwnershipRange");
+  PetscInt n = 0;
+  const PetscInt *io = nullptr, *jo = nullptr;
+  PetscBool done = PETSC_FALSE;
+  petsc_check(MatGetRowIJ(o, 0, PETSC_FALSE, PETSC_FALSE, &n, &io, &jo, &done), "MatGetRowIJ");
+  // Each off-diagonal entry (i, j) goes to the owner of row j, which compares it with its (j, i).
+  const auto owner = [&](PetscInt col) {
+    return static_cast<int>(std::upper_bound(cranges, cranges + ranks + 1, col) - cranges) - 1;
+  };
+  std::vector<std::vector<PetscInt>> by_rank(static_cast<std::size_t>(ranks));
+  for (PetscInt r = 0; r < n; ++r)
+    for (PetscInt q = io[r]; q < io[r + 1]; ++q) by_rank[static_cast<std::size_t>(owner(garray[jo[q]]))].push_back(q);
+  send_pos_.clear();
+  send_count_.assign(static_cast<std::size_t>(ranks), 0);
+  std::vector<PetscInt> pairs;  // (row of the receiver = j, column = i) per entry
+  for (int s = 0; s < ranks; ++s) {
+    const auto& list = by_rank[static_cast<std::size_t>(s)];
+    send_count_[static_cast<std::size_t>(s)] = static_cast<int>(list.size());
+    for (const PetscInt q : list) {
+      send_pos_.push_back(q);
+      const auto row = static_cast<PetscInt>(std::upper_bound(io, io + n + 1, q) - io) - 1;
+      pairs.push_back(garray[jo[q]]);
+      pairs.push_back(r0 + row);
+    }
+  }
+  recv_count_.assign(static_cast<std::size_t>(ranks), 0);
+  MPI_Alltoall(send_count_.data(), 1, MPI_INT, recv_count_.data(), 1, MPI_INT, comm);
+  // Two PetscInt per entry: counts and displacements of the index exchange.
+  const auto twice = [](const std::vector<int>& count, std::vector<int>& c2, std::vector<int>& d2) {
+    c2.resize(count.size());
+    d2.assign(count.size(), 0);
+    for (std::size_t s = 0; s < count.size(); ++s) c2[s] = 2 * count[s];
+    for (std::size_t s = 1; s < count.size(); ++s) d2[s] = d2[s - 1] + c2[s - 1];
+  };
+  std::vector<int> sc2, sd2, rc2, rd2;
+  twice(send_count_, sc2, sd2);
+  twice(recv_count_, rc2, rd2);
+  std::vector<PetscInt> got(static_cast<std::size_t>(rd2.back() + rc2.back()));
+  MPI_Alltoallv(pairs.data(), sc2.data(), sd2.data(), MPIU_INT, got.data(), rc2.data(), rd2.data(), MPIU_INT, comm);
+  // Where each received (j, i) is stored here (row j - r0, global column i: off-diagonal block),
+  // -1 if not stored (it then compares with zero). An own entry whose mirror the other rank does
+  // not store is compared there, as that rank receives it.
+  PetscInt ncompact = 0;
+  petsc_check(MatGetSize(o, nullptr, &ncompact), "MatGetSize");
+  recv_pos_.assign(got.size() / 2, -1);
+  for (std::size_t k = 0; k < recv_pos_.size(); ++k) {
+    const PetscInt row = got[2 * k] - r0, col = got[2 * k + 1];
+    const PetscInt* c = std::lower_bound(garray, garray + ncompact, col);
+    if (c == garray + ncompact || *c != col) continue;
+    const auto compact = static_cast<PetscInt>(c - garray);
+    const PetscInt* at = std::lower_bound(jo + io[row], jo + io[row + 1], compact);
+    if (at == jo + io[row + 1] || *at != compact) continue;
+    recv_pos_[k] = static_cast<PetscInt>(at - jo);
+  }
+  planned_nonzeros_ = io[n];
+  petsc_check(MatRestoreRowIJ(o, 0, PETSC_FALSE, PETSC_FALSE, &n, &io, &jo, &done), "MatRestoreRowIJ");
+  planned_ = a;
+}
+
 bool SymmetryProbe::symmetric_distributed(Mat a) {
   // The largest |a_kl| over both blocks of every rank (MatNorm's NORM_MAX is the largest row sum).
   Mat d = nullptr, o = nullptr;
@@ -44,20 +111,41 @@ bool SymmetryProbe::symmetric_distributed(Mat a) {
   }
   const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(a));
   MPI_Allreduce(MPI_IN_PLACE, &largest, 1, MPI_DOUBLE, MPI_MAX, comm);
-  // PETSc compares the diagonal blocks and, through a gather of the other ranks' rows, the
-  // off-diagonal ones (|a_ij - a_ji| <= tol); each rank sees only its own off-diagonal pairs, so
-  // the answers are joined (every rank must choose the same factorisation).
-  PetscBool same = PETSC_FALSE;
-  petsc_check(MatIsSymmetric(a, kTolerance * largest, &same), "MatIsSymmetric");
-  int all = same == PETSC_TRUE ? 1 : 0;
+  const double tol = kTolerance * largest;
+  // The diagonal block through its mirror map; the off-diagonal entries against the mirrors their
+  // column's owner sends (the pattern's exchange planned once, then only values travel). Each rank
+  // sees only its own pairs, so the answers are joined: every rank chooses the same factorisation.
+  bool same = compare(d, tol);
+  const PetscInt* garray = nullptr;
+  petsc_check(MatMPIAIJGetSeqAIJ(a, &d, &o, &garray), "MatMPIAIJGetSeqAIJ");
+  MatInfo info;
+  petsc_check(MatGetInfo(o, MAT_LOCAL, &info), "MatGetInfo");
+  // A new plan on every rank or on none (it exchanges messages).
+  int replan = a != planned_ || static_cast<PetscInt>(info.nz_used) != planned_nonzeros_ ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &replan, 1, MPI_INT, MPI_LOR, comm);
+  if (replan == 1) plan_exchange(a, o, garray);
+  const PetscScalar* ov = nullptr;
+  petsc_check(MatSeqAIJGetArrayRead(o, &ov), "MatSeqAIJGetArrayRead");
+  std::vector<double> out(send_pos_.size()), in(recv_pos_.size());
+  for (std::size_t k = 0; k < send_pos_.size(); ++k) out[k] = ov[send_pos_[k]];
+  std::vector<int> sd(send_count_.size(), 0), rd(recv_count_.size(), 0);
+  for (std::size_t s = 1; s < sd.size(); ++s) {
+    sd[s] = sd[s - 1] + send_count_[s - 1];
+    rd[s] = rd[s - 1] + recv_count_[s - 1];
+  }
+  MPI_Alltoallv(out.data(), send_count_.data(), sd.data(), MPI_DOUBLE, in.data(), recv_count_.data(), rd.data(),
+                MPI_DOUBLE, comm);
+  for (std::size_t k = 0; k < in.size() && same; ++k) {
+    const PetscInt q = recv_pos_[k];
+    same = std::abs(in[k] - (q >= 0 ? ov[q] : 0.0)) <= tol;
+  }
+  petsc_check(MatSeqAIJRestoreArrayRead(o, &ov), "MatSeqAIJRestoreArrayRead");
+  int all = same ? 1 : 0;
   MPI_Allreduce(MPI_IN_PLACE, &all, 1, MPI_INT, MPI_LAND, comm);
   return all == 1;
 }
 
-bool SymmetryProbe::symmetric(Mat a) {
-  PetscBool seq = PETSC_FALSE;
-  petsc_check(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(a), MATSEQAIJ, &seq), "PetscObjectTypeCompare");
-  if (seq != PETSC_TRUE) return symmetric_distributed(a);
+bool SymmetryProbe::compare(Mat a, double tol) {
   PetscInt n = 0;
   petsc_check(MatGetSize(a, &n, nullptr), "MatGetSize");
   MatInfo info;
@@ -65,9 +153,6 @@ bool SymmetryProbe::symmetric(Mat a) {
   if (a != mapped_ || n != rows_ || static_cast<PetscInt>(info.nz_used) != nonzeros_) map(a);
   const PetscScalar* v = nullptr;
   petsc_check(MatSeqAIJGetArrayRead(a, &v), "MatSeqAIJGetArrayRead");
-  double largest = 0.0;
-  for (PetscInt k = 0; k < nonzeros_; ++k) largest = std::max(largest, std::abs(v[k]));
-  const double tol = kTolerance * largest;
   bool same = true;
   for (PetscInt k = 0; k < nonzeros_ && same; ++k) {
     const PetscInt m = mirror_[static_cast<std::size_t>(k)];
@@ -75,6 +160,20 @@ bool SymmetryProbe::symmetric(Mat a) {
   }
   petsc_check(MatSeqAIJRestoreArrayRead(a, &v), "MatSeqAIJRestoreArrayRead");
   return same;
+}
+
+bool SymmetryProbe::symmetric(Mat a) {
+  PetscBool seq = PETSC_FALSE;
+  petsc_check(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(a), MATSEQAIJ, &seq), "PetscObjectTypeCompare");
+  if (seq != PETSC_TRUE) return symmetric_distributed(a);
+  MatInfo info;
+  petsc_check(MatGetInfo(a, MAT_LOCAL, &info), "MatGetInfo");
+  const PetscScalar* v = nullptr;
+  petsc_check(MatSeqAIJGetArrayRead(a, &v), "MatSeqAIJGetArrayRead");
+  double largest = 0.0;
+  for (PetscInt k = 0; k < static_cast<PetscInt>(info.nz_used); ++k) largest = std::max(largest, std::abs(v[k]));
+  petsc_check(MatSeqAIJRestoreArrayRead(a, &v), "MatSeqAIJRestoreArrayRead");
+  return compare(a, kTolerance * largest);
 }
 
 }  // namespace adamss::solver

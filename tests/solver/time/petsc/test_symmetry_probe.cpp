@@ -60,6 +60,25 @@ bool probe_dense(double delta) {
   return out;
 }
 
+/// The diagonal 2 I on PETSC_COMM_WORLD (4 rows per rank) with `corner` at (0, n - 1) and `mirror`
+/// at (n - 1, 0), the mirror not stored at all when `stored` is false.
+bool probe_corner(double corner, double mirror, bool stored) {
+  const PetscInt n = 4 * solver::mpi_size();
+  Mat a = nullptr;
+  MatCreateAIJ(PETSC_COMM_WORLD, 4, 4, n, n, 2, nullptr, 1, nullptr, &a);
+  PetscInt lo = 0, hi = 0;
+  MatGetOwnershipRange(a, &lo, &hi);
+  for (PetscInt i = lo; i < hi; ++i) MatSetValue(a, i, i, 2.0, INSERT_VALUES);
+  if (lo == 0) MatSetValue(a, 0, n - 1, corner, INSERT_VALUES);
+  if (hi == n && stored) MatSetValue(a, n - 1, 0, mirror, INSERT_VALUES);
+  MatAssemblyBegin(a, MAT_FINAL_ASSEMBLY);
+  MatAssemblyEnd(a, MAT_FINAL_ASSEMBLY);
+  solver::SymmetryProbe p;
+  const bool out = p.symmetric(a);
+  MatDestroy(&a);
+  return out;
+}
+
 }  // namespace
 
 // Run on 1 rank (MATSEQAIJ) and by mpi.unit.np2 / np3 (MATMPIAIJ).
@@ -72,6 +91,11 @@ TEST(SymmetryProbeOnRanks, EveryRankGetsTheSameAnswerAgainstTheLargestEntry) {
   EXPECT_FALSE(probe_dense(1e-6));
   // 2.5e-10 of the largest entry: outside the tolerance 1e-10 x 2, inside 1e-10 x the row sum.
   EXPECT_FALSE(probe_dense(5e-10));
+  // An entry between the first and the last rank whose mirror is not stored compares with zero.
+  EXPECT_TRUE(probe_corner(0.5, 0.5, true));
+  EXPECT_FALSE(probe_corner(0.5, 0.4, true));
+  EXPECT_FALSE(probe_corner(0.5, 0.0, false));
+  EXPECT_TRUE(probe_corner(0.0, 0.0, false));  // a stored zero without a mirror
 }
 
 TEST(SymmetryProbe, ComparesEveryEntryWithItsMirror) {
