@@ -31,9 +31,11 @@ class SymmetryProbe {
   /// operator), a follower pressure on an open surface ~1e-6 and more.
   static constexpr double kTolerance = 1e-10;
 
-  /// Whether `a` (square AIJ) is symmetric to kTolerance. MATSEQAIJ: through the mirror map,
-  /// rebuilt when `a` is another Mat or its pattern changed size; several ranks (MATMPIAIJ):
-  /// PETSc's MatIsSymmetric with the same tolerance, the answer agreed by all ranks.
+  /// Whether `a` (square AIJ, equal row and column layouts) is symmetric to kTolerance.
+  /// MATSEQAIJ: through the mirror map, rebuilt when `a` is another Mat or its pattern changed
+  /// size; several ranks (MATMPIAIJ): the diagonal block the same way and the off-diagonal entries
+  /// exchanged with their mirrors' owners (planned again for another Mat or nonzero count), the
+  /// answer agreed by all ranks. Collective on a's communicator.
   bool symmetric(Mat a);
 
  private:
@@ -54,7 +56,6 @@ class SymmetryProbe {
   std::vector<PetscInt> send_pos_;  ///< off-diagonal values to send, grouped by destination rank
   std::vector<int> send_count_, recv_count_;
   std::vector<PetscInt> recv_pos_;   ///< per received value: its mirror here, -1 if not stored
-  std::vector<PetscInt> unmatched_;  ///< own off-diagonal entries no rank sends a mirror for
 };
 
 }  // namespace adamss::solver

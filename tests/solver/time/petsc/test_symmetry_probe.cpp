@@ -98,6 +98,36 @@ TEST(SymmetryProbeOnRanks, EveryRankGetsTheSameAnswerAgainstTheLargestEntry) {
   EXPECT_TRUE(probe_corner(0.0, 0.0, false));  // a stored zero without a mirror
 }
 
+// One probe on one matrix whose values change: the exchange planned at the first check serves the
+// next ones (only values travel); an asymmetry inside each rank's diagonal block is found too.
+TEST(SymmetryProbeOnRanks, FollowsTheValuesOfTheSameMatrix) {
+  solver::ensure_petsc();
+  const PetscInt n = 4 * solver::mpi_size();
+  Mat a = nullptr;
+  MatCreateAIJ(PETSC_COMM_WORLD, 4, 4, n, n, 4, nullptr, 1, nullptr, &a);
+  PetscInt lo = 0, hi = 0;
+  MatGetOwnershipRange(a, &lo, &hi);
+  const auto set = [&](double corner, double mirror, double inner) {
+    for (PetscInt i = lo; i < hi; ++i) MatSetValue(a, i, i, 2.0, INSERT_VALUES);
+    MatSetValue(a, lo, lo + 1, 0.3, INSERT_VALUES);  // inside the diagonal block
+    MatSetValue(a, lo + 1, lo, inner, INSERT_VALUES);
+    if (lo == 0) MatSetValue(a, 0, n - 1, corner, INSERT_VALUES);
+    if (hi == n) MatSetValue(a, n - 1, 0, mirror, INSERT_VALUES);
+    MatAssemblyBegin(a, MAT_FINAL_ASSEMBLY);
+    MatAssemblyEnd(a, MAT_FINAL_ASSEMBLY);
+  };
+  solver::SymmetryProbe p;
+  set(0.5, 0.5, 0.3);
+  EXPECT_TRUE(p.symmetric(a));
+  set(0.5, 0.4, 0.3);  // between the first and the last rank
+  EXPECT_FALSE(p.symmetric(a));
+  set(0.5, 0.5, 0.3);
+  EXPECT_TRUE(p.symmetric(a));
+  set(0.5, 0.5, 0.31);  // within each rank's own rows
+  EXPECT_FALSE(p.symmetric(a));
+  MatDestroy(&a);
+}
+
 TEST(SymmetryProbe, ComparesEveryEntryWithItsMirror) {
   solver::ensure_petsc();
   const double sym[4][4] = {{4, 1, 0, 2}, {1, 5, 3, 0}, {0, 3, 6, -1}, {2, 0, -1, 7}};
