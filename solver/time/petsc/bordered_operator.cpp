@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <numeric>
 #include <string>
 
@@ -101,13 +100,13 @@ void BorderedOperator::products_on(PetscInt n0, PetscInt nloc, std::vector<std::
 }
 
 void BorderedOperator::place_particle_rows(const OwnedBlockRows& a, const Numbering& num,
+                                           const std::vector<std::size_t>& on_start, const std::vector<std::size_t>& on,
                                            const std::vector<PetscInt>& b_start, std::vector<PetscInt>& col) {
-  std::vector<std::size_t> on_start, on, product_of(nodes_.size()), order;
+  std::vector<std::size_t> product_of(nodes_.size()), order;
   for (std::size_t k = 0; k + 1 < start_.size(); ++k) {
     std::fill(product_of.begin() + static_cast<std::ptrdiff_t>(start_[k]),
               product_of.begin() + static_cast<std::ptrdiff_t>(start_[k + 1]), k);
   }
-  products_on(a.n0, a.nloc, on_start, on);
   std::vector<PetscInt> slot;
   for (std::size_t la = 0; la < static_cast<std::size_t>(a.nloc); ++la) {
     const PetscInt b0 = a.brow[la], nb = a.brow[la + 1] - b0;
@@ -180,7 +179,7 @@ void BorderedOperator::build(const OwnedBlockRows& a) {
   in_row_.assign(g_.size(), -1);
   in_border_.assign(g_.size(), -1);
   diagonal_.assign(m, -1);
-  place_particle_rows(a, num, b_start, col);
+  place_particle_rows(a, num, on_start, on, b_start, col);
   place_border_rows(owned, 3 * nloc, num, b_start, col);
   create(b_start, col, 3 * ranges.back() + num.before.back(), ranks > 1);
   built_nodes_ = nodes_;

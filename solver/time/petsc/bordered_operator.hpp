@@ -98,8 +98,9 @@ class BorderedOperator {
   /// The recorded entries j on each particle of [n0, n0 + nloc): on[on_start[la] .. on_start[la + 1]).
   void products_on(PetscInt n0, PetscInt nloc, std::vector<std::size_t>& on_start, std::vector<std::size_t>& on) const;
   /// Columns of this rank's particle rows into `col` (rows starting at b_start), and where A_1's
-  /// values and the S entries go (a_to_b_, in_row_).
-  void place_particle_rows(const OwnedBlockRows& a, const Numbering& num, const std::vector<PetscInt>& b_start,
+  /// values and the S entries go (a_to_b_, in_row_); on_start, on: products_on's lists.
+  void place_particle_rows(const OwnedBlockRows& a, const Numbering& num, const std::vector<std::size_t>& on_start,
+                           const std::vector<std::size_t>& on, const std::vector<PetscInt>& b_start,
                            std::vector<PetscInt>& col);
   /// Columns of this rank's border rows (products `owned`, from local row first_row on), and where
   /// the S^T entries and d_k go (in_border_, diagonal_).

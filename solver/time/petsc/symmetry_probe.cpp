@@ -2,11 +2,35 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "solver/time/petsc/petsc_env.hpp"
 
 namespace adamss::solver {
+
+namespace {
+
+/// The largest |a_kl| stored in the MATSEQAIJ `a`.
+double largest_entry(Mat a) {
+  MatInfo info;
+  petsc_check(MatGetInfo(a, MAT_LOCAL, &info), "MatGetInfo");
+  const PetscScalar* v = nullptr;
+  petsc_check(MatSeqAIJGetArrayRead(a, &v), "MatSeqAIJGetArrayRead");
+  double largest = 0.0;
+  for (PetscInt k = 0; k < static_cast<PetscInt>(info.nz_used); ++k) largest = std::max(largest, std::abs(v[k]));
+  petsc_check(MatSeqAIJRestoreArrayRead(a, &v), "MatSeqAIJRestoreArrayRead");
+  return largest;
+}
+
+/// MPI_Alltoallv's displacements for `count` items per rank, each `width` values wide.
+std::vector<int> displacements(const std::vector<int>& count, int width) {
+  std::vector<int> d(count.size(), 0);
+  for (std::size_t s = 1; s < count.size(); ++s) d[s] = d[s - 1] + width * count[s - 1];
+  return d;
+}
+
+}  // namespace
 
 void SymmetryProbe::map(Mat a) {
   PetscInt n = 0;
@@ -46,34 +70,34 @@ void SymmetryProbe::plan_exchange(Mat a, Mat o, const PetscInt* garray) {
   const auto owner = [&](PetscInt col) {
     return static_cast<int>(std::upper_bound(cranges, cranges + ranks + 1, col) - cranges) - 1;
   };
-  std::vector<std::vector<PetscInt>> by_rank(static_cast<std::size_t>(ranks));
-  for (PetscInt r = 0; r < n; ++r)
-    for (PetscInt q = io[r]; q < io[r + 1]; ++q) by_rank[static_cast<std::size_t>(owner(garray[jo[q]]))].push_back(q);
+  std::vector<std::vector<std::pair<PetscInt, PetscInt>>> by_rank(static_cast<std::size_t>(ranks));  // (q, row)
+  for (PetscInt r = 0; r < n; ++r) {
+    for (PetscInt q = io[r]; q < io[r + 1]; ++q)
+      by_rank[static_cast<std::size_t>(owner(garray[jo[q]]))].emplace_back(q, r);
+  }
   send_pos_.clear();
   send_count_.assign(static_cast<std::size_t>(ranks), 0);
   std::vector<PetscInt> pairs;  // (row of the receiver = j, column = i) per entry
   for (int s = 0; s < ranks; ++s) {
     const auto& list = by_rank[static_cast<std::size_t>(s)];
     send_count_[static_cast<std::size_t>(s)] = static_cast<int>(list.size());
-    for (const PetscInt q : list) {
+    for (const auto& [q, row] : list) {
       send_pos_.push_back(q);
-      const auto row = static_cast<PetscInt>(std::upper_bound(io, io + n + 1, q) - io) - 1;
       pairs.push_back(garray[jo[q]]);
       pairs.push_back(r0 + row);
     }
   }
   recv_count_.assign(static_cast<std::size_t>(ranks), 0);
   MPI_Alltoall(send_count_.data(), 1, MPI_INT, recv_count_.data(), 1, MPI_INT, comm);
-  // Two PetscInt per entry: counts and displacements of the index exchange.
-  const auto twice = [](const std::vector<int>& count, std::vector<int>& c2, std::vector<int>& d2) {
-    c2.resize(count.size());
-    d2.assign(count.size(), 0);
-    for (std::size_t s = 0; s < count.size(); ++s) c2[s] = 2 * count[s];
-    for (std::size_t s = 1; s < count.size(); ++s) d2[s] = d2[s - 1] + c2[s - 1];
-  };
-  std::vector<int> sc2, sd2, rc2, rd2;
-  twice(send_count_, sc2, sd2);
-  twice(recv_count_, rc2, rd2);
+  send_disp_ = displacements(send_count_, 1);
+  recv_disp_ = displacements(recv_count_, 1);
+  // Two PetscInt per entry in the index exchange.
+  std::vector<int> sc2(send_count_.size()), rc2(recv_count_.size());
+  for (std::size_t s = 0; s < sc2.size(); ++s) {
+    sc2[s] = 2 * send_count_[s];
+    rc2[s] = 2 * recv_count_[s];
+  }
+  const std::vector<int> sd2 = displacements(send_count_, 2), rd2 = displacements(recv_count_, 2);
   std::vector<PetscInt> got(static_cast<std::size_t>(rd2.back() + rc2.back()));
   MPI_Alltoallv(pairs.data(), sc2.data(), sd2.data(), MPIU_INT, got.data(), rc2.data(), rd2.data(), MPIU_INT, comm);
   // Where each received (j, i) is stored here (row j - r0, global column i: off-diagonal block),
@@ -99,16 +123,9 @@ void SymmetryProbe::plan_exchange(Mat a, Mat o, const PetscInt* garray) {
 bool SymmetryProbe::symmetric_distributed(Mat a) {
   // The largest |a_kl| over both blocks of every rank (MatNorm's NORM_MAX is the largest row sum).
   Mat d = nullptr, o = nullptr;
-  petsc_check(MatMPIAIJGetSeqAIJ(a, &d, &o, nullptr), "MatMPIAIJGetSeqAIJ");
-  double largest = 0.0;
-  for (Mat part : {d, o}) {
-    MatInfo info;
-    petsc_check(MatGetInfo(part, MAT_LOCAL, &info), "MatGetInfo");
-    const PetscScalar* v = nullptr;
-    petsc_check(MatSeqAIJGetArrayRead(part, &v), "MatSeqAIJGetArrayRead");
-    for (PetscInt k = 0; k < static_cast<PetscInt>(info.nz_used); ++k) largest = std::max(largest, std::abs(v[k]));
-    petsc_check(MatSeqAIJRestoreArrayRead(part, &v), "MatSeqAIJRestoreArrayRead");
-  }
+  const PetscInt* garray = nullptr;
+  petsc_check(MatMPIAIJGetSeqAIJ(a, &d, &o, &garray), "MatMPIAIJGetSeqAIJ");
+  double largest = std::max(largest_entry(d), largest_entry(o));
   const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(a));
   MPI_Allreduce(MPI_IN_PLACE, &largest, 1, MPI_DOUBLE, MPI_MAX, comm);
   const double tol = kTolerance * largest;
@@ -116,8 +133,6 @@ bool SymmetryProbe::symmetric_distributed(Mat a) {
   // column's owner sends (the pattern's exchange planned once, then only values travel). Each rank
   // sees only its own pairs, so the answers are joined: every rank chooses the same factorisation.
   bool same = compare(d, tol);
-  const PetscInt* garray = nullptr;
-  petsc_check(MatMPIAIJGetSeqAIJ(a, &d, &o, &garray), "MatMPIAIJGetSeqAIJ");
   MatInfo info;
   petsc_check(MatGetInfo(o, MAT_LOCAL, &info), "MatGetInfo");
   // A new plan on every rank or on none (it exchanges messages).
@@ -128,13 +143,8 @@ bool SymmetryProbe::symmetric_distributed(Mat a) {
   petsc_check(MatSeqAIJGetArrayRead(o, &ov), "MatSeqAIJGetArrayRead");
   std::vector<double> out(send_pos_.size()), in(recv_pos_.size());
   for (std::size_t k = 0; k < send_pos_.size(); ++k) out[k] = ov[send_pos_[k]];
-  std::vector<int> sd(send_count_.size(), 0), rd(recv_count_.size(), 0);
-  for (std::size_t s = 1; s < sd.size(); ++s) {
-    sd[s] = sd[s - 1] + send_count_[s - 1];
-    rd[s] = rd[s - 1] + recv_count_[s - 1];
-  }
-  MPI_Alltoallv(out.data(), send_count_.data(), sd.data(), MPI_DOUBLE, in.data(), recv_count_.data(), rd.data(),
-                MPI_DOUBLE, comm);
+  MPI_Alltoallv(out.data(), send_count_.data(), send_disp_.data(), MPI_DOUBLE, in.data(), recv_count_.data(),
+                recv_disp_.data(), MPI_DOUBLE, comm);
   for (std::size_t k = 0; k < in.size() && same; ++k) {
     const PetscInt q = recv_pos_[k];
     same = std::abs(in[k] - (q >= 0 ? ov[q] : 0.0)) <= tol;
@@ -166,14 +176,7 @@ bool SymmetryProbe::symmetric(Mat a) {
   PetscBool seq = PETSC_FALSE;
   petsc_check(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(a), MATSEQAIJ, &seq), "PetscObjectTypeCompare");
   if (seq != PETSC_TRUE) return symmetric_distributed(a);
-  MatInfo info;
-  petsc_check(MatGetInfo(a, MAT_LOCAL, &info), "MatGetInfo");
-  const PetscScalar* v = nullptr;
-  petsc_check(MatSeqAIJGetArrayRead(a, &v), "MatSeqAIJGetArrayRead");
-  double largest = 0.0;
-  for (PetscInt k = 0; k < static_cast<PetscInt>(info.nz_used); ++k) largest = std::max(largest, std::abs(v[k]));
-  petsc_check(MatSeqAIJRestoreArrayRead(a, &v), "MatSeqAIJRestoreArrayRead");
-  return compare(a, kTolerance * largest);
+  return compare(a, kTolerance * largest_entry(a));
 }
 
 }  // namespace adamss::solver

@@ -53,9 +53,10 @@ class SymmetryProbe {
   // Several ranks: the exchange of the off-diagonal block's values (plan_exchange).
   Mat planned_ = nullptr;
   PetscInt planned_nonzeros_ = -1;
-  std::vector<PetscInt> send_pos_;  ///< off-diagonal values to send, grouped by destination rank
-  std::vector<int> send_count_, recv_count_;
-  std::vector<PetscInt> recv_pos_;   ///< per received value: its mirror here, -1 if not stored
+  std::vector<PetscInt> send_pos_;            ///< off-diagonal values to send, grouped by destination rank
+  std::vector<int> send_count_, recv_count_;  ///< values per rank sent and received
+  std::vector<int> send_disp_, recv_disp_;    ///< their displacements
+  std::vector<PetscInt> recv_pos_;            ///< per received value: its mirror here, -1 if not stored
 };
 
 }  // namespace adamss::solver

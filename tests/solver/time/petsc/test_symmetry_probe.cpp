@@ -39,6 +39,16 @@ bool probe(const double (&v)[4][4], const double (&keep)[4][4]) {
 
 const double kNone[4][4] = {};
 
+/// Assembles `a`, asks a new probe whether it is symmetric, destroys it.
+bool assembled_and_probed(Mat a) {
+  MatAssemblyBegin(a, MAT_FINAL_ASSEMBLY);
+  MatAssemblyEnd(a, MAT_FINAL_ASSEMBLY);
+  solver::SymmetryProbe p;
+  const bool out = p.symmetric(a);
+  MatDestroy(&a);
+  return out;
+}
+
 /// A dense n x n operator on PETSC_COMM_WORLD, 4 rows per rank (MATMPIAIJ on several ranks): 2 on
 /// the diagonal, 1 elsewhere, and entry (0, n - 1) off its mirror by `delta`. On several ranks that
 /// pair couples the first and the last rank only: the ranks between see no asymmetry of their own.
@@ -52,12 +62,7 @@ bool probe_dense(double delta) {
   for (PetscInt i = lo; i < hi; ++i)
     for (PetscInt j = 0; j < n; ++j) MatSetValue(a, i, j, i == j ? 2.0 : 1.0, INSERT_VALUES);
   if (lo == 0) MatSetValue(a, 0, n - 1, 1.0 + delta, INSERT_VALUES);
-  MatAssemblyBegin(a, MAT_FINAL_ASSEMBLY);
-  MatAssemblyEnd(a, MAT_FINAL_ASSEMBLY);
-  solver::SymmetryProbe p;
-  const bool out = p.symmetric(a);
-  MatDestroy(&a);
-  return out;
+  return assembled_and_probed(a);
 }
 
 /// The diagonal 2 I on PETSC_COMM_WORLD (4 rows per rank) with `corner` at (0, n - 1) and `mirror`
@@ -71,12 +76,7 @@ bool probe_corner(double corner, double mirror, bool stored) {
   for (PetscInt i = lo; i < hi; ++i) MatSetValue(a, i, i, 2.0, INSERT_VALUES);
   if (lo == 0) MatSetValue(a, 0, n - 1, corner, INSERT_VALUES);
   if (hi == n && stored) MatSetValue(a, n - 1, 0, mirror, INSERT_VALUES);
-  MatAssemblyBegin(a, MAT_FINAL_ASSEMBLY);
-  MatAssemblyEnd(a, MAT_FINAL_ASSEMBLY);
-  solver::SymmetryProbe p;
-  const bool out = p.symmetric(a);
-  MatDestroy(&a);
-  return out;
+  return assembled_and_probed(a);
 }
 
 }  // namespace
