@@ -16,6 +16,7 @@
 #include "common/error.hpp"
 #include "solver/core/stop_flag.hpp"
 #include "solver/time/petsc/mpi_session_dir.hpp"
+#include "solver/time/petsc/open_mpi_settings.hpp"
 
 namespace adamss::solver {
 
@@ -42,16 +43,14 @@ void prepare_singleton_mpi() {
   setenv("OMPI_MCA_hwloc_base_binding_policy", "none", 0);
   setenv("OMPI_MCA_orte_bound_at_launch", "1", 0);
 }
-/// Open MPI's point-to-point layer for ranks that mpirun started on one node, unless the
-/// environment (or mpirun --mca pml ..., which exports OMPI_MCA_pml) already names one: ob1 with
-/// its shared-memory transport (vader). Left to choose, Open MPI first tries UCX, which probes the
-/// network devices (and finds none on this machine kind) at every MPI_Init: a bare
-/// MPI_Init/MPI_Finalize on 2 ranks took 0.32 s, with ob1 named 0.12 s; land-p2.yaml on 2 ranks
-/// 0.739 -> 0.528 s (farm-bench, 2026-12-02); biv-inflation.yaml on 2 ranks kept its time (130 s,
-/// the same state). Ranks on several nodes keep Open MPI's own choice (UCX is what an InfiniBand
-/// cluster wants).
+/// Open MPI's ob1 point-to-point layer for ranks that mpirun started on one node, unless the
+/// environment or an MCA parameter file chose the layer (open_mpi_settings.hpp: the cm layer's
+/// interconnect probing costs 0.2 s of every MPI_Init here). land-p2.yaml on 2 ranks 0.739 ->
+/// 0.528 s (farm-bench, 2026-12-02); biv-inflation.yaml on 2 ranks kept its time (130 s, the same
+/// state). Ranks on several nodes keep Open MPI's own choice.
 void prepare_single_node_mpi() {
-  if (ranks_share_one_node()) setenv("OMPI_MCA_pml", "ob1", 0);
+  if (!ranks_share_one_node() || std::getenv("OMPI_MCA_pml") != nullptr) return;
+  if (pml_file_setting_allows_ob1(mca_file_value("pml"))) setenv("OMPI_MCA_pml", "ob1", 0);
 }
 
 /// The ranks' common stop decision: true when any rank's flag is set.

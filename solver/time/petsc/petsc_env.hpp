@@ -3,7 +3,7 @@
 //
 // ensure_petsc() initialises PETSc once per process (MPI singleton when not started by
 // mpirun, with Open MPI told to start no daemon and no network transport; under mpirun on one
-// node the shared-memory transport without UCX: petsc_env.cpp) on
+// node its ob1 layer unless the user chose one: open_mpi_settings.hpp) on
 // PETSC_COMM_WORLD; options come from the scene (`integrator.petsc_options`, a
 // string such as "-ksp_type gmres -pc_type gamg", to which `adamss run --petsc` appends its
 // own) and from the PETSC_OPTIONS environment variable.
@@ -32,8 +32,7 @@ void ensure_petsc(const std::string& options = {});
 
 /// True when Open MPI's mpirun started this process and every rank of the job on this node
 /// (OMPI_COMM_WORLD_LOCAL_SIZE = OMPI_COMM_WORLD_SIZE). Such ranks get Open MPI's ob1
-/// point-to-point layer unless the environment names another (petsc_env.cpp: UCX's start-up
-/// costs 0.2 s a run).
+/// point-to-point layer unless the user chose one (open_mpi_settings.hpp: 0.2 s a run).
 [[nodiscard]] bool ranks_share_one_node();
 
 /// This process's rank on PETSC_COMM_WORLD and the number of ranks. When a launcher started the
