@@ -184,6 +184,13 @@ bool load_integrator(SceneNode integ, RunSettings& run) {
   imp.bfgs_max_updates = reuse_count(integ, run.integrator, "bfgs_max_updates", 1000, "with BFGS updates");
   imp.bordered_max_reuses =
       reuse_count(integ, run.integrator, "bordered_max_reuses", 100, "in the cavity (bordered) steps");
+  imp.newton_max_reuses =
+      reuse_count(integ, run.integrator, "newton_max_reuses", 100, "in its damped Newton steps (modified Newton)");
+  if (imp.newton_max_reuses > 0 && imp.bfgs_max_updates > 0) {
+    throw InputError(integ.at("newton_max_reuses") +
+                     ": choose one way to reuse the factorisation, BFGS updates (bfgs_max_updates) or modified "
+                     "Newton (newton_max_reuses), not both");
+  }
   imp.petsc_options = integ.text("petsc_options", "");
   if (imp.max_newton < 1) throw InputError(integ.at("max_newton") + ": must be >= 1");
   if (!(run.abm3.error_min < run.abm3.error_max))

@@ -12,6 +12,10 @@ namespace adamss::solver {
 
 namespace {
 
+/// Modified Newton's contraction bound (as bordered_newton.cpp's): a full step whose simplified
+/// correction is at most this fraction of it keeps the operator for the next direction.
+constexpr double kReuseContraction = 0.1;
+
 /// The Newton direction at x: -K dx = f with the fixed coordinates eliminated, moved by `dpres`
 /// when `pending` (else held); dx = dpres on the fixed coordinates. False if the solve fails.
 bool newton_direction(StaticEquations& eq, JacobianSolver& linear, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& f,
@@ -62,6 +66,10 @@ bool damped_newton(StaticEquations& eq, JacobianSolver& linear, Eigen::Matrix3Xd
                    const ImplicitSettings& settings, NewtonRecord& record) {
   bool pending = dpres.cwiseAbs().maxCoeff() > 0.0;  // the prescribed move is still to be made
   const bool quasi = settings.bfgs_max_updates > 0;
+  // Modified Newton: the factorised operator kept while the full steps contract (no BFGS).
+  const bool may_reuse = !quasi && settings.newton_max_reuses > 0;
+  const bool counts_operators = quasi || may_reuse;  // max_newton bounds the factorisations
+  int reuses = 0;                                    // iterations since the last factorisation
   std::optional<BfgsInverse> bfgs;
   if (quasi) bfgs.emplace(settings.bfgs_max_updates);
   bool reform = true;  // the next direction needs the operator at the current x
@@ -74,7 +82,7 @@ bool damped_newton(StaticEquations& eq, JacobianSolver& linear, Eigen::Matrix3Xd
   };
   double r0 = 0.0;
   Eigen::Matrix3Xd f, dx, trial, r, dxb, next;
-  bool have_next = false;  // `next` holds the quasi-Newton direction at x (BfgsInverse::next_direction)
+  bool have_next = false;  // `next` holds the direction at x: BFGS's next_direction or modified Newton's dxb
   eq.residual(x, f);
   bool record_residual = true;  // false when an iteration is redone from the same x
   int operators = 0;            // factorised in this solve
@@ -89,15 +97,16 @@ bool damped_newton(StaticEquations& eq, JacobianSolver& linear, Eigen::Matrix3Xd
     if (settings.on_iteration && record_residual) settings.on_iteration(it, nr);
     record_residual = true;
     if (!pending && (nr <= settings.newton_atol || nr <= settings.newton_rtol * r0)) return true;
-    const bool fresh = reform || !quasi;
+    const bool fresh = reform || !counts_operators;
     // The limit counts the operators (= the iterations under full Newton): with BFGS the cheap
     // updates between two factorisations are not what max_newton bounds.
-    if ((quasi ? operators + (fresh ? 1 : 0) : it + 1) > settings.max_newton) return false;
+    if ((counts_operators ? operators + (fresh ? 1 : 0) : it + 1) > settings.max_newton) return false;
     if (fresh) {
       if (!newton_direction(eq, linear, x, f, dpres, pending, dx)) return false;
       ++operators;
       ++record.reformations;
       reform = false;
+      reuses = 0;
       if (quasi) bfgs->reset();
     } else if (have_next) {
       dx.swap(next);
@@ -134,6 +143,22 @@ bool damped_newton(StaticEquations& eq, JacobianSolver& linear, Eigen::Matrix3Xd
     if (quasi && !reform && corrected) {
       bfgs->next_direction(dx, alpha, r, dxb, next);  // saves the next iteration's solve
       have_next = true;
+    }
+    if (may_reuse) {
+      // Keep the operator for the next direction when this full step contracted:
+      // theta = |dxb| / |dx| <= 0.1, dxb = K^{-1} r(x + dx) the simplified correction with the
+      // factorisation that gave dx (computed here when the residual test accepted the step). dxb is
+      // then the next direction (a back-substitution instead of an assembly and a factorisation).
+      reform = true;
+      if (alpha == 1.0 && reuses < settings.newton_max_reuses) {
+        if (!corrected && !correct(r, dxb)) return false;
+        if (dxb.norm() <= kReuseContraction * dx.norm()) {
+          next.swap(dxb);
+          have_next = true;
+          reform = false;
+          ++reuses;
+        }
+      }
     }
     x = trial;
     f.swap(r);

@@ -28,6 +28,17 @@
 // direction from the same x; only a rejected Newton direction fails the attempt). max_newton
 // bounds the reformations.
 //
+// Modified Newton (settings.newton_max_reuses = n > 0, without BFGS): after a full step
+// (alpha = 1) the simplified correction dxb = K^{-1} r(x + dx) with the same factorisation is
+// computed (the monotonicity test's quantity; one back-substitution when the residual test
+// accepted the step), and when the step contracted, theta = |dxb| / |dx| <= 0.1 (the bound of
+// bordered_newton.hpp), dxb is the next direction without a new operator, for at most n
+// iterations in a row. A damped step, a weaker contraction, n reuses or a reused direction that
+// the line search rejects (the iteration is then redone with a new operator) bring a new
+// operator; max_newton bounds the factorisations. Near the solution theta is the Newton
+// contraction, so the reused iterations are where full Newton would already be quadratic:
+// biv-inflation.yaml on 2 ranks 53 -> 41 factorisations (65 iterations), 130 -> 106 s.
+//
 // Convergence: |r| <= newton_atol or |r| <= newton_rtol |r_0|, or an accepted position change
 // alpha |dx|_inf <= newton_xtol (its residual is recorded too). Failure: a non-finite residual
 // or position, a failed linear solve, the line search running out, or max_newton iterations.

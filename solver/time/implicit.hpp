@@ -82,6 +82,10 @@ struct ImplicitSettings {
   /// Newton, the factorised operator reused for up to n further iterations while each one
   /// contracts (bordered_newton.hpp); max_newton then bounds the factorisations.
   int bordered_max_reuses = 0;
+  /// static, damped Newton (no held cavity volumes, no BFGS): 0 = full Newton; n > 0 = modified
+  /// Newton, the factorised operator kept for up to n further iterations while each full step
+  /// contracts (damped_newton.hpp); max_newton then bounds the factorisations.
+  int newton_max_reuses = 0;
   std::string petsc_options;  ///< e.g. "-ksp_type cg -pc_type hypre"
   /// Called at every Newton iteration of every attempt with the iteration (0 = the start of the
   /// attempt) and its residual 2-norm (N): the run loop's progress lines inside a long step

@@ -172,8 +172,8 @@ TEST(Scene, ImpossibleValuesAndWrongUnits) {
                                        "static_damping: 50 Pa}"))
                 .find("expected a rate"),
             std::string::npos);
-  // The factorisation-reuse counts, BFGS updates (0 ... 1000) and modified Newton in the cavity
-  // (bordered) steps (0 ... 100): static only, 0 by default.
+  // The factorisation-reuse counts, BFGS updates (0 ... 1000), modified Newton in the cavity
+  // (bordered) steps and in the damped Newton steps (0 ... 100): static only, 0 by default.
   struct Reuse {
     const char* key;
     int solver::ImplicitSettings::*field;
@@ -181,7 +181,8 @@ TEST(Scene, ImpossibleValuesAndWrongUnits) {
     const char* range;
   };
   for (const Reuse& k : {Reuse{"bfgs_max_updates", &solver::ImplicitSettings::bfgs_max_updates, "1001", "1000"},
-                         Reuse{"bordered_max_reuses", &solver::ImplicitSettings::bordered_max_reuses, "101", "100"}}) {
+                         Reuse{"bordered_max_reuses", &solver::ImplicitSettings::bordered_max_reuses, "101", "100"},
+                         Reuse{"newton_max_reuses", &solver::ImplicitSettings::newton_max_reuses, "101", "100"}}) {
     SCOPED_TRACE(k.key);
     const std::string key = k.key;
     const std::string on =
@@ -201,6 +202,10 @@ TEST(Scene, ImpossibleValuesAndWrongUnits) {
           << bad;
     }
   }
+  EXPECT_NE(test::scene_error(replaced(kBase, "type: symplectic_euler, dt: 10 us}",
+                                       "type: static, dt: 1 ms, bfgs_max_updates: 10, newton_max_reuses: 5}"))
+                .find("integrator.newton_max_reuses: choose one way to reuse the factorisation"),
+            std::string::npos);
 }
 
 TEST(Scene, TimeStepFarBeyondTheCriticalStepIsAnError) {

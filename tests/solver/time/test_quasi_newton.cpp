@@ -1,5 +1,6 @@
 // BFGS updates of the factorised static operator (solver/time/quasi_newton.hpp) and the static
-// solver that uses them (integrator.bfgs_max_updates, damped_newton.hpp).
+// solver that uses them (integrator.bfgs_max_updates, damped_newton.hpp); the same solver's
+// modified Newton (integrator.newton_max_reuses).
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -136,7 +137,7 @@ struct LiftRun {
 /// 3 mm at its free end in `steps` static load steps, with `bfgs` updates per factorisation, at
 /// most `max_newton` per step (and with dt_min = 1 / steps: a failed step is not halved but
 /// throws NumericalError).
-LiftRun lift(int bfgs, int steps, int max_newton = 200) {
+LiftRun lift(int bfgs, int steps, int max_newton = 200, int reuses = 0) {
   solver::Model model = test::lifted_guccione_beam(
       {10, 1, 2}, 3e-3, [](const preprocess::Mesh& m) { return test::element_volume(m, 2e5); });
   solver::System sys(model);
@@ -147,6 +148,7 @@ LiftRun lift(int bfgs, int steps, int max_newton = 200) {
   set.newton_xtol = 1e-16;
   set.max_newton = max_newton;
   set.bfgs_max_updates = bfgs;
+  set.newton_max_reuses = reuses;
   set.dt_min = 1.0 / steps;
   solver::ImplicitIntegrator integ(sys, solver::ImplicitIntegrator::Kind::Static, set);
   solver::State s{model.x_ref, Eigen::Matrix3Xd::Zero(3, model.x_ref.cols()), 0.0};
@@ -198,4 +200,26 @@ TEST(StaticBfgs, MaxNewtonBoundsTheFactorisationsAndOneUpdateIsUsed) {
   // One stored update: every factorisation is followed by one updated direction (not full Newton).
   EXPECT_GT(one.newton, one.reformations);
   EXPECT_LT((one.x - newton.x).cwiseAbs().maxCoeff(), 1e-9);
+}
+
+TEST(StaticModifiedNewton, EndsOnNewtonsEquilibriumWithFewerFactorisations) {
+  const LiftRun newton = lift(0, 4);
+  const LiftRun reuse = lift(0, 4, 200, 5);
+  const LiftRun once = lift(0, 4, 200, 1);
+  std::printf(
+      "lift 3 mm in 4 steps: Newton %d iterations; modified Newton (5) %d on %d operators, (1) %d on %d; "
+      "|dx| %.2g, %.2g m\n",
+      newton.newton, reuse.newton, reuse.reformations, once.newton, once.reformations,
+      (reuse.x - newton.x).cwiseAbs().maxCoeff(), (once.x - newton.x).cwiseAbs().maxCoeff());
+  EXPECT_LT((reuse.x - newton.x).cwiseAbs().maxCoeff(), 1e-9);  // the Newton tolerance, against 3 mm
+  EXPECT_LT((once.x - newton.x).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT(reuse.reformations, newton.reformations) << "the contracting full steps kept their operator";
+  EXPECT_GT(reuse.newton, reuse.reformations);
+  EXPECT_LE(reuse.reformations, once.reformations) << "more reuses factorise no more often";
+  // At most one reuse per factorisation: iterations <= 2 x factorisations.
+  EXPECT_LE(once.newton, 2 * once.reformations);
+  // max_newton bounds the factorisations: the count modified Newton needs passes, one fewer fails.
+  const LiftRun limited = lift(0, 1, 200, 5);
+  EXPECT_EQ(lift(0, 1, limited.reformations, 5).reformations, limited.reformations);
+  EXPECT_THROW((void)lift(0, 1, limited.reformations - 1, 5), NumericalError);
 }
