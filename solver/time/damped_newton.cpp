@@ -149,8 +149,12 @@ bool damped_newton(StaticEquations& eq, JacobianSolver& linear, Eigen::Matrix3Xd
       // theta = |dxb| / |dx| <= 0.1, dxb = K^{-1} r(x + dx) the simplified correction with the
       // factorisation that gave dx (computed here when the residual test accepted the step). dxb is
       // then the next direction (a back-substitution instead of an assembly and a factorisation).
+      // Not when the trial already ends the solve (its residual or update passes the tests below).
       reform = true;
-      if (alpha == 1.0 && reuses < settings.newton_max_reuses) {
+      const double nt = r.norm();
+      const bool ends = nt <= settings.newton_atol || nt <= settings.newton_rtol * r0 ||
+                        dx.cwiseAbs().maxCoeff() <= settings.newton_xtol;
+      if (alpha == 1.0 && !ends && reuses < settings.newton_max_reuses) {
         if (!corrected && !correct(r, dxb)) return false;
         if (dxb.norm() <= kReuseContraction * dx.norm()) {
           next.swap(dxb);

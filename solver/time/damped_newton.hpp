@@ -29,9 +29,9 @@
 // bounds the reformations.
 //
 // Modified Newton (settings.newton_max_reuses = n > 0, without BFGS): after a full step
-// (alpha = 1) the simplified correction dxb = K^{-1} r(x + dx) with the same factorisation is
-// computed (the monotonicity test's quantity; one back-substitution when the residual test
-// accepted the step), and when the step contracted, theta = |dxb| / |dx| <= 0.1 (the bound of
+// (alpha = 1) that does not end the solve, the simplified correction dxb = K^{-1} r(x + dx) with
+// the same factorisation is computed (the monotonicity test's quantity; one back-substitution when
+// the residual test accepted the step), and when the step contracted, theta = |dxb| / |dx| <= 0.1 (the bound of
 // bordered_newton.hpp), dxb is the next direction without a new operator, for at most n
 // iterations in a row. A damped step, a weaker contraction, n reuses or a reused direction that
 // the line search rejects (the iteration is then redone with a new operator) bring a new
@@ -41,7 +41,8 @@
 //
 // Convergence: |r| <= newton_atol or |r| <= newton_rtol |r_0|, or an accepted position change
 // alpha |dx|_inf <= newton_xtol (its residual is recorded too). Failure: a non-finite residual
-// or position, a failed linear solve, the line search running out, or max_newton iterations.
+// or position, a failed linear solve, the line search running out, or max_newton iterations
+// (factorisations with BFGS or modified Newton).
 #include <Eigen/Core>
 
 #include "solver/time/implicit.hpp"
