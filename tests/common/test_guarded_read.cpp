@@ -15,6 +15,7 @@
 
 #include "common/error.hpp"
 #include "common/guarded_read.hpp"
+#include "support/scratch.hpp"
 
 namespace fs = std::filesystem;
 using adamss::guarded_read;
@@ -33,14 +34,7 @@ std::string guard_error(const fs::path& file, F read) {
   return "";
 }
 
-/// Sets an environment variable for one test.
-struct ScopedEnv {
-  std::string name;
-  ScopedEnv(const char* n, const char* value) : name(n) { setenv(n, value, 1); }
-  ~ScopedEnv() { unsetenv(name.c_str()); }
-  ScopedEnv(const ScopedEnv&) = delete;
-  ScopedEnv& operator=(const ScopedEnv&) = delete;
-};
+using adamss::test::ScopedEnv;
 
 }  // namespace
 

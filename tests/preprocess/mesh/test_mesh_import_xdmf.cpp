@@ -5,12 +5,12 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
 #include <string>
 
 #include "common/error.hpp"
 #include "preprocess/mesh/mesh.hpp"
 #include "preprocess/mesh/mesh_import.hpp"
+#include "support/scratch.hpp"
 
 using namespace adamss::preprocess;
 namespace fs = std::filesystem;
@@ -18,11 +18,7 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path write_file(const std::string& name, const std::string& text) {
-  const fs::path d = fs::temp_directory_path() / "adamss_test_import_xdmf";
-  fs::create_directories(d);
-  const fs::path p = d / name;
-  std::ofstream(p) << text;
-  return p;
+  return adamss::test::write_scratch_file("adamss_test_import_xdmf", name, text);
 }
 
 // The two tetrahedra of the .vtu tests, labels 1 and 7 as gmsh:physical, fibre z, sheet x, scar.

@@ -7,12 +7,12 @@
 
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <optional>
 #include <string>
 
 #include "solver/time/petsc/open_mpi_settings.hpp"
 #include "solver/time/petsc/petsc_env.hpp"
+#include "support/scratch.hpp"
 
 namespace adamss::solver {
 namespace {
@@ -25,31 +25,7 @@ const std::optional<std::string> kPmlAtStart = [] {
   return v != nullptr ? std::optional<std::string>(v) : std::nullopt;
 }();
 
-/// Sets (or, with nullopt, unsets) an environment variable for the scope and restores it after.
-class ScopedEnv {
- public:
-  ScopedEnv(const char* name, const std::optional<std::string>& value) : name_(name) {
-    if (const char* old = std::getenv(name)) old_ = old;
-    if (value) {
-      setenv(name, value->c_str(), 1);
-    } else {
-      unsetenv(name);
-    }
-  }
-  ~ScopedEnv() {
-    if (old_) {
-      setenv(name_, old_->c_str(), 1);
-    } else {
-      unsetenv(name_);
-    }
-  }
-  ScopedEnv(const ScopedEnv&) = delete;
-  ScopedEnv& operator=(const ScopedEnv&) = delete;
-
- private:
-  const char* name_;
-  std::optional<std::string> old_;
-};
+using test::ScopedEnv;
 
 TEST(SingleNodeLaunch, ReadsOpenMpisWorldAndLocalSizes) {
   if (launched_by_mpi()) GTEST_SKIP() << "mpirun's own variables are not to be changed under it";
@@ -80,13 +56,9 @@ TEST(SingleNodeLaunch, ReadsOpenMpisWorldAndLocalSizes) {
   }
 }
 
-/// A file with `text` in a fresh scratch folder.
+/// A file with `text` in this test's scratch folder.
 fs::path scratch_file(const std::string& name, const std::string& text) {
-  const fs::path dir = fs::temp_directory_path() / "adamss_test_open_mpi_settings";
-  fs::create_directories(dir);
-  const fs::path f = dir / name;
-  std::ofstream(f) << text;
-  return f;
+  return test::write_scratch_file("adamss_test_open_mpi_settings", name, text);
 }
 
 TEST(OpenMpiSettings, ReadsTheFirstParameterFileThatSetsAValue) {
