@@ -81,6 +81,8 @@ bool damped_newton(StaticEquations& eq, JacobianSolver& linear, Eigen::Matrix3Xd
     return true;
   };
   double r0 = 0.0;
+  // The residual test of convergence: |r| <= atol or |r| <= rtol |r_0|.
+  const auto residual_converged = [&](double n) { return n <= settings.newton_atol || n <= settings.newton_rtol * r0; };
   Eigen::Matrix3Xd f, dx, trial, r, dxb, next;
   bool have_next = false;  // `next` holds the direction at x: BFGS's next_direction or modified Newton's dxb
   eq.residual(x, f);
@@ -96,7 +98,7 @@ bool damped_newton(StaticEquations& eq, JacobianSolver& linear, Eigen::Matrix3Xd
     }
     if (settings.on_iteration && record_residual) settings.on_iteration(it, nr);
     record_residual = true;
-    if (!pending && (nr <= settings.newton_atol || nr <= settings.newton_rtol * r0)) return true;
+    if (!pending && residual_converged(nr)) return true;
     const bool fresh = reform || !counts_operators;
     // The limit counts the operators (= the iterations under full Newton): with BFGS the cheap
     // updates between two factorisations are not what max_newton bounds.
@@ -151,9 +153,7 @@ bool damped_newton(StaticEquations& eq, JacobianSolver& linear, Eigen::Matrix3Xd
       // then the next direction (a back-substitution instead of an assembly and a factorisation).
       // Not when the trial already ends the solve (its residual or update passes the tests below).
       reform = true;
-      const double nt = r.norm();
-      const bool ends = nt <= settings.newton_atol || nt <= settings.newton_rtol * r0 ||
-                        dx.cwiseAbs().maxCoeff() <= settings.newton_xtol;
+      const bool ends = residual_converged(r.norm()) || dx.cwiseAbs().maxCoeff() <= settings.newton_xtol;
       if (alpha == 1.0 && !ends && reuses < settings.newton_max_reuses) {
         if (!corrected && !correct(r, dxb)) return false;
         if (dxb.norm() <= kReuseContraction * dx.norm()) {
