@@ -39,7 +39,7 @@ struct MeshArgs {
   std::vector<std::string> tag_planes;   ///< NAME=AXIS:VALUE[:TOL]
   std::vector<std::string> cell_fields;  ///< NAME=FILE[:nearest|:trilinear]
   // --fiber rule (rule-based fibres, preprocess/fibres/rule_fibres.hpp); empty = not given.
-  std::string helix_endo, helix_epi, sheet_angle, long_axis;
+  std::string helix_endo, helix_epi, sheet_angle, sheet_angle_epi, long_axis;
   std::string helix_endo_rv, helix_epi_rv, helix_septum_rv;  ///< biv angles per wall (empty: the LV ones)
   // --topology cgal only (empty = default relative to the voxel size).
   std::string cgal_facet_angle;
@@ -67,12 +67,12 @@ double since(Clock::time_point t) {
 bool rule_requested(const MeshArgs& a) {
   const bool rule = a.fiber == "rule";
   const bool rule_options = !a.helix_endo.empty() || !a.helix_epi.empty() || !a.sheet_angle.empty() ||
-                            !a.long_axis.empty() || !a.helix_endo_rv.empty() || !a.helix_epi_rv.empty() ||
-                            !a.helix_septum_rv.empty();
+                            !a.sheet_angle_epi.empty() || !a.long_axis.empty() || !a.helix_endo_rv.empty() ||
+                            !a.helix_epi_rv.empty() || !a.helix_septum_rv.empty();
   if (rule_options && !rule) {
     throw InputError(
-        "--helix-endo/--helix-epi/--helix-endo-rv/--helix-epi-rv/--helix-septum-rv/--sheet-angle/--long-axis apply "
-        "only with --fiber rule");
+        "--helix-endo/--helix-epi/--helix-endo-rv/--helix-epi-rv/--helix-septum-rv/--sheet-angle/--sheet-angle-epi/"
+        "--long-axis apply only with --fiber rule");
   }
   if (rule && !a.sheet.empty()) throw InputError("--sheet: not used with --fiber rule (the rule makes the sheet)");
   return rule;
@@ -89,6 +89,7 @@ preprocess::RuleFibreOptions rule_options(const MeshArgs& a) {
   o.helix_endo_rad = angle(a.helix_endo, "60", "--helix-endo");
   o.helix_epi_rad = angle(a.helix_epi, "-60", "--helix-epi");
   o.sheet_angle_rad = angle(a.sheet_angle, "0", "--sheet-angle");
+  if (!a.sheet_angle_epi.empty()) o.sheet_angle_epi_rad = angle(a.sheet_angle_epi, "", "--sheet-angle-epi");
   if (!a.helix_endo_rv.empty()) o.rv_helix_endo_rad = angle(a.helix_endo_rv, "", "--helix-endo-rv");
   if (!a.helix_epi_rv.empty()) o.rv_helix_epi_rad = angle(a.helix_epi_rv, "", "--helix-epi-rv");
   if (!a.helix_septum_rv.empty()) o.septum_rv_helix_rad = angle(a.helix_septum_rv, "", "--helix-septum-rv");
@@ -450,7 +451,12 @@ void add_mesh_command(CLI::App& app) {
                   "--fiber rule, biv: helix angle at the RV free wall's epicardium, degrees (default --helix-epi)");
   sub->add_option("--helix-septum-rv", args->helix_septum_rv,
                   "--fiber rule, biv: helix angle at the septum's RV surface, degrees (default --helix-epi)");
-  sub->add_option("--sheet-angle", args->sheet_angle, "--fiber rule: sheet angle about the fibre, degrees (default 0)");
+  sub->add_option("--sheet-angle", args->sheet_angle,
+                  "--fiber rule: sheet angle about the fibre, degrees (default 0); with --sheet-angle-epi its "
+                  "value at the endocardium");
+  sub->add_option("--sheet-angle-epi", args->sheet_angle_epi,
+                  "--fiber rule: sheet angle at the epicardium, degrees, linear through the wall from --sheet-angle "
+                  "(LDRB: --sheet-angle -65 --sheet-angle-epi 25; default: --sheet-angle throughout)");
   sub->add_option("--long-axis", args->long_axis,
                   "--fiber rule: X,Y,Z direction from apex to base (default: normal of the valve openings)");
   sub->add_option("--cgal-facet-angle", args->cgal_facet_angle,

@@ -57,6 +57,10 @@ void check_options(const RuleFibreOptions& o) {
   }
   if (!std::isfinite(o.sheet_angle_rad) || std::abs(o.sheet_angle_rad) > lim)
     fail("sheet angle (--sheet-angle) must lie in [-90, 90] degrees, got " + deg_text(o.sheet_angle_rad));
+  if (o.sheet_angle_epi_rad && (!std::isfinite(*o.sheet_angle_epi_rad) || std::abs(*o.sheet_angle_epi_rad) > lim)) {
+    fail("sheet angle at the epicardium (--sheet-angle-epi) must lie in [-90, 90] degrees, got " +
+         deg_text(*o.sheet_angle_epi_rad));
+  }
   if (o.long_axis && (!o.long_axis->allFinite() || !(o.long_axis->norm() > 0.0)))
     fail("the long axis (--long-axis) must be a finite non-zero vector");
 }
@@ -658,7 +662,8 @@ std::pair<double, double> wall_angles(const Mesh& mesh, std::size_t e, bool rv, 
 /// The fibre, sheet and normal of every element from its transmural direction n_t and coordinate
 /// t: e_l = the long axis projected normal to n_t (any direction normal to n_t at the apex),
 /// e_c = e_l x n_t, helix alpha = a0 + (a1 - a0) t (wall_angles), f = cos(alpha) e_c + sin(alpha)
-/// e_l, s = cos(beta) n_t + sin(beta) f x n_t, n = f x s.
+/// e_l, sheet angle beta = b0 + (b1 - b0) t (b1 = b0 without sheet_angle_epi_rad),
+/// s = cos(beta) n_t + sin(beta) f x n_t, n = f x s.
 void write_frames(Mesh& mesh, const std::vector<Vector3d>& et, const Eigen::VectorXd& t_elem,
                   const std::vector<char>& use_rv, const RuleFibreOptions& options, RuleFibreReport& rep) {
   const std::size_t ne = mesh.element_count();
@@ -666,7 +671,7 @@ void write_frames(Mesh& mesh, const std::vector<Vector3d>& et, const Eigen::Vect
   mesh.sheet.resize(3, static_cast<Eigen::Index>(ne));
   mesh.normal.resize(3, static_cast<Eigen::Index>(ne));
   const Vector3d l = rep.long_axis;
-  const double cb = std::cos(options.sheet_angle_rad), sb = std::sin(options.sheet_angle_rad);
+  const double b0 = options.sheet_angle_rad, b1 = options.sheet_angle_epi_rad.value_or(b0);
   for (std::size_t e = 0; e < ne; ++e) {
     const auto [a0, a1] = wall_angles(mesh, e, use_rv[e] != 0, options, rep);
     const Vector3d& n_t = et[e];
@@ -682,9 +687,11 @@ void write_frames(Mesh& mesh, const std::vector<Vector3d>& et, const Eigen::Vect
       el = n_t.cross(ec);
       ++rep.apex_elements;
     }
-    const double alpha = a0 + (a1 - a0) * t_elem[static_cast<Eigen::Index>(e)];
+    const double t = t_elem[static_cast<Eigen::Index>(e)];
+    const double alpha = a0 + (a1 - a0) * t;
+    const double beta = b0 + (b1 - b0) * t;
     const Vector3d f = (std::cos(alpha) * ec + std::sin(alpha) * el).normalized();
-    const Vector3d s = (cb * n_t + sb * f.cross(n_t)).normalized();
+    const Vector3d s = (std::cos(beta) * n_t + std::sin(beta) * f.cross(n_t)).normalized();
     const auto col = static_cast<Eigen::Index>(e);
     mesh.fiber.col(col) = f;
     mesh.sheet.col(col) = s;
@@ -756,6 +763,7 @@ std::string describe_rule(const RuleFibreOptions& options, const RuleFibreReport
   if (options.rv_helix_endo_rad) out << " helix_endo_rv_deg=" << deg_text(*options.rv_helix_endo_rad);
   if (options.rv_helix_epi_rad) out << " helix_epi_rv_deg=" << deg_text(*options.rv_helix_epi_rad);
   if (options.septum_rv_helix_rad) out << " helix_septum_rv_deg=" << deg_text(*options.septum_rv_helix_rad);
+  if (options.sheet_angle_epi_rad) out << " sheet_angle_epi_deg=" << deg_text(*options.sheet_angle_epi_rad);
   out << (report.biv ? " biv" : "");
   return out.str();
 }

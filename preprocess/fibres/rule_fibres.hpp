@@ -83,6 +83,8 @@
 //   e_c  = e_l x e_t  (circumferential)
 //   alpha = helix_endo + (helix_epi - helix_endo) t
 //   fibre  f = cos(alpha) e_c + sin(alpha) e_l
+//   beta  = sheet_endo + (sheet_epi - sheet_endo) t   (sheet_epi empty: beta = sheet_endo
+//                                                     through the wall)
 //   sheet  s = cos(beta) e_t + sin(beta) (f x e_t)   (e_t turned by beta about f,
 //                                                     right-handed; beta = sheet angle)
 //   normal n = f x s
@@ -93,6 +95,11 @@
 //     (about 0 in the LV free wall, rising to 1 at the septum's RV surface), so the LV free wall
 //     ends at helix_epi on the epicardium and the septum at septum_rv_helix on the RV side.
 // With the defaults (each empty) this is the one helix law above, bit for bit.
+// Sheet angle through the wall: LDRB (Bayer et al. 2012, their Table 1: beta_endo = -65 deg,
+// beta_epi = +25 deg) turns the sheet linearly in the transmural coordinate like the helix;
+// sheet_angle_rad is the endocardial value and sheet_angle_epi_rad, when given, the value at the
+// wall's far surface (the epicardium, or the septum's RV surface, with the same t as the helix).
+// Unset, the sheet angle is one value through the wall (bit for bit the earlier rule).
 // (f, s, n) is right-handed and orthonormal. Where e_t is parallel to the long
 // axis (within 1e-6 rad: only at an apex) e_c is taken perpendicular to e_t and
 // the global axis least aligned with it; such elements are counted.
@@ -139,7 +146,9 @@ enum class TransmuralCoordinate {
 struct RuleFibreOptions {
   double helix_endo_rad = 60.0 * 3.14159265358979323846 / 180.0;
   double helix_epi_rad = -60.0 * 3.14159265358979323846 / 180.0;
-  double sheet_angle_rad = 0.0;
+  double sheet_angle_rad = 0.0;  ///< at the endocardium (everywhere when sheet_angle_epi_rad is empty)
+  /// The sheet angle at the wall's far surface (LDRB's beta_epi); empty: sheet_angle_rad through the wall.
+  std::optional<double> sheet_angle_epi_rad;
   /// biv: the RV free wall's helix at its endocardium and epicardium (empty: helix_endo_rad,
   /// helix_epi_rad), and the septum's helix at its RV surface (empty: helix_epi_rad). See
   /// "Angles per wall" in the file comment.

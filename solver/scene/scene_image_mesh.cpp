@@ -54,7 +54,8 @@ preprocess::FibreSource fibre_source(SceneNode& node, std::ostringstream& key) {
   const std::string kind = node.choice("fibres", {"none", "rule"}, "none");
   key << ";fibres;" << kind;
   if (kind == "none") {
-    for (const char* k : {"helix_endo", "helix_epi", "sheet_angle", "helix_endo_rv", "helix_epi_rv", "helix_septum_rv"})
+    for (const char* k : {"helix_endo", "helix_epi", "sheet_angle", "sheet_angle_epi", "helix_endo_rv", "helix_epi_rv",
+                          "helix_septum_rv"})
       if (node.has(k)) throw InputError(node.at(k) + ": only with fibres: rule");
     return preprocess::NoFibres{};
   }
@@ -69,11 +70,12 @@ preprocess::FibreSource fibre_source(SceneNode& node, std::ostringstream& key) {
   o.helix_endo_rad = angle("helix_endo", o.helix_endo_rad);
   o.helix_epi_rad = angle("helix_epi", o.helix_epi_rad);
   o.sheet_angle_rad = angle("sheet_angle", o.sheet_angle_rad);
-  // The per-wall angles of biv meshes, each named in the key and only when given (so the cache
-  // keys of earlier scenes stay).
+  // The per-wall angles of biv meshes and the epicardial sheet angle, each named in the key and
+  // only when given (so the cache keys of earlier scenes stay).
   const std::pair<const char*, std::optional<double>*> per_wall[] = {{"helix_endo_rv", &o.rv_helix_endo_rad},
                                                                      {"helix_epi_rv", &o.rv_helix_epi_rad},
-                                                                     {"helix_septum_rv", &o.septum_rv_helix_rad}};
+                                                                     {"helix_septum_rv", &o.septum_rv_helix_rad},
+                                                                     {"sheet_angle_epi", &o.sheet_angle_epi_rad}};
   for (const auto& [name, value] : per_wall) {
     if (!node.has(name)) continue;
     key << ';' << name;

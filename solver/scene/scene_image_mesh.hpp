@@ -10,6 +10,8 @@
 //   cgal             {facet_angle, facet_size, facet_distance, cell_ratio, cell_size, seed}
 //   fibres           none (default) | rule (Laplace-coordinate rule, preprocess/fibres/rule_fibres.hpp)
 //   helix_endo, helix_epi, sheet_angle   angles of the rule (60, -60, 0 deg), within +-90 deg
+//   sheet_angle_epi  the sheet angle at the far surface, linear through the wall from sheet_angle
+//                    (LDRB; default: sheet_angle throughout)
 //   helix_endo_rv, helix_epi_rv, helix_septum_rv   biv: the RV free wall's and the septum's own
 //                    angles (rule_fibres.hpp, "Angles per wall")
 //   resample         a length: isotropic voxels of that edge before meshing (shape-based,

@@ -42,10 +42,15 @@ TEST(CliRuleFibres, LvMeshGetsRuleFibres) {
     EXPECT_NEAR((m.fiber.col(e).cross(m.sheet.col(e)) - m.normal.col(e)).norm(), 0.0, 1e-12);
   }
 
-  // A given long axis is reported as given.
-  r = run_adamss("mesh " + img + " --topology hex --fiber rule --long-axis 0,0,1 --no-vtu -o " + mesh);
+  // A given long axis is reported as given; the sheet angle through the wall (LDRB) is recorded.
+  r = run_adamss("mesh " + img +
+                 " --topology hex --fiber rule --long-axis 0,0,1 --sheet-angle -65 --sheet-angle-epi 25 --no-vtu -o " +
+                 mesh);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("(0, 0, 1) given"), std::string::npos) << r.output;
+  const std::string ldrb = adamss::preprocess::read_mesh_h5(mesh).attributes.at("fiber_rule");
+  EXPECT_NE(ldrb.find("sheet_angle_deg=-65"), std::string::npos) << ldrb;
+  EXPECT_NE(ldrb.find("sheet_angle_epi_deg=25"), std::string::npos) << ldrb;
 }
 
 TEST(CliRuleFibres, OptionErrorsNameTheOption) {
@@ -60,6 +65,8 @@ TEST(CliRuleFibres, OptionErrorsNameTheOption) {
       {"--fiber rule --helix-epi -91", "--helix-epi"},
       {"--fiber rule --helix-endo 2rad", "--helix-endo"},
       {"--fiber rule --sheet-angle 100", "--sheet-angle"},
+      {"--fiber rule --sheet-angle-epi 95", "--sheet-angle-epi"},
+      {"--sheet-angle-epi 25", "--fiber rule"},
       {"--fiber rule --long-axis 0,0", "--long-axis"},
       {"--fiber rule --long-axis 0,0,0", "--long-axis"},
       {"--fiber rule --long-axis 1,x,0", "--long-axis"},

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -152,6 +153,45 @@ TEST(RuleFibres, SheetAngleTurnsTheSheetAboutTheFibre) {
     EXPECT_NEAR((m1.fiber.col(e) - f).norm(), 0.0, 1e-14);
     EXPECT_NEAR(s1.dot(s0), std::cos(30 * kDeg), 1e-12);
     EXPECT_NEAR(s1.dot(f.cross(s0)), std::sin(30 * kDeg), 1e-12);  // right-handed about f
+  }
+}
+
+// LDRB's sheet law (Bayer et al. 2012, Table 1: beta = -65 deg at the endocardium, +25 deg at the
+// epicardium), linear in t like the helix: on the flat wall t = (z - z_endo) / W exactly, so the
+// sheet angle measured about each element's fibre from e_t = +z must be beta(t) to rounding. The
+// fibres stay those of the constant-sheet rule, and an epicardial value equal to the endocardial
+// one is the constant rule bit for bit.
+TEST(RuleFibres, SheetAngleRunsThroughTheWallLikeLdrb) {
+  const int wall = 4;
+  const LabelImage img = flat_wall(wall);
+  for (Topology topo : {Topology::Tet6m, Topology::Hex}) {
+    Mesh m0 = mesh_of(img, topo), m1 = m0, m2 = m0;
+    RuleFibreOptions o;
+    o.long_axis = Eigen::Vector3d::UnitX();
+    o.sheet_angle_rad = -65 * kDeg;
+    assign_rule_fibres(m0, img, o);
+    o.sheet_angle_epi_rad = -65 * kDeg;
+    assign_rule_fibres(m2, img, o);
+    o.sheet_angle_epi_rad = 25 * kDeg;
+    assign_rule_fibres(m1, img, o);
+    expect_orthonormal_right_handed(m1);
+    EXPECT_NE(m1.attributes.at("fiber_rule").find("sheet_angle_deg=-65"), std::string::npos);
+    EXPECT_NE(m1.attributes.at("fiber_rule").find("sheet_angle_epi_deg=25"), std::string::npos);
+    EXPECT_EQ(m2.sheet, m0.sheet);
+    EXPECT_EQ(m2.normal, m0.normal);
+    double lo = 1.0, hi = -1.0;
+    for (std::size_t e = 0; e < m1.element_count(); ++e) {
+      const auto c = static_cast<Eigen::Index>(e);
+      const Eigen::Vector3d f = m1.fiber.col(c), s = m1.sheet.col(c), et = Eigen::Vector3d::UnitZ();
+      ASSERT_NEAR((f - m0.fiber.col(c)).norm(), 0.0, 1e-14) << "element " << e;
+      const double t = (element_barycentre(m1, e).z() - 0.5e-3) / (wall * 1e-3);
+      const double beta = std::atan2(s.dot(f.cross(et)), s.dot(et));
+      ASSERT_NEAR(beta, (-65 + 90 * t) * kDeg, 1e-7) << "element " << e << ", t " << t;
+      lo = std::min(lo, t);
+      hi = std::max(hi, t);
+    }
+    EXPECT_LT(lo, 0.2);  // the law is seen near both surfaces (hex centres: t = 1/8 ... 7/8)
+    EXPECT_GT(hi, 0.8);
   }
 }
 
@@ -397,6 +437,11 @@ TEST(RuleFibres, Errors) {
   o = {};
   o.sheet_angle_rad = 100 * kDeg;
   expect_error(o, "--sheet-angle", ph.image, base);
+  o = {};
+  o.sheet_angle_epi_rad = -91 * kDeg;
+  expect_error(o, "--sheet-angle-epi", ph.image, base);
+  o.sheet_angle_epi_rad = std::nan("");
+  expect_error(o, "--sheet-angle-epi", ph.image, base);
   o = {};
   o.long_axis = Eigen::Vector3d::Zero();
   expect_error(o, "--long-axis", ph.image, base);

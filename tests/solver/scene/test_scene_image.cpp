@@ -110,6 +110,11 @@ TEST(SceneImage, ErrorsNameTheKey) {
             std::string::npos);
   EXPECT_NE(test::scene_error(scene(", fibres: rule, helix_epi_rv: 95 deg")).find("mesh.helix_epi_rv: the angle"),
             std::string::npos);
+  EXPECT_NE(test::scene_error(scene(", sheet_angle_epi: 25 deg")).find("mesh.sheet_angle_epi: only with fibres: rule"),
+            std::string::npos);
+  EXPECT_NE(
+      test::scene_error(scene(", fibres: rule, sheet_angle_epi: -95 deg")).find("mesh.sheet_angle_epi: the angle"),
+      std::string::npos);
   EXPECT_NE(test::scene_error(scene(", cavities: {lv: 0}")).find("mesh.cavities.lv"), std::string::npos);
   const std::string unknown = test::scene_error(scene(kTet, "{cavity_rim: lw}"));
   EXPECT_NE(unknown.find("the mesh has no cavity 'lw'"), std::string::npos) << unknown;
