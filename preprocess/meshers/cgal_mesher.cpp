@@ -29,6 +29,7 @@
 
 #include "common/error.hpp"
 #include "preprocess/mesh/element_faces.hpp"
+#include "preprocess/meshers/locality_order.hpp"
 
 namespace adamss::preprocess {
 namespace {
@@ -522,6 +523,10 @@ CgalMeshResult mesh_cgal(const LabelImage& image, const CgalMeshOptions& options
         " elements_removed=" + std::to_string(w.elements_removed) +
         " nodes_removed=" + std::to_string(w.nodes_removed) + " volume_fraction=" + std::to_string(w.volume_fraction);
   }
+  // Mesh_3's vertex order is close to random in space; renumbered for the solver's memory locality
+  // (locality_order.hpp: the biv-me beat's Jacobian assemblies 30 % shorter).
+  renumber_for_locality(mesh, &result.patches);
+  mesh.attributes["node_order"] = "rcm";
   mesh.voxel_size_m = h;
   mesh.attributes["topology"] = "cgal";
   mesh.attributes["cgal_criteria"] = criteria_attribute(crit, options);

@@ -88,6 +88,7 @@ preprocess::FibreSource fibre_source(SceneNode& node, std::ostringstream& key) {
 
 preprocess::CgalMeshOptions cgal_options(SceneNode& node, std::ostringstream& key) {
   preprocess::CgalMeshOptions o;
+  key << ";order;rcm";  // CGAL meshes are renumbered for locality (locality_order.hpp): not the earlier files
   auto c = node.optional_map("cgal");
   if (!c) return o;
   if (c->has("facet_angle")) {
