@@ -27,9 +27,10 @@ NodeGraph node_graph(const Mesh& mesh) {
   pairs.reserve(ne * static_cast<std::size_t>(k * (k - 1)));
   for (std::size_t e = 0; e < ne; ++e) {
     const Index* n = mesh.element(e);
-    for (int a = 0; a < k; ++a)
+    for (int a = 0; a < k; ++a) {
       for (int b = 0; b < k; ++b)
         if (n[a] != n[b]) pairs.emplace_back(n[a], n[b]);
+    }
   }
   std::sort(pairs.begin(), pairs.end());
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
