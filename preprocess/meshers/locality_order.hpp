@@ -7,10 +7,10 @@
 // numbers the nodes in the order of its triangulation's vertex container, which is close to
 // random in space: on the biv-me mesh of cases/anatomy (8 077 nodes, 25 848 tetrahedra) the
 // median of max - min node index within an element was 3 585, and the next element's lowest node
-// lay a median 1 257 indices away. Renumbered as below the median span is 377 and the biv-me beat's
-// first 150 ms (one thread, the same 114 Newton iterations and volumes to 1e-15) took 36.1 s
-// instead of 41.8 s: Jacobian assemblies 11.1 -> 7.8 s, forces 4.9 -> 4.0 s, factorisations
-// 17.2 -> 16.3 s (bench/README.md).
+// lay a median 1 257 indices away. Renumbered as below the median span is 294; whole runs on one
+// thread, the same scene on the mesh before and after (bench/README.md): biv-inflation-coarse
+// 17.6 -> 14.0 s (Jacobian assemblies 3.9 -> 2.1 s), the biv-me beat's first 150 ms 44.4 -> 39.9 s
+// (8.8 instead of 11.9 s), the same Newton iterations.
 //
 // What. Nodes: reverse Cuthill-McKee on the node graph (two nodes adjacent when they share an
 // element), one connected component after another, each started from a pseudo-peripheral node
