@@ -47,20 +47,17 @@ void check_options(const RuleFibreOptions& o) {
   }
   if (!std::isfinite(o.helix_epi_rad) || std::abs(o.helix_epi_rad) > lim)
     fail("helix angle at the epicardium (--helix-epi) must lie in [-90, 90] degrees, got " + deg_text(o.helix_epi_rad));
-  const std::pair<const std::optional<double>*, const char*> per_wall[] = {
-      {&o.rv_helix_endo_rad, "RV endocardium (--helix-endo-rv)"},
-      {&o.rv_helix_epi_rad, "RV epicardium (--helix-epi-rv)"},
-      {&o.septum_rv_helix_rad, "septum's RV surface (--helix-septum-rv)"}};
-  for (const auto& [v, what] : per_wall) {
+  const std::pair<const std::optional<double>*, const char*> optional_angles[] = {
+      {&o.rv_helix_endo_rad, "helix angle at the RV endocardium (--helix-endo-rv)"},
+      {&o.rv_helix_epi_rad, "helix angle at the RV epicardium (--helix-epi-rv)"},
+      {&o.septum_rv_helix_rad, "helix angle at the septum's RV surface (--helix-septum-rv)"},
+      {&o.sheet_angle_epi_rad, "sheet angle at the epicardium (--sheet-angle-epi)"}};
+  for (const auto& [v, what] : optional_angles) {
     if (*v && (!std::isfinite(**v) || std::abs(**v) > lim))
-      fail(std::string("helix angle at the ") + what + " must lie in [-90, 90] degrees, got " + deg_text(**v));
+      fail(std::string(what) + " must lie in [-90, 90] degrees, got " + deg_text(**v));
   }
   if (!std::isfinite(o.sheet_angle_rad) || std::abs(o.sheet_angle_rad) > lim)
     fail("sheet angle (--sheet-angle) must lie in [-90, 90] degrees, got " + deg_text(o.sheet_angle_rad));
-  if (o.sheet_angle_epi_rad && (!std::isfinite(*o.sheet_angle_epi_rad) || std::abs(*o.sheet_angle_epi_rad) > lim)) {
-    fail("sheet angle at the epicardium (--sheet-angle-epi) must lie in [-90, 90] degrees, got " +
-         deg_text(*o.sheet_angle_epi_rad));
-  }
   if (o.long_axis && (!o.long_axis->allFinite() || !(o.long_axis->norm() > 0.0)))
     fail("the long axis (--long-axis) must be a finite non-zero vector");
 }

@@ -526,7 +526,6 @@ CgalMeshResult mesh_cgal(const LabelImage& image, const CgalMeshOptions& options
   // Mesh_3's vertex order is close to random in space; renumbered for the solver's memory locality
   // (locality_order.hpp: Jacobian assemblies on the coarse biv-me heart 47 % shorter).
   renumber_for_locality(mesh, &result.patches);
-  mesh.attributes["node_order"] = "rcm";
   mesh.voxel_size_m = h;
   mesh.attributes["topology"] = "cgal";
   mesh.attributes["cgal_criteria"] = criteria_attribute(crit, options);

@@ -18,6 +18,10 @@ struct NodeGraph {
     const auto u = static_cast<std::size_t>(i);
     return start[u + 1] - start[u];
   }
+  /// The order nodes are visited and chosen in: fewer neighbours first, then the lower index.
+  [[nodiscard]] bool before(Index a, Index b) const {
+    return std::make_pair(degree(a), a) < std::make_pair(degree(b), b);
+  }
 };
 
 NodeGraph node_graph(const Mesh& mesh) {
@@ -68,8 +72,7 @@ void bfs(const NodeGraph& g, Index root, const std::vector<char>& done, std::vec
         scratch.push_back(g.adj[p]);
       }
     }
-    std::sort(scratch.begin(), scratch.end(),
-              [&](Index a, Index b) { return std::make_pair(g.degree(a), a) < std::make_pair(g.degree(b), b); });
+    std::sort(scratch.begin(), scratch.end(), [&](Index a, Index b) { return g.before(a, b); });
     order.insert(order.end(), scratch.begin(), scratch.end());
   }
   out.depth = level[static_cast<std::size_t>(order.back())];
@@ -98,9 +101,7 @@ std::vector<Index> rcm(const NodeGraph& g, const Mesh& mesh) {
     bfs(g, start, done, level, scratch, best);
     for (int pass = 0; pass < 16; ++pass) {
       const auto last = best.order.begin() + static_cast<std::ptrdiff_t>(best.last_start);
-      const Index far = *std::min_element(last, best.order.end(), [&](Index a, Index b) {
-        return std::make_pair(g.degree(a), a) < std::make_pair(g.degree(b), b);
-      });
+      const Index far = *std::min_element(last, best.order.end(), [&](Index a, Index b) { return g.before(a, b); });
       bfs(g, far, done, level, scratch, trial);
       if (trial.depth <= best.depth) break;
       std::swap(best, trial);
@@ -194,6 +195,7 @@ LocalityOrder renumber_for_locality(Mesh& mesh, std::vector<SurfacePatchFace>* p
   permute_elements(mesh, out.new_element);
   if (patches != nullptr)
     for (SurfacePatchFace& p : *patches) p.element = static_cast<std::uint32_t>(out.new_element[p.element]);
+  mesh.attributes["node_order"] = "rcm";
   return out;
 }
 

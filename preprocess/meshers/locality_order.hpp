@@ -36,7 +36,8 @@ struct LocalityOrder {
   std::vector<Index> new_element;
 };
 
-/// Renumbers `mesh` (and `patches`, when given) as described above; returns the permutations.
+/// Renumbers `mesh` (and `patches`, when given) as described above and sets its attribute
+/// node_order = rcm; returns the permutations.
 LocalityOrder renumber_for_locality(Mesh& mesh, std::vector<SurfacePatchFace>* patches = nullptr);
 
 /// The median over the elements of (largest - smallest node index): the locality figure above.

@@ -72,11 +72,12 @@ preprocess::FibreSource fibre_source(SceneNode& node, std::ostringstream& key) {
   o.sheet_angle_rad = angle("sheet_angle", o.sheet_angle_rad);
   // The per-wall angles of biv meshes and the epicardial sheet angle, each named in the key and
   // only when given (so the cache keys of earlier scenes stay).
-  const std::pair<const char*, std::optional<double>*> per_wall[] = {{"helix_endo_rv", &o.rv_helix_endo_rad},
-                                                                     {"helix_epi_rv", &o.rv_helix_epi_rad},
-                                                                     {"helix_septum_rv", &o.septum_rv_helix_rad},
-                                                                     {"sheet_angle_epi", &o.sheet_angle_epi_rad}};
-  for (const auto& [name, value] : per_wall) {
+  const std::pair<const char*, std::optional<double>*> optional_angles[] = {
+      {"helix_endo_rv", &o.rv_helix_endo_rad},
+      {"helix_epi_rv", &o.rv_helix_epi_rad},
+      {"helix_septum_rv", &o.septum_rv_helix_rad},
+      {"sheet_angle_epi", &o.sheet_angle_epi_rad}};
+  for (const auto& [name, value] : optional_angles) {
     if (!node.has(name)) continue;
     key << ';' << name;
     *value = angle(name, 0.0);
