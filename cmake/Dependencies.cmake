@@ -36,6 +36,18 @@ if(NOT TARGET adamss_nifti2)
   add_library(adamss::nifti2 ALIAS adamss_nifti2)
 endif()
 
+# MUMPS's single-precision driver (libmumps-dev, which PETSc's double-precision MUMPS comes with):
+# the direct solver's single-precision factorisation (solver/time/petsc/single_precision_factor.hpp).
+find_path(SMUMPS_INCLUDE_DIR smumps_c.h REQUIRED)
+find_library(SMUMPS_LIBRARY smumps REQUIRED)
+find_library(MUMPS_COMMON_LIBRARY mumps_common REQUIRED)
+if(NOT TARGET adamss_smumps)
+  add_library(adamss_smumps INTERFACE)
+  target_include_directories(adamss_smumps SYSTEM INTERFACE ${SMUMPS_INCLUDE_DIR})
+  target_link_libraries(adamss_smumps INTERFACE ${SMUMPS_LIBRARY} ${MUMPS_COMMON_LIBRARY} MPI::MPI_C)
+  add_library(adamss::smumps ALIAS adamss_smumps)
+endif()
+
 if(ADAMSS_BUILD_TESTS)
   find_package(GTest REQUIRED)
 endif()

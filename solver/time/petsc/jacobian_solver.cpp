@@ -5,12 +5,15 @@
 #include <algorithm>
 #include <cstring>
 #include <exception>
+#include <limits>
+#include <string>
 
 #include "common/error.hpp"
 #include "solver/core/stop_flag.hpp"
 #include "solver/time/petsc/bordered_operator.hpp"
 #include "solver/time/petsc/petsc_env.hpp"
 #include "solver/time/petsc/petsc_matrix.hpp"
+#include "solver/time/petsc/single_precision_factor.hpp"
 #include "solver/time/petsc/symmetry_probe.hpp"
 
 namespace adamss::solver {
@@ -35,6 +38,40 @@ void default_option(const char* name, const char* value) {
 
 /// Below this many unknowns the default linear solver is a direct LU factorisation.
 constexpr PetscInt kDirectSolveMaxDofs = 60000;
+/// From this many particle coordinates on, a MUMPS factorisation is made in single
+/// precision and refined by GMRES (single_precision_factor.hpp), unless
+/// -adamss_factorisation_precision says otherwise. Measured (bench/README.md): biv-inflation.yaml's
+/// 75 885 gain, the biv-me beat's 24 231 lose (3.6 solves per factorisation there).
+constexpr PetscInt kSinglePrecisionMinDofs = 50000;
+/// GMRES around the single-precision factorisation: relative residual reached (unpreconditioned,
+/// right preconditioning; -adamss_refinement_rtol) and iterations allowed before the solver falls
+/// back to double precision for good (-adamss_refinement_max_it).
+constexpr PetscReal kRefinementRtol = 1e-10;
+constexpr PetscInt kRefinementMaxIts = 10;
+
+/// PCSHELL apply: y = M^{-1} x with the single-precision factor. A failed MUMPS solve gives NaNs,
+/// which end GMRES as a divergence (the solver then falls back to double precision).
+PetscErrorCode apply_single(PC pc, Vec x, Vec y) {
+  void* ctx = nullptr;
+  PetscCall(PCShellGetContext(pc, &ctx));
+  if (!static_cast<SinglePrecisionFactor*>(ctx)->solve(x, y))
+    PetscCall(VecSet(y, std::numeric_limits<PetscScalar>::quiet_NaN()));
+  return 0;
+}
+
+/// -adamss_factorisation_precision: "single", "double" or "auto" (the default: single from
+/// kSinglePrecisionMinDofs particle coordinates on).
+bool single_precision_wanted(PetscInt dofs) {
+  char value[16] = "auto";
+  PetscBool given = PETSC_FALSE;
+  petsc_check(PetscOptionsGetString(nullptr, nullptr, "-adamss_factorisation_precision", value, sizeof value, &given),
+              "PetscOptionsGetString");
+  const std::string v = value;
+  if (v == "single") return true;
+  if (v == "double") return false;
+  if (v != "auto") throw InputError("-adamss_factorisation_precision " + v + ": expected single, double or auto");
+  return dofs >= kSinglePrecisionMinDofs;
+}
 
 /// This rank's particle coordinates [lo, hi) of the whole vector m (3 x n, replicated on every
 /// rank) into the first hi - lo entries of v's local part; the rest of it (the bordered operator's
@@ -127,6 +164,16 @@ struct JacobianSolver::Petsc {
   /// With `symmetric_choice`: the MUMPS factorisation of op() as L D L^T (PCCHOLESKY) when op() is
   /// symmetric (symmetry_probe.hpp), as L U otherwise; called before each set-up.
   void choose_factorisation();
+  /// The operator set-up of solve(): the factorisation (single or double precision) or the
+  /// preconditioner, timed as a factorisation.
+  void set_up(TimeSplit& times);
+  /// KSPSolve with the set-up operator; true when it converged.
+  bool krylov_solve(int& its, TimeSplit& times);
+  /// The KSP as GMRES preconditioned by `single` (configure, when chosen).
+  void use_single();
+  /// Leaves the single-precision factorisation for MUMPS in double precision, for the rest of the
+  /// run; `why` goes into describe().
+  void use_double(const std::string& why);
 
   std::unique_ptr<BorderedOperator> border;  ///< the bordered form of `a`, when chosen (configure)
   std::unique_ptr<BlockMatrix> a;
@@ -140,7 +187,14 @@ struct JacobianSolver::Petsc {
   /// One rank, a MUMPS LU chosen by default or by the options, -adamss_symmetric_factorisation not
   /// false: the factorisation follows the operator's symmetry (choose_factorisation).
   bool symmetric_choice = false;
+  bool cholesky_asked = false;  ///< the options asked for a Cholesky (L D L^T) factorisation
   SymmetryProbe probe;
+  /// The single-precision factorisation GMRES refines (single_precision_factor.hpp): one rank, a
+  /// MUMPS factorisation and -adamss_factorisation_precision single, or auto with at least
+  /// kSinglePrecisionMinDofs particle coordinates. Null otherwise, and after a fall-back.
+  std::unique_ptr<SinglePrecisionFactor> single;
+  std::string abandoned;  ///< why the single-precision factorisation was left ("" while it was not)
+  int solves = 0;         ///< solves so far (the fall-back's report)
 };
 
 void JacobianSolver::Petsc::configure(const Model& model, double ksp_rtol, int ksp_max_it) {
@@ -196,8 +250,13 @@ void JacobianSolver::Petsc::configure(const Model& model, double ksp_rtol, int k
               "PetscOptionsGetBool");
   PCType type = nullptr;
   petsc_check(PCGetType(pc, &type), "PCGetType");
-  symmetric_choice = follow == PETSC_TRUE && package != nullptr && std::strcmp(package, MATSOLVERMUMPS) == 0 &&
-                     type != nullptr && std::strcmp(type, PCLU) == 0;
+  const bool mumps = package != nullptr && std::strcmp(package, MATSOLVERMUMPS) == 0;
+  symmetric_choice = follow == PETSC_TRUE && mumps && type != nullptr && std::strcmp(type, PCLU) == 0;
+  cholesky_asked = type != nullptr && std::strcmp(type, PCCHOLESKY) == 0;
+  KSPType kt = nullptr;
+  petsc_check(KSPGetType(ksp, &kt), "KSPGetType");
+  const bool direct = kt != nullptr && std::strcmp(kt, KSPPREONLY) == 0;
+  if (mumps && direct && single_precision_wanted(3 * static_cast<PetscInt>(model.node_count()))) use_single();
   // GAMG, whether chosen here (large systems) or by the user's options at any size: the particle
   // coordinates (this rank's) give it the six rigid-body modes as the near-null space. Without
   // them it coarsens with the three translations alone: 135-158 GMRES iterations a solve instead
@@ -238,16 +297,21 @@ void JacobianSolver::Petsc::make_vectors(bool new_layout) {
   petsc_check(ierr, "VecScatterCreate");
 }
 
-bool JacobianSolver::Petsc::solve(int& its, TimeSplit& times) {
-  if (fresh) {
-    // KSPSetUp runs PCSetUp for the new matrix (the LU factorisation, or the AMG hierarchy), which
-    // KSPSolve would otherwise do inside the first solve; KSPSolve then finds it up to date.
-    const ScopedTimer timer(times.factorisations);
-    if (symmetric_choice) choose_factorisation();
-    petsc_check(KSPSetOperators(ksp, op(), op()), "KSPSetOperators");
-    petsc_check(KSPSetUp(ksp), "KSPSetUp");
-    fresh = false;
+void JacobianSolver::Petsc::set_up(TimeSplit& times) {
+  // KSPSetUp runs PCSetUp for the new matrix (the LU factorisation, or the AMG hierarchy), which
+  // KSPSolve would otherwise do inside the first solve; KSPSolve then finds it up to date.
+  const ScopedTimer timer(times.factorisations);
+  if (single) {
+    const bool symmetric = cholesky_asked || (symmetric_choice && probe.symmetric(op()));
+    if (!single->factorise(op(), symmetric)) use_double(single->error());
   }
+  if (!single && symmetric_choice) choose_factorisation();
+  petsc_check(KSPSetOperators(ksp, op(), op()), "KSPSetOperators");
+  petsc_check(KSPSetUp(ksp), "KSPSetUp");
+  fresh = false;
+}
+
+bool JacobianSolver::Petsc::krylov_solve(int& its, TimeSplit& times) {
   const ScopedTimer timer(times.solves);
   petsc_check(KSPSolve(ksp, b, u), "KSPSolve");
   PetscInt n = 0;
@@ -256,6 +320,60 @@ bool JacobianSolver::Petsc::solve(int& its, TimeSplit& times) {
   KSPConvergedReason reason;
   KSPGetConvergedReason(ksp, &reason);
   return reason > 0;
+}
+
+bool JacobianSolver::Petsc::solve(int& its, TimeSplit& times) {
+  ++solves;
+  if (fresh) set_up(times);
+  if (krylov_solve(its, times)) return true;
+  if (!single || stop_requested()) return false;
+  // The refinement did not converge: the single-precision factor is too far from the operator
+  // (an ill-conditioned one amplifies float's rounding beyond what GMRES corrects in its
+  // iterations). Double precision from here on.
+  KSPConvergedReason reason;
+  KSPGetConvergedReason(ksp, &reason);
+  PetscInt n = 0;
+  KSPGetIterationNumber(ksp, &n);
+  use_double(std::string("GMRES ") + KSPConvergedReasons[reason] + " after " + std::to_string(n) + " iterations");
+  set_up(times);
+  return krylov_solve(its, times);
+}
+
+void JacobianSolver::Petsc::use_single() {
+  single = std::make_unique<SinglePrecisionFactor>();
+  PetscReal rtol = kRefinementRtol;
+  PetscInt max_it = kRefinementMaxIts;
+  petsc_check(PetscOptionsGetReal(nullptr, nullptr, "-adamss_refinement_rtol", &rtol, nullptr), "PetscOptionsGetReal");
+  petsc_check(PetscOptionsGetInt(nullptr, nullptr, "-adamss_refinement_max_it", &max_it, nullptr),
+              "PetscOptionsGetInt");
+  // Flexible GMRES: it keeps the preconditioned vectors z_j = M^{-1} v_j and forms the solution
+  // from them. Plain right-preconditioned GMRES applies M^{-1} once more to the combined vector,
+  // and float's rounding makes that M^{-1} another operator than the one the iterations saw: on
+  // the nodal-volume block of the tests the solution then stayed 9e-6 away from the double
+  // factorisation's whatever the tolerance (FGMRES: 1e-13 at rtol 1e-13).
+  petsc_check(KSPSetType(ksp, KSPFGMRES), "KSPSetType");
+  petsc_check(KSPSetPCSide(ksp, PC_RIGHT), "KSPSetPCSide");
+  petsc_check(KSPSetNormType(ksp, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
+  petsc_check(KSPSetTolerances(ksp, rtol, 0.0, PETSC_DEFAULT, max_it), "KSPSetTolerances");
+  PC pc = nullptr;
+  petsc_check(KSPGetPC(ksp, &pc), "KSPGetPC");
+  petsc_check(PCSetType(pc, PCSHELL), "PCSetType");
+  petsc_check(PCShellSetContext(pc, single.get()), "PCShellSetContext");
+  petsc_check(PCShellSetApply(pc, apply_single), "PCShellSetApply");
+  petsc_check(PCShellSetName(pc, "single-precision MUMPS"), "PCShellSetName");
+}
+
+void JacobianSolver::Petsc::use_double(const std::string& why) {
+  abandoned = "single precision left at solve " + std::to_string(solves) + ": " + why;
+  single.reset();
+  petsc_check(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
+  petsc_check(KSPSetNormType(ksp, KSP_NORM_DEFAULT), "KSPSetNormType");
+  petsc_check(KSPSetPCSide(ksp, PC_SIDE_DEFAULT), "KSPSetPCSide");
+  PC pc = nullptr;
+  petsc_check(KSPGetPC(ksp, &pc), "KSPGetPC");
+  petsc_check(PCSetType(pc, cholesky_asked ? PCCHOLESKY : PCLU), "PCSetType");
+  petsc_check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
+  fresh = true;
 }
 
 void JacobianSolver::Petsc::choose_factorisation() {
@@ -288,9 +406,17 @@ std::string JacobianSolver::describe() const {
   petsc_check(PCGetType(pc, &pct), "PCGetType");
   std::string out = std::string(ksp != nullptr ? ksp : "?") + " + " + (pct != nullptr ? pct : "?");
   if (const char* package = factorisation_package(pc)) out += std::string(" (") + package + ")";
+  if (petsc_->single) {
+    const bool ldlt = petsc_->single->symmetric() || petsc_->cholesky_asked;
+    out = std::string(ksp != nullptr ? ksp : "?") + " + " + (ldlt ? "cholesky" : "lu") + " (mumps, single precision)";
+  }
   const std::string n = std::to_string(petsc_->a->size());
-  if (petsc_->border) return out + ", bordered operator: " + n + " + " + std::to_string(border_rows()) + " unknowns";
-  return out + ", " + n + " unknowns";
+  if (petsc_->border)
+    out += ", bordered operator: " + n + " + " + std::to_string(border_rows()) + " unknowns";
+  else
+    out += ", " + n + " unknowns";
+  if (!petsc_->abandoned.empty()) out += "; " + petsc_->abandoned;
+  return out;
 }
 
 std::size_t JacobianSolver::border_rows() const {
@@ -347,6 +473,7 @@ bool JacobianSolver::solve(const Eigen::Matrix3Xd& rhs, Eigen::Matrix3Xd& u) {
   if (!petsc_->solve(iterations_, times_)) return false;
   u.resize(3, rhs.cols());
   from_vec(petsc_->u, petsc_->all, petsc_->whole, u);
+  for (const Eigen::Index d : fixed_) u.data()[d] = rhs.data()[d];  // exact after a refined solve too
   return true;
 }
 
@@ -358,6 +485,9 @@ bool JacobianSolver::solve_prescribed(const Eigen::Matrix3Xd& rhs, const Eigen::
   if (!petsc_->solve(iterations_, times_)) return false;
   u.resize(3, rhs.cols());
   from_vec(petsc_->u, petsc_->all, petsc_->whole, u);
+  // The eliminated rows are identities: a factorisation returns the values exactly, GMRES around a
+  // single-precision one only to its tolerance. They are the prescribed values.
+  for (const Eigen::Index d : fixed_) u.data()[d] = values.data()[d];
   return true;
 }
 

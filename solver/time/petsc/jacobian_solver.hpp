@@ -12,7 +12,12 @@
 // structures where Krylov + AMG struggles -- and GMRES + GAMG above, with the particle reference coordinates for GAMG's
 // rigid-body near-null space. A MUMPS LU factorises a symmetric operator as L D L^T
 // instead (symmetry_probe.hpp; checked before every factorisation; -adamss_symmetric_factorisation
-// false keeps LU). Tolerances ksp_rtol and ksp_max_it; any PETSc option
+// false keeps LU). On one rank from 50 000 particle coordinates on, the MUMPS factorisation is made
+// in single precision and refined by flexible GMRES to 1e-10 relative residual
+// (single_precision_factor.hpp; -adamss_factorisation_precision single|double|auto,
+// -adamss_refinement_rtol, -adamss_refinement_max_it); a refinement that fails switches to double
+// precision for the rest of the run. The fixed coordinates of a solution are always exactly the
+// right-hand side's (or the prescribed values). Tolerances ksp_rtol and ksp_max_it; any PETSc option
 // (-ksp_type, -pc_type, -ksp_monitor, ...) overrides them (KSPSetFromOptions). The KSP starts
 // every solve from a zero initial guess.
 #include <Eigen/Core>

@@ -1,0 +1,225 @@
+#include "solver/time/petsc/single_precision_factor.hpp"
+
+#include <mpi.h>
+#include <smumps_c.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "solver/time/petsc/petsc_env.hpp"
+
+namespace adamss::solver {
+
+namespace {
+
+/// MUMPS's JOB values (MUMPS 5.5 user guide, sec. 5.1).
+constexpr int kInit = -1, kEnd = -2, kAnalyse = 1, kFactorise = 2, kSolve = 3;
+/// A readable reason for MUMPS's INFOG(1) < 0 (the codes of the user guide, sec. 8).
+std::string mumps_reason(int infog1, int infog2) {
+  switch (infog1) {
+    case -9:
+    case -8:
+    case -14:
+    case -15:
+      return "its workspace was too small";
+    case -10:
+      return "the operator is numerically singular";
+    case -13:
+      return "an allocation of " + std::to_string(infog2) + " failed";
+    default:
+      return "INFOG(1) = " + std::to_string(infog1) + ", INFOG(2) = " + std::to_string(infog2);
+  }
+}
+
+}  // namespace
+
+struct SinglePrecisionFactor::Mumps {
+  SMUMPS_STRUC_C id{};
+  bool started = false;
+};
+
+SinglePrecisionFactor::SinglePrecisionFactor() : mumps_(std::make_unique<Mumps>()) {}
+
+SinglePrecisionFactor::~SinglePrecisionFactor() {
+  if (gather_ != nullptr) VecScatterDestroy(&gather_);
+  if (whole_ != nullptr) VecDestroy(&whole_);
+  if (mumps_->started) {
+    mumps_->id.job = kEnd;
+    smumps_c(&mumps_->id);
+  }
+}
+
+bool SinglePrecisionFactor::call(int job, const char* what) {
+  SMUMPS_STRUC_C& id = mumps_->id;
+  id.job = job;
+  smumps_c(&id);
+  if (id.infog[0] >= 0) return true;
+  error_ = std::string("MUMPS's single-precision ") + what + " failed: " + mumps_reason(id.infog[0], id.infog[1]);
+  return false;
+}
+
+namespace {
+
+/// Appends the entries of one CSR block (rows `row0 + i`, columns through `column`) to the
+/// coordinate lists: only those on or above the diagonal when `upper`. `offset` is added to the
+/// positions (the off-diagonal block's follow the diagonal block's).
+template <class Column>
+void append_block(Mat block, PetscInt row0, Column column, bool upper, PetscInt offset, std::vector<PetscInt>& position,
+                  std::vector<int>& irn, std::vector<int>& jcn) {
+  PetscInt n = 0;
+  const PetscInt* ia = nullptr;
+  const PetscInt* ja = nullptr;
+  PetscBool done = PETSC_FALSE;
+  petsc_check(MatGetRowIJ(block, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia, &ja, &done), "MatGetRowIJ");
+  for (PetscInt i = 0; i < n; ++i) {
+    for (PetscInt k = ia[i]; k < ia[i + 1]; ++k) {
+      const PetscInt j = column(ja[k]);
+      if (upper && j < row0 + i) continue;  // L D L^T reads the upper triangle
+      position.push_back(offset + k);
+      irn.push_back(static_cast<int>(row0 + i + 1));
+      jcn.push_back(static_cast<int>(j + 1));
+    }
+  }
+  petsc_check(MatRestoreRowIJ(block, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia, &ja, &done), "MatRestoreRowIJ");
+}
+
+/// The stored entries of a MATSEQAIJ block.
+PetscInt stored_entries(Mat block) {
+  MatInfo info;
+  petsc_check(MatGetInfo(block, MAT_LOCAL, &info), "MatGetInfo");
+  return static_cast<PetscInt>(info.nz_used);
+}
+
+}  // namespace
+
+void SinglePrecisionFactor::map(Mat a, bool symmetric) {
+  position_.clear();
+  irn_.clear();
+  jcn_.clear();
+  petsc_check(MatGetSize(a, &rows_, nullptr), "MatGetSize");
+  comm_ = PetscObjectComm(reinterpret_cast<PetscObject>(a));
+  int ranks = 1;
+  MPI_Comm_size(comm_, &ranks);
+  if (ranks == 1) {
+    append_block(
+        a, 0, [](PetscInt j) { return j; }, symmetric, 0, position_, irn_, jcn_);
+  } else {
+    Mat d = nullptr, o = nullptr;
+    const PetscInt* garray = nullptr;
+    petsc_check(MatMPIAIJGetSeqAIJ(a, &d, &o, &garray), "MatMPIAIJGetSeqAIJ");
+    PetscInt r0 = 0, c0 = 0;
+    petsc_check(MatGetOwnershipRange(a, &r0, nullptr), "MatGetOwnershipRange");
+    petsc_check(MatGetOwnershipRangeColumn(a, &c0, nullptr), "MatGetOwnershipRangeColumn");
+    diagonal_entries_ = stored_entries(d);
+    append_block(
+        d, r0, [c0](PetscInt j) { return c0 + j; }, symmetric, 0, position_, irn_, jcn_);
+    append_block(
+        o, r0, [garray](PetscInt j) { return garray[j]; }, symmetric, diagonal_entries_, position_, irn_, jcn_);
+  }
+  values_.resize(position_.size());
+  petsc_check(PetscObjectGetId(reinterpret_cast<PetscObject>(a), &mapped_id_), "PetscObjectGetId");
+  petsc_check(MatGetNonzeroState(a, &mapped_state_), "MatGetNonzeroState");
+  symmetric_ = symmetric;
+  analysed_ = false;
+  if (gather_ != nullptr) petsc_check(VecScatterDestroy(&gather_), "VecScatterDestroy");
+  if (whole_ != nullptr) petsc_check(VecDestroy(&whole_), "VecDestroy");
+}
+
+bool SinglePrecisionFactor::factorise(Mat a, bool symmetric) {
+  error_.clear();
+  PetscInt64 object = -1;
+  petsc_check(PetscObjectGetId(reinterpret_cast<PetscObject>(a), &object), "PetscObjectGetId");
+  PetscObjectState state = -1;
+  petsc_check(MatGetNonzeroState(a, &state), "MatGetNonzeroState");
+  if (object != mapped_id_ || state != mapped_state_ || symmetric != symmetric_) map(a, symmetric);
+  int ranks = 1;
+  MPI_Comm_size(comm_, &ranks);
+  Mat d = a, o = nullptr;
+  if (ranks > 1) petsc_check(MatMPIAIJGetSeqAIJ(a, &d, &o, nullptr), "MatMPIAIJGetSeqAIJ");
+  const PetscScalar* vd = nullptr;
+  const PetscScalar* vo = nullptr;
+  petsc_check(MatSeqAIJGetArrayRead(d, &vd), "MatSeqAIJGetArrayRead");
+  if (o != nullptr) petsc_check(MatSeqAIJGetArrayRead(o, &vo), "MatSeqAIJGetArrayRead");
+  for (std::size_t e = 0; e < position_.size(); ++e) {
+    const PetscInt k = position_[e];
+    values_[e] = static_cast<float>(k < diagonal_entries_ || o == nullptr ? vd[k] : vo[k - diagonal_entries_]);
+  }
+  petsc_check(MatSeqAIJRestoreArrayRead(d, &vd), "MatSeqAIJRestoreArrayRead");
+  if (o != nullptr) petsc_check(MatSeqAIJRestoreArrayRead(o, &vo), "MatSeqAIJRestoreArrayRead");
+  SMUMPS_STRUC_C& id = mumps_->id;
+  if (!analysed_) {
+    if (mumps_->started) call(kEnd, "release");
+    id = SMUMPS_STRUC_C{};
+    id.par = 1;  // the host works too
+    id.sym = symmetric ? 2 : 0;
+    id.comm_fortran = static_cast<MUMPS_INT>(MPI_Comm_c2f(comm_));
+    mumps_->started = call(kInit, "initialisation");
+    if (!mumps_->started) return false;
+    id.icntl[0] = id.icntl[1] = id.icntl[2] = -1;  // no output streams
+    id.icntl[3] = 0;
+    id.icntl[13] = 100;  // workspace allowance for delayed pivots, as for the double factorisation
+    id.n = static_cast<MUMPS_INT>(rows_);
+    if (ranks == 1) {
+      id.nnz = static_cast<MUMPS_INT8>(values_.size());
+      id.irn = irn_.data();
+      id.jcn = jcn_.data();
+    } else {
+      id.icntl[17] = 3;  // ICNTL(18): each rank gives its own entries
+      id.nnz_loc = static_cast<MUMPS_INT8>(values_.size());
+      id.irn_loc = irn_.data();
+      id.jcn_loc = jcn_.data();
+    }
+    if (!call(kAnalyse, "analysis")) return false;
+    analysed_ = true;
+    ++analyses_;
+  }
+  if (ranks == 1)
+    id.a = values_.data();
+  else
+    id.a_loc = values_.data();
+  return call(kFactorise, "factorisation");
+}
+
+bool SinglePrecisionFactor::solve_gathered(PetscScalar* rhs, PetscInt n) {
+  double scale = 0.0;
+  for (PetscInt i = 0; i < n; ++i) scale = std::max(scale, std::abs(rhs[i]));
+  MPI_Bcast(&scale, 1, MPI_DOUBLE, 0, comm_);
+  if (scale == 0.0) return true;  // the solution is the zero right-hand side
+  rhs_.resize(static_cast<std::size_t>(n));
+  for (PetscInt i = 0; i < n; ++i) rhs_[static_cast<std::size_t>(i)] = static_cast<float>(rhs[i] / scale);
+  SMUMPS_STRUC_C& id = mumps_->id;
+  id.rhs = rhs_.data();
+  id.nrhs = 1;
+  id.lrhs = static_cast<MUMPS_INT>(rows_);
+  if (!call(kSolve, "solve")) return false;
+  for (PetscInt i = 0; i < n; ++i) rhs[i] = scale * static_cast<double>(rhs_[static_cast<std::size_t>(i)]);
+  return true;
+}
+
+bool SinglePrecisionFactor::solve(Vec in, Vec out) {
+  int ranks = 1;
+  MPI_Comm_size(comm_, &ranks);
+  if (ranks == 1) {
+    petsc_check(VecCopy(in, out), "VecCopy");
+    PetscScalar* v = nullptr;
+    petsc_check(VecGetArray(out, &v), "VecGetArray");
+    const bool ok = solve_gathered(v, rows_);
+    petsc_check(VecRestoreArray(out, &v), "VecRestoreArray");
+    return ok;
+  }
+  if (gather_ == nullptr) petsc_check(VecScatterCreateToZero(in, &gather_, &whole_), "VecScatterCreateToZero");
+  petsc_check(VecScatterBegin(gather_, in, whole_, INSERT_VALUES, SCATTER_FORWARD), "VecScatterBegin");
+  petsc_check(VecScatterEnd(gather_, in, whole_, INSERT_VALUES, SCATTER_FORWARD), "VecScatterEnd");
+  PetscInt n = 0;
+  petsc_check(VecGetLocalSize(whole_, &n), "VecGetLocalSize");
+  PetscScalar* v = nullptr;
+  petsc_check(VecGetArray(whole_, &v), "VecGetArray");
+  const bool ok = solve_gathered(v, n);
+  petsc_check(VecRestoreArray(whole_, &v), "VecRestoreArray");
+  petsc_check(VecScatterBegin(gather_, whole_, out, INSERT_VALUES, SCATTER_REVERSE), "VecScatterBegin");
+  petsc_check(VecScatterEnd(gather_, whole_, out, INSERT_VALUES, SCATTER_REVERSE), "VecScatterEnd");
+  return ok;
+}
+
+}  // namespace adamss::solver
