@@ -48,6 +48,10 @@ if(NOT TARGET adamss_smumps)
   add_library(adamss::smumps ALIAS adamss_smumps)
 endif()
 
+# LZ4 (liblz4-dev): the frames' optional LZ4 compression (solver/run/results.hpp).
+find_path(LZ4_INCLUDE_DIR lz4.h REQUIRED)
+find_library(LZ4_LIBRARY lz4 REQUIRED)
+
 if(ADAMSS_BUILD_TESTS)
   find_package(GTest REQUIRED)
 endif()

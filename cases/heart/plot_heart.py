@@ -158,16 +158,30 @@ def scar_loops(g, s, out):
 
 
 def appended_block(raw, at):
-    """The bytes of one appended array: zlib blocks (header [blocks, block size, last size,
-    compressed sizes...], UInt64) as adamss writes them, or one raw block [size] (older frames)."""
-    if b'compressor="vtkZLibDataCompressor"' not in raw[:4096]:
+    """The bytes of one appended array: zlib or LZ4 blocks (header [blocks, block size, last size,
+    compressed sizes...], UInt64) as adamss writes them (output.compression), or one raw block
+    [size] (output.compression: none, and older frames)."""
+    head = raw[:4096]
+    lz4 = b'compressor="vtkLZ4DataCompressor"' in head
+    if not lz4 and b'compressor="vtkZLibDataCompressor"' not in head:
         size = struct.unpack_from("<Q", raw, at)[0]
         return raw[at + 8:at + 8 + size]
-    blocks = struct.unpack_from("<Q", raw, at)[0]
+    if lz4:
+        try:
+            import lz4.block as lz4block
+        except ImportError:
+            sys.exit("plot_heart.py: this frame is LZ4-compressed (output.compression: lz4) and the "
+                     "Python module lz4 is missing (Debian: python3-lz4)")
+    blocks, block_size, last_size = struct.unpack_from("<3Q", raw, at)
     sizes = struct.unpack_from("<%dQ" % blocks, raw, at + 24)
     out, pos = [], at + 24 + 8 * blocks
-    for size in sizes:
-        out.append(zlib.decompress(raw[pos:pos + size]))
+    for k, size in enumerate(sizes):
+        chunk = raw[pos:pos + size]
+        if lz4:
+            full = last_size if (k == blocks - 1 and last_size) else block_size
+            out.append(lz4block.decompress(chunk, uncompressed_size=full))
+        else:
+            out.append(zlib.decompress(chunk))
         pos += size
     return b"".join(out)
 

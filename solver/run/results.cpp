@@ -1,5 +1,6 @@
 #include "solver/run/results.hpp"
 
+#include <lz4.h>
 #include <zlib.h>
 
 #include <Eigen/Dense>
@@ -70,28 +71,42 @@ void put_u64(std::string& buf, std::uint64_t v) {
   buf.append(reinterpret_cast<const char*>(&v), sizeof v);
 }
 
-/// One appended array, zlib-compressed as VTK's vtkZLibDataCompressor writes it (header_type
-/// UInt64): the header [number of blocks, block size, size of the last partial block (0 when the
-/// last block is full), compressed size of each block], then the compressed blocks. Blocks of
-/// 32 KiB at zlib level 1: a heart frame (498 nodes, 1248 elements, every array) is 310 kB
-/// instead of ~780 kB.
-template <class T>
-void put_block(std::string& buf, const T* data, std::size_t count) {
-  constexpr std::size_t kBlock = 32768;
-  const std::size_t bytes = count * sizeof(T);
-  const std::size_t blocks = (bytes + kBlock - 1) / kBlock;
-  const auto* src = reinterpret_cast<const Bytef*>(data);
-  std::vector<std::string> packed(blocks);
-  for (std::size_t b = 0; b < blocks; ++b) {
-    const std::size_t n = std::min(kBlock, bytes - b * kBlock);
-    uLongf size = compressBound(static_cast<uLong>(n));
-    packed[b].resize(size);
-    if (compress2(reinterpret_cast<Bytef*>(packed[b].data()), &size, src + b * kBlock, static_cast<uLong>(n), 1) !=
-        Z_OK) {
-      throw IoError("zlib could not compress a frame array");
-    }
-    packed[b].resize(size);
+/// One block of `n` bytes compressed as `c` says (zlib level 1 or LZ4's default), into `out`.
+void compress_block(FrameCompression c, const char* src, std::size_t n, std::string& out) {
+  if (c == FrameCompression::lz4) {
+    out.resize(static_cast<std::size_t>(LZ4_compressBound(static_cast<int>(n))));
+    const int size = LZ4_compress_default(src, out.data(), static_cast<int>(n), static_cast<int>(out.size()));
+    if (size <= 0) throw IoError("LZ4 could not compress a frame array");
+    out.resize(static_cast<std::size_t>(size));
+    return;
   }
+  uLongf size = compressBound(static_cast<uLong>(n));
+  out.resize(size);
+  if (compress2(reinterpret_cast<Bytef*>(out.data()), &size, reinterpret_cast<const Bytef*>(src), static_cast<uLong>(n),
+                1) != Z_OK)
+    throw IoError("zlib could not compress a frame array");
+  out.resize(size);
+}
+
+/// One appended array. Compressed (zlib or LZ4) as VTK's data compressors write it (header_type
+/// UInt64): the header [number of blocks, block size, size of the last partial block (0 when the
+/// last block is full), compressed size of each block], then the compressed blocks, 32 KiB each
+/// before compression. zlib level 1: a heart frame (498 nodes, 1248 elements, every array) is
+/// 310 kB instead of ~780 kB. Uncompressed: the byte count, then the bytes.
+template <class T>
+void put_block(std::string& buf, const T* data, std::size_t count, FrameCompression c) {
+  const std::size_t bytes = count * sizeof(T);
+  const auto* src = reinterpret_cast<const char*>(data);
+  if (c == FrameCompression::none) {
+    put_u64(buf, bytes);
+    buf.append(src, bytes);
+    return;
+  }
+  constexpr std::size_t kBlock = 32768;
+  const std::size_t blocks = (bytes + kBlock - 1) / kBlock;
+  std::vector<std::string> packed(blocks);
+  for (std::size_t b = 0; b < blocks; ++b)
+    compress_block(c, src + b * kBlock, std::min(kBlock, bytes - b * kBlock), packed[b]);
   put_u64(buf, blocks);
   put_u64(buf, kBlock);
   put_u64(buf, bytes % kBlock);
@@ -264,8 +279,20 @@ std::string vtk_ascii_string(const std::string& s) {
 
 }  // namespace
 
+const char* to_string(FrameCompression c) {
+  switch (c) {
+    case FrameCompression::lz4:
+      return "lz4";
+    case FrameCompression::none:
+      return "none";
+    case FrameCompression::zlib:
+      break;
+  }
+  return "zlib";
+}
+
 void write_vtu(const fs::path& path, const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& points,
-               const VtuArrays& arrays) {
+               const VtuArrays& arrays, FrameCompression compression) {
   const std::size_t nn = mesh.node_count(), ne = mesh.element_count();
   const int k = preprocess::nodes_per_element(mesh.type);
   std::ostringstream head;
@@ -275,8 +302,12 @@ void write_vtu(const fs::path& path, const preprocess::Mesh& mesh, const Eigen::
     head << "        <DataArray type=\"" << type << "\" Name=\"" << xml_escape(name) << "\" NumberOfComponents=\""
          << comps << "\" format=\"appended\" offset=\"" << data.size() << "\"/>\n";
   };
+  const char* compressor = compression == FrameCompression::zlib  ? " compressor=\"vtkZLibDataCompressor\""
+                           : compression == FrameCompression::lz4 ? " compressor=\"vtkLZ4DataCompressor\""
+                                                                  : "";
   head << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
-          "header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\">\n  <UnstructuredGrid>\n";
+          "header_type=\"UInt64\""
+       << compressor << ">\n  <UnstructuredGrid>\n";
   if (!arrays.field_scalars.empty() || !arrays.field_strings.empty()) {
     head << "    <FieldData>\n" << std::setprecision(17);
     for (const auto& [name, v] : arrays.field_scalars) {
@@ -291,7 +322,7 @@ void write_vtu(const fs::path& path, const preprocess::Mesh& mesh, const Eigen::
   }
   head << "    <Piece NumberOfPoints=\"" << nn << "\" NumberOfCells=\"" << ne << "\">\n      <Points>\n";
   declare("Float64", "Points", 3, 3 * nn * 8);
-  put_block(data, points.data(), 3 * nn);
+  put_block(data, points.data(), 3 * nn, compression);
   head << "      </Points>\n      <Cells>\n";
   {
     std::vector<std::int64_t> conn(mesh.connectivity.begin(), mesh.connectivity.end());
@@ -304,33 +335,33 @@ void write_vtu(const fs::path& path, const preprocess::Mesh& mesh, const Eigen::
                                                                     : 12;
     std::vector<std::uint8_t> types(ne, vtk_type);
     declare("Int64", "connectivity", 1, conn.size() * 8);
-    put_block(data, conn.data(), conn.size());
+    put_block(data, conn.data(), conn.size(), compression);
     declare("Int64", "offsets", 1, ne * 8);
-    put_block(data, offs.data(), ne);
+    put_block(data, offs.data(), ne, compression);
     declare("UInt8", "types", 1, ne);
-    put_block(data, types.data(), ne);
+    put_block(data, types.data(), ne, compression);
   }
   // The displacement is the active vector (ParaView's Warp By Vector picks it).
   head << "      </Cells>\n      <PointData"
        << (arrays.point_vectors.count("displacement") ? " Vectors=\"displacement\"" : "") << ">\n";
   for (const auto& [name, m] : arrays.point_vectors) {
     declare("Float64", name, 3, 3 * nn * 8);
-    put_block(data, m.data(), 3 * nn);
+    put_block(data, m.data(), 3 * nn, compression);
   }
   head << "      </PointData>\n      <CellData>\n";
   declare("Int32", "label", 1, ne * 4);
-  put_block(data, mesh.labels.data(), ne);
+  put_block(data, mesh.labels.data(), ne, compression);
   for (const auto& [name, v] : arrays.cell_scalars) {
     declare("Float64", name, 1, ne * 8);
-    put_block(data, v.data(), ne);
+    put_block(data, v.data(), ne, compression);
   }
   for (const auto& [name, m] : arrays.cell_vectors) {
     declare("Float64", name, 3, 3 * ne * 8);
-    put_block(data, m.data(), 3 * ne);
+    put_block(data, m.data(), 3 * ne, compression);
   }
   for (const auto& [name, m] : arrays.cell_tensors) {
     declare("Float64", name, 9, 9 * ne * 8);
-    put_block(data, m.data(), 9 * ne);
+    put_block(data, m.data(), 9 * ne, compression);
   }
   head << "      </CellData>\n    </Piece>\n  </UnstructuredGrid>\n  <AppendedData encoding=\"raw\">\n   _";
 
@@ -525,7 +556,7 @@ void ResultsWriter::write_frame(const State& s, const Eigen::Matrix3Xd& f) {
   char name[64];
   std::snprintf(name, sizeof name, "frame_%05zu.vtu", frames_.size());
   // Reference points + displacement: Warp By Vector (scale 1) gives the deformed mesh once.
-  write_vtu(dir_ / "frames" / name, mesh, model_.x_ref, a);
+  write_vtu(dir_ / "frames" / name, mesh, model_.x_ref, a, compression_);
   frames_.emplace_back(s.t, std::string("frames/") + name);
   write_pvd();
 }

@@ -51,6 +51,15 @@ struct GlobalsRow {
   double wall_seconds = 0.0;
 };
 
+/// How the appended arrays of a frame are compressed (scene key output.compression): zlib level 1
+/// (VTK's vtkZLibDataCompressor, every VTK reader), LZ4 (vtkLZ4DataCompressor: ParaView 5.5 on,
+/// VTK 8.1 on, meshio with the lz4 module) or none. Measured on biv-inflation.yaml's frames
+/// (103 760 tetrahedra, ~90 doubles each, 75 MB raw): zlib 60 MB in ~1.3 s a frame, LZ4 ~70 MB in
+/// ~0.05 s (bench/README.md): doubles compress little, so large frames are cheaper in LZ4 or raw.
+enum class FrameCompression { zlib, lz4, none };
+/// "zlib", "lz4", "none".
+[[nodiscard]] const char* to_string(FrameCompression c);
+
 class ResultsWriter {
  public:
   /// A writer into `out_dir`; nothing on disk changes until open(). With `resume` (the "writer"
@@ -77,6 +86,8 @@ class ResultsWriter {
 
   /// Writes frame k of the series at state s with total forces f (N).
   void write_frame(const State& s, const Eigen::Matrix3Xd& f);
+  /// The frames' compression from now on (default zlib; scene key output.compression).
+  void set_compression(FrameCompression c) { compression_ = c; }
   /// Appends one row to globals.csv (flushed).
   void write_globals(const State& s, const GlobalsRow& row);
   /// Writes checkpoint.h5 with positions, velocities, time and step only (a failure snapshot
@@ -117,6 +128,7 @@ class ResultsWriter {
   bool opened_ = false;
   bool started_ = false;
   bool muted_ = false;
+  FrameCompression compression_ = FrameCompression::zlib;
   std::string resume_globals_;  ///< globals.csv as the resume will leave it (header + counted rows)
   std::ofstream globals_;
   std::vector<std::pair<double, std::string>> frames_;
@@ -184,8 +196,8 @@ void add_cardiac_strain_fields(const preprocess::Mesh& mesh, const LongAxis& axi
 
 /// Writes a VTK XML unstructured grid (binary appended, via a temporary file renamed over `path`)
 /// with `points` as its points, the cell label and the given arrays; "displacement", if given, is
-/// the active point vector.
+/// the active point vector. Arrays compressed as `compression` says.
 void write_vtu(const std::filesystem::path& path, const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& points,
-               const VtuArrays& arrays);
+               const VtuArrays& arrays, FrameCompression compression = FrameCompression::zlib);
 
 }  // namespace adamss::solver

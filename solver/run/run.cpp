@@ -92,7 +92,9 @@ RunLoop::RunLoop(Model& model, const RunSettings& settings, ResultsWriter& write
       t_eps_(1e-12 * settings.t_end),
       tty_(settings.progress && isatty(fileno(stderr)) != 0),
       batch_(settings.progress && !tty_),
-      dynamic_(integrator_info(settings.integrator).type != IntegratorType::Static) {}
+      dynamic_(integrator_info(settings.integrator).type != IntegratorType::Static) {
+  writer_.set_compression(settings.frame_compression);
+}
 
 RunOutcome RunLoop::run(State& s, const StateArchive* resume) {
   loop0_ = Clock::now();  // before start() or the restore, whose force evaluations the split counts

@@ -51,7 +51,8 @@ struct RunSettings {
   double flat_fraction = 1e-3;    ///< element is flat when its volume check <= this * reference
   double export_interval = 0.0;   ///< s between frames; 0: first and last only
   double globals_interval = 0.0;  ///< s between globals rows; 0: every step
-  bool progress = false;          ///< live progress line on stderr
+  FrameCompression frame_compression = FrameCompression::zlib;  ///< output.compression
+  bool progress = false;                                        ///< live progress line on stderr
   /// Wall seconds between progress lines when stderr is not a terminal (a batch log), and between
   /// the progress lines of run.log (solver/run/progress.hpp); 0: every step.
   double progress_interval = 10.0;
@@ -85,7 +86,8 @@ struct RunOutcome {
   /// Where this process's loop time went (solver/core/time_split.hpp): the force evaluations and,
   /// implicit/static, the assemblies, factorisations and solves, all attempts counted (rejected
   /// ones too); loop_seconds is this process's wall time from the start of the loop (frame 0's
-  /// set-up, or the resume) to its end, so loop_seconds - time_split.seconds() is the rest (output, checks, vector work).
+  /// set-up, or the resume) to its end, so loop_seconds - time_split.seconds() is the rest (output, checks, vector
+  /// work).
   TimeSplit time_split;
   double loop_seconds = 0.0;
   State final_state;  ///< the last good state

@@ -226,6 +226,10 @@ void load_output(SceneNode& root, RunSettings& run, Model& model) {
   run.export_interval = out->positive("frame_interval", Dimension::Time, 0.0, true);
   run.globals_interval = out->positive("globals_interval", Dimension::Time, 0.0, true);
   run.checkpoint_interval = out->positive("checkpoint_interval", Dimension::Time, 0.0, true);
+  const std::string compression = out->choice("compression", {"zlib", "lz4", "none"}, "zlib");
+  run.frame_compression = compression == "lz4"    ? FrameCompression::lz4
+                          : compression == "none" ? FrameCompression::none
+                                                  : FrameCompression::zlib;
   std::set<std::string> probe_names;
   for (SceneNode& p : out->list("probes")) {
     const std::string pname = p.text("name");

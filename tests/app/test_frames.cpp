@@ -21,6 +21,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -473,4 +474,105 @@ output:
   EXPECT_NE(rb.exit_code, 0);
   EXPECT_NE(rb.output.find("output.long_axis.direction"), std::string::npos) << rb.output;
   EXPECT_NE(rb.output.find("non-zero"), std::string::npos) << rb.output;
+}
+
+// output.compression (solver/run/results.hpp): the same frame written with zlib, LZ4 and no
+// compression holds the same arrays bit for bit, read back by VTK's reader; each file names its
+// compressor (none: no compressor attribute). 640 hexahedra, so that the 9-component cell tensors
+// span several 32 KiB compression blocks.
+TEST(Frames, ZlibLz4AndUncompressedFramesHoldTheSameArrays) {
+  const fs::path dir = scratch_dir("frames_compression");
+  const std::string scene_text = R"(
+name: compression
+mesh: {phantom: slab, slab_size: [10, 8, 8], voxel_size: 1 mm, topology: hex, fibre: [0, 0, 1], sheet: [1, 0, 0]}
+materials:
+  - name: m
+    labels: [1]
+    density: 1000 kg/m^3
+    terms:
+      - fem_element: {law: neo_hookean, parameters: {E: 10 kPa, nu: 0.3}}
+boundary:
+  - select: {region: {plane: {point: [0, 0, 0], normal: [0, 0, 1]}}}
+    fix: xyz
+  - select: {region: {plane: {point: [0, 0, 8 mm], normal: [0, 0, 1], tolerance: 0.001 mm}}}
+    control: {axis: z, displacement: {ramp: {to: 0.4 mm, duration: 1 s}}}
+integrator: {type: static, dt: 1 s}
+run: {t_end: 1 s}
+output: {frame_interval: 1 s, compression: COMPRESSION}
+)";
+  std::map<std::string, vtkSmartPointer<vtkUnstructuredGrid>> grids;
+  std::map<std::string, std::uintmax_t> sizes;
+  for (const std::string c : {"zlib", "lz4", "none"}) {
+    std::string text = scene_text;
+    text.replace(text.find("COMPRESSION"), 11, c);
+    fs::create_directories(dir / c);
+    const fs::path scene = write_scene(dir / c, text);
+    const fs::path out = dir / c / "out";
+    const auto r = run_adamss("run " + scene.string() + " -o " + out.string() + cache_arg(dir) + " -q");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const fs::path frame = last_frame(out);
+    std::ifstream in(frame, std::ios::binary);
+    std::string head(600, '\0');
+    in.read(head.data(), static_cast<std::streamsize>(head.size()));
+    const std::string want = c == "zlib"  ? "compressor=\"vtkZLibDataCompressor\""
+                             : c == "lz4" ? "compressor=\"vtkLZ4DataCompressor\""
+                                          : "";
+    if (want.empty()) {
+      EXPECT_EQ(head.find("compressor="), std::string::npos) << c;
+    } else {
+      EXPECT_NE(head.find(want), std::string::npos) << c;
+    }
+    grids[c] = read_frame(frame);
+    sizes[c] = fs::file_size(frame);
+  }
+  EXPECT_LT(sizes["zlib"], sizes["none"]);
+  EXPECT_LT(sizes["lz4"], sizes["none"]);
+  const auto& ref = grids["none"];
+  ASSERT_EQ(ref->GetNumberOfCells(), 640);
+  for (const std::string c : {"zlib", "lz4"}) {
+    const auto& g = grids[c];
+    ASSERT_EQ(g->GetNumberOfPoints(), ref->GetNumberOfPoints()) << c;
+    ASSERT_EQ(g->GetNumberOfCells(), ref->GetNumberOfCells()) << c;
+    for (vtkIdType p = 0; p < ref->GetNumberOfPoints(); ++p)
+      for (int k = 0; k < 3; ++k) ASSERT_EQ(g->GetPoint(p)[k], ref->GetPoint(p)[k]) << c;
+    int arrays = 0;
+    for (vtkFieldData* fd :
+         {static_cast<vtkFieldData*>(ref->GetPointData()), static_cast<vtkFieldData*>(ref->GetCellData())}) {
+      vtkFieldData* other = fd == ref->GetPointData() ? static_cast<vtkFieldData*>(g->GetPointData())
+                                                      : static_cast<vtkFieldData*>(g->GetCellData());
+      for (int a = 0; a < fd->GetNumberOfArrays(); ++a) {
+        vtkDataArray* x = fd->GetArray(a);
+        if (x == nullptr) continue;
+        vtkDataArray* y = other->GetArray(x->GetName());
+        ASSERT_NE(y, nullptr) << c << " " << x->GetName();
+        ASSERT_EQ(y->GetNumberOfValues(), x->GetNumberOfValues()) << c << " " << x->GetName();
+        for (vtkIdType v = 0; v < x->GetNumberOfValues(); ++v)
+          ASSERT_EQ(y->GetVariantValue(v).ToDouble(), x->GetVariantValue(v).ToDouble()) << c << " " << x->GetName();
+        ++arrays;
+      }
+    }
+    EXPECT_EQ(arrays, 18) << c;  // displacement, force, velocity, label, J, ..., the strain and stress tensors
+  }
+}
+
+TEST(Frames, AnUnknownCompressionIsRefused) {
+  const fs::path dir = scratch_dir("frames_compression_bad");
+  const fs::path scene = write_scene(dir, R"(
+name: bad_compression
+mesh: {phantom: slab, slab_size: [1, 1, 1], voxel_size: 1 mm, topology: hex}
+materials:
+  - name: m
+    labels: [1]
+    density: 1000 kg/m^3
+    terms:
+      - fem_element: {law: neo_hookean, parameters: {E: 10 kPa, nu: 0.3}}
+integrator: {type: static, dt: 1 s}
+run: {t_end: 1 s}
+output: {compression: bzip2}
+)");
+  const auto r = run_adamss("run " + scene.string() + " -o " + (dir / "out").string() + cache_arg(dir) + " -q");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("compression"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("bzip2"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("lz4"), std::string::npos) << r.output;
 }
