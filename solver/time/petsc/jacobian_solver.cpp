@@ -51,11 +51,18 @@ constexpr PetscInt kRefinementMaxIts = 10;
 
 /// PCSHELL apply: y = M^{-1} x with the single-precision factor. A failed MUMPS solve gives NaNs,
 /// which end GMRES as a divergence (the solver then falls back to double precision).
+/// No C++ exception crosses PETSc's C frames: a PETSc error inside the solve (petsc_check throws)
+/// is reported as PETSc's error code instead.
 PetscErrorCode apply_single(PC pc, Vec x, Vec y) {
   void* ctx = nullptr;
   PetscCall(PCShellGetContext(pc, &ctx));
-  if (!static_cast<SinglePrecisionFactor*>(ctx)->solve(x, y))
-    PetscCall(VecSet(y, std::numeric_limits<PetscScalar>::quiet_NaN()));
+  bool ok = false;
+  try {
+    ok = static_cast<SinglePrecisionFactor*>(ctx)->solve(x, y);
+  } catch (const std::exception& e) {
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "single-precision solve: %s", e.what());
+  }
+  if (!ok) PetscCall(VecSet(y, std::numeric_limits<PetscScalar>::quiet_NaN()));
   return 0;
 }
 
@@ -189,11 +196,12 @@ struct JacobianSolver::Petsc {
   bool symmetric_choice = false;
   bool cholesky_asked = false;  ///< the options asked for a Cholesky (L D L^T) factorisation
   SymmetryProbe probe;
-  /// The single-precision factorisation GMRES refines (single_precision_factor.hpp): one rank, a
-  /// MUMPS factorisation and -adamss_factorisation_precision single, or auto with at least
+  /// The single-precision factorisation GMRES refines (single_precision_factor.hpp): a
+  /// MUMPS factorisation (one or several ranks) and -adamss_factorisation_precision single, or auto with at least
   /// kSinglePrecisionMinDofs particle coordinates. Null otherwise, and after a fall-back.
   std::unique_ptr<SinglePrecisionFactor> single;
   std::string abandoned;  ///< why the single-precision factorisation was left ("" while it was not)
+  bool singular = false;  ///< the single-precision factorisation of the current operator met a singular one
   int solves = 0;         ///< solves so far (the fall-back's report)
 };
 
@@ -301,9 +309,20 @@ void JacobianSolver::Petsc::set_up(TimeSplit& times) {
   // KSPSetUp runs PCSetUp for the new matrix (the LU factorisation, or the AMG hierarchy), which
   // KSPSolve would otherwise do inside the first solve; KSPSolve then finds it up to date.
   const ScopedTimer timer(times.factorisations);
+  singular = false;
   if (single) {
     const bool symmetric = cholesky_asked || (symmetric_choice && probe.symmetric(op()));
-    if (!single->factorise(op(), symmetric)) use_double(single->error());
+    if (!single->factorise(op(), symmetric)) {
+      // A singular operator is no reason to leave single precision (the double factorisation
+      // fails too): this operator's solves fail, as the double path's do, and the Newton loop
+      // retries. Any other failure (workspace, memory) is.
+      if (single->singular()) {
+        singular = true;
+        fresh = false;
+        return;
+      }
+      use_double(single->error());
+    }
   }
   if (!single && symmetric_choice) choose_factorisation();
   petsc_check(KSPSetOperators(ksp, op(), op()), "KSPSetOperators");
@@ -325,6 +344,7 @@ bool JacobianSolver::Petsc::krylov_solve(int& its, TimeSplit& times) {
 bool JacobianSolver::Petsc::solve(int& its, TimeSplit& times) {
   ++solves;
   if (fresh) set_up(times);
+  if (singular) return false;
   if (krylov_solve(its, times)) return true;
   if (!single || stop_requested()) return false;
   // The refinement did not converge: the single-precision factor is too far from the operator
@@ -411,10 +431,11 @@ std::string JacobianSolver::describe() const {
     out = std::string(ksp != nullptr ? ksp : "?") + " + " + (ldlt ? "cholesky" : "lu") + " (mumps, single precision)";
   }
   const std::string n = std::to_string(petsc_->a->size());
-  if (petsc_->border)
+  if (petsc_->border) {
     out += ", bordered operator: " + n + " + " + std::to_string(border_rows()) + " unknowns";
-  else
+  } else {
     out += ", " + n + " unknowns";
+  }
   if (!petsc_->abandoned.empty()) out += "; " + petsc_->abandoned;
   return out;
 }

@@ -55,6 +55,7 @@ bool SinglePrecisionFactor::call(int job, const char* what) {
   id.job = job;
   smumps_c(&id);
   if (id.infog[0] >= 0) return true;
+  singular_ = id.infog[0] == -10;
   error_ = std::string("MUMPS's single-precision ") + what + " failed: " + mumps_reason(id.infog[0], id.infog[1]);
   return false;
 }
@@ -128,6 +129,7 @@ void SinglePrecisionFactor::map(Mat a, bool symmetric) {
 
 bool SinglePrecisionFactor::factorise(Mat a, bool symmetric) {
   error_.clear();
+  singular_ = false;
   PetscInt64 object = -1;
   petsc_check(PetscObjectGetId(reinterpret_cast<PetscObject>(a), &object), "PetscObjectGetId");
   PetscObjectState state = -1;
@@ -158,7 +160,9 @@ bool SinglePrecisionFactor::factorise(Mat a, bool symmetric) {
     if (!mumps_->started) return false;
     id.icntl[0] = id.icntl[1] = id.icntl[2] = -1;  // no output streams
     id.icntl[3] = 0;
-    id.icntl[13] = 100;  // workspace allowance for delayed pivots, as for the double factorisation
+    PetscInt percent = 100;  // workspace allowance for delayed pivots, as for the double factorisation
+    petsc_check(PetscOptionsGetInt(nullptr, nullptr, "-mat_mumps_icntl_14", &percent, nullptr), "PetscOptionsGetInt");
+    id.icntl[13] = static_cast<MUMPS_INT>(percent);
     id.n = static_cast<MUMPS_INT>(rows_);
     if (ranks == 1) {
       id.nnz = static_cast<MUMPS_INT8>(values_.size());
@@ -174,10 +178,11 @@ bool SinglePrecisionFactor::factorise(Mat a, bool symmetric) {
     analysed_ = true;
     ++analyses_;
   }
-  if (ranks == 1)
+  if (ranks == 1) {
     id.a = values_.data();
-  else
+  } else {
     id.a_loc = values_.data();
+  }
   return call(kFactorise, "factorisation");
 }
 

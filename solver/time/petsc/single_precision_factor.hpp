@@ -26,6 +26,10 @@
 // their largest entry before the conversion, so that neither tiny nor huge residuals leave float's
 // range.
 //
+// MUMPS's controls: ICNTL(14) (the workspace allowance for delayed pivots) follows
+// -mat_mumps_icntl_14 as the double factorisation does (100 % unless given); the other
+// -mat_mumps_* options are not read here (PORD ordering, MUMPS's default scaling).
+//
 // Several MPI ranks: the operator is a MATMPIAIJ; each rank hands MUMPS the entries of its own rows
 // (ICNTL(18) = 3, distributed assembled input), and a solve gathers the right-hand side on rank 0
 // (MUMPS's host, ICNTL(20) = 0: dense centralised) and scatters the solution back from it
@@ -56,6 +60,9 @@ class SinglePrecisionFactor {
   bool solve(Vec in, Vec out);
   /// MUMPS's error of the last failed call ("" while none failed).
   [[nodiscard]] const std::string& error() const { return error_; }
+  /// Whether the last failure was a numerically singular operator (INFOG(1) = -10), which a
+  /// double-precision factorisation would meet too.
+  [[nodiscard]] bool singular() const { return singular_; }
   /// Whether the last factorisation was L D L^T.
   [[nodiscard]] bool symmetric() const { return symmetric_; }
   /// Analyses so far (one per pattern or symmetry change).
@@ -76,8 +83,9 @@ class SinglePrecisionFactor {
   PetscInt64 mapped_id_ = -1;           ///< PETSc's id of the mapped Mat (unique, unlike its address)
   PetscObjectState mapped_state_ = -1;  ///< its nonzero state when mapped
   PetscInt rows_ = 0;                   ///< global rows of the mapped Mat
-  bool symmetric_ = false, analysed_ = false;
+  bool symmetric_ = false, analysed_ = false, singular_ = false;
   int analyses_ = 0;
+  int workspace_percent_ = 100;     ///< ICNTL(14): -mat_mumps_icntl_14 when given, else 100
   MPI_Comm comm_ = MPI_COMM_NULL;   ///< the mapped Mat's communicator
   PetscInt diagonal_entries_ = 0;   ///< several ranks: stored entries of the diagonal block
   std::vector<PetscInt> position_;  ///< per entry: its index in the (diagonal block's, then the

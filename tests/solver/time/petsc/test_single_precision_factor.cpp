@@ -147,6 +147,7 @@ TEST(SinglePrecisionFactor, ReportsASingularOperator) {
   MatZeroRowsColumns(a, 1, &row, 0.0, nullptr, nullptr);
   solver::SinglePrecisionFactor f;
   EXPECT_FALSE(f.factorise(a, false));
+  EXPECT_TRUE(f.singular());
   EXPECT_NE(f.error().find("single-precision factorisation failed: the operator is numerically singular"),
             std::string::npos)
       << f.error();
@@ -267,6 +268,30 @@ TEST(SinglePrecisionFactorisation, FallsBackToDoublePrecisionWhenTheRefinementSt
   ASSERT_TRUE(single->solve(rhs, us));
   EXPECT_LT((us - ud).norm() / ud.norm(), 1e-12);
   EXPECT_EQ(single->describe().substr(0, 27), "preonly + cholesky (mumps),");
+}
+
+TEST(SinglePrecisionFactorisation, ASingularOperatorFailsItsSolvesWithoutLeavingSinglePrecision) {
+  const auto loaded = test::load_scene(kScene);
+  const solver::Model& model = loaded.model;
+  const Eigen::Matrix3Xd x = test::perturbed(model.mesh->nodes, 1e-3, 0.05);
+  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, x.cols());
+  const solver::StateView at{x, v, 1.0};
+  const auto single = solver_with(model, {{"-adamss_factorisation_precision", "single"}});
+  const auto plain = solver_with(model, {{"-adamss_factorisation_precision", "double"}});
+  Eigen::Matrix3Xd rhs = test::perturbed(Eigen::Matrix3Xd::Zero(3, x.cols()), 1.0, 1.0, 5);
+  solver::zero_dofs(rhs, single->fixed_dofs());
+  Eigen::Matrix3Xd u;
+  for (solver::JacobianSolver* s : {single.get(), plain.get()}) {
+    s->assemble(model.terms, at, 0.0, 0.0);  // the zero operator: singular but for the fixed rows
+    s->eliminate();
+    EXPECT_FALSE(s->solve(rhs, u));
+    EXPECT_FALSE(s->solve(rhs, u));  // the same operator: no second attempt succeeds either
+  }
+  EXPECT_EQ(single->describe(), "fgmres + cholesky (mumps, single precision), bordered operator: 135 + 45 unknowns");
+  single->assemble(model.terms, at, -1.0, 0.0);  // the next operator is factorised in single precision
+  single->eliminate();
+  EXPECT_TRUE(single->solve(rhs, u));
+  EXPECT_EQ(single->describe(), "fgmres + cholesky (mumps, single precision), bordered operator: 135 + 45 unknowns");
 }
 
 TEST(SinglePrecisionFactorisation, RefusesAnUnknownPrecision) {
