@@ -3,6 +3,7 @@
 #include <petscksp.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <exception>
 #include <limits>
@@ -347,6 +348,10 @@ bool JacobianSolver::Petsc::solve(int& its, TimeSplit& times) {
   if (singular) return false;
   if (krylov_solve(its, times)) return true;
   if (!single || stop_requested()) return false;
+  // A right-hand side with NaN or Inf (a Newton trial state gone bad) fails in any precision.
+  PetscReal bnorm = 0.0;
+  petsc_check(VecNorm(b, NORM_2, &bnorm), "VecNorm");
+  if (!std::isfinite(bnorm)) return false;
   // The refinement did not converge: the single-precision factor is too far from the operator
   // (an ill-conditioned one amplifies float's rounding beyond what GMRES corrects in its
   // iterations). Double precision from here on.

@@ -44,10 +44,19 @@ SinglePrecisionFactor::SinglePrecisionFactor() : mumps_(std::make_unique<Mumps>(
 SinglePrecisionFactor::~SinglePrecisionFactor() {
   if (gather_ != nullptr) VecScatterDestroy(&gather_);
   if (whole_ != nullptr) VecDestroy(&whole_);
+  end();
+}
+
+void SinglePrecisionFactor::end() {
+  int finalized = 0;
+  MPI_Finalized(&finalized);
+  if (finalized != 0) return;
   if (mumps_->started) {
     mumps_->id.job = kEnd;
     smumps_c(&mumps_->id);
+    mumps_->started = false;
   }
+  if (comm_ != MPI_COMM_NULL) MPI_Comm_free(&comm_);
 }
 
 bool SinglePrecisionFactor::call(int job, const char* what) {
@@ -99,9 +108,9 @@ void SinglePrecisionFactor::map(Mat a, bool symmetric) {
   irn_.clear();
   jcn_.clear();
   petsc_check(MatGetSize(a, &rows_, nullptr), "MatGetSize");
-  comm_ = PetscObjectComm(reinterpret_cast<PetscObject>(a));
+  source_ = PetscObjectComm(reinterpret_cast<PetscObject>(a));
   int ranks = 1;
-  MPI_Comm_size(comm_, &ranks);
+  MPI_Comm_size(source_, &ranks);
   if (ranks == 1) {
     append_block(
         a, 0, [](PetscInt j) { return j; }, symmetric, 0, position_, irn_, jcn_);
@@ -136,7 +145,7 @@ bool SinglePrecisionFactor::factorise(Mat a, bool symmetric) {
   petsc_check(MatGetNonzeroState(a, &state), "MatGetNonzeroState");
   if (object != mapped_id_ || state != mapped_state_ || symmetric != symmetric_) map(a, symmetric);
   int ranks = 1;
-  MPI_Comm_size(comm_, &ranks);
+  MPI_Comm_size(source_, &ranks);
   Mat d = a, o = nullptr;
   if (ranks > 1) petsc_check(MatMPIAIJGetSeqAIJ(a, &d, &o, nullptr), "MatMPIAIJGetSeqAIJ");
   const PetscScalar* vd = nullptr;
@@ -151,7 +160,8 @@ bool SinglePrecisionFactor::factorise(Mat a, bool symmetric) {
   if (o != nullptr) petsc_check(MatSeqAIJRestoreArrayRead(o, &vo), "MatSeqAIJRestoreArrayRead");
   SMUMPS_STRUC_C& id = mumps_->id;
   if (!analysed_) {
-    if (mumps_->started) call(kEnd, "release");
+    end();
+    MPI_Comm_dup(source_, &comm_);
     id = SMUMPS_STRUC_C{};
     id.par = 1;  // the host works too
     id.sym = symmetric ? 2 : 0;

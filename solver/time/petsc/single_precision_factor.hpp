@@ -75,6 +75,8 @@ class SinglePrecisionFactor {
   void map(Mat a, bool symmetric);
   /// MUMPS call with `job`; false (and error_) when INFOG(1) < 0 (MUMPS's INFOG is global).
   bool call(int job, const char* what);
+  /// Ends the MUMPS instance and frees its communicator (nothing after MPI_Finalize).
+  void end();
   /// The solve on rank 0's gathered right-hand side `rhs` (n values there, none elsewhere),
   /// overwritten with the solution. Collective.
   bool solve_gathered(PetscScalar* rhs, PetscInt n);
@@ -85,12 +87,16 @@ class SinglePrecisionFactor {
   PetscInt rows_ = 0;                   ///< global rows of the mapped Mat
   bool symmetric_ = false, analysed_ = false, singular_ = false;
   int analyses_ = 0;
-  int workspace_percent_ = 100;     ///< ICNTL(14): -mat_mumps_icntl_14 when given, else 100
-  MPI_Comm comm_ = MPI_COMM_NULL;   ///< the mapped Mat's communicator
-  PetscInt diagonal_entries_ = 0;   ///< several ranks: stored entries of the diagonal block
-  std::vector<PetscInt> position_;  ///< per entry: its index in the (diagonal block's, then the
-                                    ///< off-diagonal block's) value array
-  std::vector<int> irn_, jcn_;      ///< MUMPS's 1-based global row and column of each entry
+  int workspace_percent_ = 100;  ///< ICNTL(14): -mat_mumps_icntl_14 when given, else 100
+  /// MUMPS's own duplicate of the mapped Mat's communicator: PETSc frees a Mat's inner
+  /// communicator with its last object, and a MUMPS instance ended on a freed one fails to end
+  /// (INFOG(1) = -3) and leaks (found by LeakSanitizer when the Mat died before the factor).
+  MPI_Comm comm_ = MPI_COMM_NULL;
+  MPI_Comm source_ = MPI_COMM_NULL;  ///< the mapped Mat's communicator (map(); duplicated at the analysis)
+  PetscInt diagonal_entries_ = 0;    ///< several ranks: stored entries of the diagonal block
+  std::vector<PetscInt> position_;   ///< per entry: its index in the (diagonal block's, then the
+                                     ///< off-diagonal block's) value array
+  std::vector<int> irn_, jcn_;       ///< MUMPS's 1-based global row and column of each entry
   std::vector<float> values_, rhs_;
   VecScatter gather_ = nullptr;  ///< several ranks: a vector onto rank 0 (made at the first solve)
   Vec whole_ = nullptr;          ///< its gathered copy (n values on rank 0)

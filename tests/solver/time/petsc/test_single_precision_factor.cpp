@@ -291,6 +291,10 @@ TEST(SinglePrecisionFactorisation, ASingularOperatorFailsItsSolvesWithoutLeaving
   single->assemble(model.terms, at, -1.0, 0.0);  // the next operator is factorised in single precision
   single->eliminate();
   EXPECT_TRUE(single->solve(rhs, u));
+  // A right-hand side with a NaN (a Newton trial state gone bad) fails without leaving either.
+  Eigen::Matrix3Xd bad = rhs;
+  bad(1, 5) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(single->solve(bad, u));
   EXPECT_EQ(single->describe(), "fgmres + cholesky (mumps, single precision), bordered operator: 135 + 45 unknowns");
 }
 
