@@ -279,18 +279,6 @@ std::string vtk_ascii_string(const std::string& s) {
 
 }  // namespace
 
-const char* to_string(FrameCompression c) {
-  switch (c) {
-    case FrameCompression::lz4:
-      return "lz4";
-    case FrameCompression::none:
-      return "none";
-    case FrameCompression::zlib:
-      break;
-  }
-  return "zlib";
-}
-
 void write_vtu(const fs::path& path, const preprocess::Mesh& mesh, const Eigen::Matrix3Xd& points,
                const VtuArrays& arrays, FrameCompression compression) {
   const std::size_t nn = mesh.node_count(), ne = mesh.element_count();

@@ -57,8 +57,6 @@ struct GlobalsRow {
 /// (103 760 tetrahedra, ~90 doubles each, 75 MB raw): zlib 60 MB in ~1.3 s a frame, LZ4 ~70 MB in
 /// ~0.05 s (bench/README.md): doubles compress little, so large frames are cheaper in LZ4 or raw.
 enum class FrameCompression { zlib, lz4, none };
-/// "zlib", "lz4", "none".
-[[nodiscard]] const char* to_string(FrameCompression c);
 
 class ResultsWriter {
  public:

@@ -429,11 +429,13 @@ std::string JacobianSolver::describe() const {
   petsc_check(KSPGetPC(petsc_->ksp, &pc), "KSPGetPC");
   PCType pct = nullptr;
   petsc_check(PCGetType(pc, &pct), "PCGetType");
-  std::string out = std::string(ksp != nullptr ? ksp : "?") + " + " + (pct != nullptr ? pct : "?");
-  if (const char* package = factorisation_package(pc)) out += std::string(" (") + package + ")";
-  if (petsc_->single) {
+  std::string out = std::string(ksp != nullptr ? ksp : "?") + " + ";
+  if (petsc_->single) {  // the PC is the shell around the factor: name the factorisation instead
     const bool ldlt = petsc_->single->symmetric() || petsc_->cholesky_asked;
-    out = std::string(ksp != nullptr ? ksp : "?") + " + " + (ldlt ? "cholesky" : "lu") + " (mumps, single precision)";
+    out += std::string(ldlt ? "cholesky" : "lu") + " (mumps, single precision)";
+  } else {
+    out += pct != nullptr ? pct : "?";
+    if (const char* package = factorisation_package(pc)) out += std::string(" (") + package + ")";
   }
   const std::string n = std::to_string(petsc_->a->size());
   if (petsc_->border) {

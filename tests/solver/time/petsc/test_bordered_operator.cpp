@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "force_term_harness.hpp"
+#include "jacobian_solver_fixtures.hpp"
 #include "scene_fixtures.hpp"
 #include "solver/time/petsc/jacobian_solver.hpp"
 
@@ -39,10 +40,7 @@ run: {t_end: 1 s}
 /// A solver of `model` on the two-ring matrix: -adamss_bordered false while it is configured (PETSc
 /// runs already: the caller built a bordered solver first).
 std::unique_ptr<solver::JacobianSolver> two_ring_solver(const solver::Model& model) {
-  PetscOptionsSetValue(nullptr, "-adamss_bordered", "false");
-  auto plain = std::make_unique<solver::JacobianSolver>(model, "", 1e-12, 100);
-  PetscOptionsClearValue(nullptr, "-adamss_bordered");
-  return plain;
+  return test::solver_with(model, {{"-adamss_bordered", "false"}});
 }
 
 /// The model's reference positions, randomly moved by 5 % of 1 mm.

@@ -14,6 +14,7 @@
 
 #include "common/error.hpp"
 #include "force_term_harness.hpp"
+#include "jacobian_solver_fixtures.hpp"
 #include "scene_fixtures.hpp"
 #include "solver/time/petsc/jacobian_solver.hpp"
 #include "solver/time/petsc/petsc_env.hpp"
@@ -173,15 +174,6 @@ integrator: {type: static, dt: 1 s}
 run: {t_end: 1 s}
 )";
 
-/// A JacobianSolver of `model` built while the PETSc options `options` (name, value pairs) hold.
-std::unique_ptr<solver::JacobianSolver> solver_with(const solver::Model& model,
-                                                    const std::vector<std::pair<std::string, std::string>>& options) {
-  for (const auto& [name, value] : options) PetscOptionsSetValue(nullptr, name.c_str(), value.c_str());
-  auto s = std::make_unique<solver::JacobianSolver>(model, "", 1e-12, 100);
-  for (const auto& [name, value] : options) PetscOptionsClearValue(nullptr, name.c_str());
-  return s;
-}
-
 /// The single-precision solver (GMRES to relative residual `rtol`) against the double-precision
 /// factorisation on the nodal-volume block, static (L D L^T) and negated operators, free and
 /// prescribed solves: the largest relative difference of the solutions, and the GMRES iterations of
@@ -193,8 +185,8 @@ double single_against_double(const std::string& rtol, int& iterations) {
   const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, x.cols());
   const solver::StateView at{x, v, 1.0};
   const auto single =
-      solver_with(model, {{"-adamss_factorisation_precision", "single"}, {"-adamss_refinement_rtol", rtol}});
-  const auto plain = solver_with(model, {});  // auto: double precision for 135 coordinates
+      test::solver_with(model, {{"-adamss_factorisation_precision", "single"}, {"-adamss_refinement_rtol", rtol}});
+  const auto plain = test::solver_with(model, {});  // auto: double precision for 135 coordinates
   Eigen::Matrix3Xd rhs = test::perturbed(Eigen::Matrix3Xd::Zero(3, x.cols()), 1.0, 1.0, 7);
   solver::zero_dofs(rhs, single->fixed_dofs());
   Eigen::Matrix3Xd prescribed = Eigen::Matrix3Xd::Zero(3, x.cols());
@@ -245,10 +237,10 @@ TEST(SinglePrecisionFactorisation, FallsBackToDoublePrecisionWhenTheRefinementSt
   const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, x.cols());
   const solver::StateView at{x, v, 1.0};
   // One GMRES iteration cannot reach 1e-14 from a single-precision factor.
-  const auto single = solver_with(model, {{"-adamss_factorisation_precision", "single"},
-                                          {"-adamss_refinement_rtol", "1e-14"},
-                                          {"-adamss_refinement_max_it", "1"}});
-  const auto plain = solver_with(model, {{"-adamss_factorisation_precision", "double"}});
+  const auto single = test::solver_with(model, {{"-adamss_factorisation_precision", "single"},
+                                                {"-adamss_refinement_rtol", "1e-14"},
+                                                {"-adamss_refinement_max_it", "1"}});
+  const auto plain = test::solver_with(model, {{"-adamss_factorisation_precision", "double"}});
   Eigen::Matrix3Xd rhs = test::perturbed(Eigen::Matrix3Xd::Zero(3, x.cols()), 1.0, 1.0, 3);
   solver::zero_dofs(rhs, single->fixed_dofs());
   for (solver::JacobianSolver* s : {single.get(), plain.get()}) {
@@ -276,8 +268,8 @@ TEST(SinglePrecisionFactorisation, ASingularOperatorFailsItsSolvesWithoutLeaving
   const Eigen::Matrix3Xd x = test::perturbed(model.mesh->nodes, 1e-3, 0.05);
   const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, x.cols());
   const solver::StateView at{x, v, 1.0};
-  const auto single = solver_with(model, {{"-adamss_factorisation_precision", "single"}});
-  const auto plain = solver_with(model, {{"-adamss_factorisation_precision", "double"}});
+  const auto single = test::solver_with(model, {{"-adamss_factorisation_precision", "single"}});
+  const auto plain = test::solver_with(model, {{"-adamss_factorisation_precision", "double"}});
   Eigen::Matrix3Xd rhs = test::perturbed(Eigen::Matrix3Xd::Zero(3, x.cols()), 1.0, 1.0, 5);
   solver::zero_dofs(rhs, single->fixed_dofs());
   Eigen::Matrix3Xd u;
@@ -301,10 +293,9 @@ TEST(SinglePrecisionFactorisation, ASingularOperatorFailsItsSolvesWithoutLeaving
 TEST(SinglePrecisionFactorisation, RefusesAnUnknownPrecision) {
   const auto loaded = test::load_scene(kScene);
   try {
-    (void)solver_with(loaded.model, {{"-adamss_factorisation_precision", "half"}});
+    (void)test::solver_with(loaded.model, {{"-adamss_factorisation_precision", "half"}});
     FAIL() << "no error";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()), "-adamss_factorisation_precision half: expected single, double or auto");
   }
-  PetscOptionsClearValue(nullptr, "-adamss_factorisation_precision");
 }

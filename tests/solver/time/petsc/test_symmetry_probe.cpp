@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "force_term_harness.hpp"
+#include "jacobian_solver_fixtures.hpp"
 #include "scene_fixtures.hpp"
 #include "solver/time/petsc/jacobian_solver.hpp"
 #include "solver/time/petsc/petsc_env.hpp"
@@ -206,19 +207,17 @@ std::string solve_both(const std::string& pressure, double& difference) {
   const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, x.cols());
   const solver::StateView at{x, v, 1.0};
   solver::JacobianSolver chosen(model, "", 1e-12, 100);
-  PetscOptionsSetValue(nullptr, "-adamss_symmetric_factorisation", "false");
-  solver::JacobianSolver lu(model, "", 1e-12, 100);
-  PetscOptionsClearValue(nullptr, "-adamss_symmetric_factorisation");
+  const auto lu = test::solver_with(model, {{"-adamss_symmetric_factorisation", "false"}});
   Eigen::Matrix3Xd rhs = test::perturbed(Eigen::Matrix3Xd::Zero(3, x.cols()), 1.0, 1.0, 5);
   solver::zero_dofs(rhs, chosen.fixed_dofs());
   Eigen::Matrix3Xd uc, ul;
-  for (solver::JacobianSolver* s : {&chosen, &lu}) {
+  for (solver::JacobianSolver* s : {&chosen, lu.get()}) {
     s->assemble(model.terms, at, -1.0, 0.0);
     s->eliminate();
   }
   EXPECT_TRUE(chosen.solve(rhs, uc));
-  EXPECT_TRUE(lu.solve(rhs, ul));
-  EXPECT_EQ(lu.describe().substr(0, 20), "preonly + lu (mumps)");
+  EXPECT_TRUE(lu->solve(rhs, ul));
+  EXPECT_EQ(lu->describe().substr(0, 20), "preonly + lu (mumps)");
   difference = (uc - ul).norm() / ul.norm();
   return chosen.describe();
 }
