@@ -48,6 +48,11 @@ if(NOT TARGET adamss_smumps)
   add_library(adamss::smumps ALIAS adamss_smumps)
 endif()
 
+# METIS (libmetis-dev): nested-dissection pivot orders for the single-precision factorisation
+# (solver/time/petsc/nested_dissection.hpp); Debian's MUMPS is built without it.
+find_path(METIS_INCLUDE_DIR metis.h REQUIRED)
+find_library(METIS_LIBRARY metis REQUIRED)
+
 # LZ4 (liblz4-dev): the frames' optional LZ4 compression (solver/run/results.hpp).
 find_path(LZ4_INCLUDE_DIR lz4.h REQUIRED)
 find_library(LZ4_LIBRARY lz4 REQUIRED)

@@ -1,11 +1,14 @@
 # One scene on one rank and under mpirun on several (issue 22; docs/parallel.md):
 #   cmake -DADAMSS=... -DMPIEXEC=... -DSCENE=... -DOUT=... -DCACHE=... -DRANKS=2,4 -DTOL=1e-6
-#         [-DRESUME_AFTER=K -DRESUME_RANKS=1,4] -P check_ranks.cmake
+#         [-DRESUME_AFTER=K -DRESUME_RANKS=1,4] [-DPETSC="options"] -P check_ranks.cmake
 # Every probe displacement component of each parallel run must equal the serial run's within TOL
 # relative to the largest probe displacement component of the serial run, and so must every cavity volume
-# (relative to itself) and the Newton iteration count (exactly). With RESUME_AFTER: a run on the first of
+# (relative to itself). The Newton iteration counts are printed, not compared: the distributed
+# factorisation's rounding can move modified Newton's reuse decisions (biv-inflation-coarse: 76 on
+# one rank, 77 on two; 76 and 66 in single precision). With RESUME_AFTER: a run on the first of
 # RANKS stops after K steps (a checkpoint, as on SIGTERM), and copies of its folder are resumed
-# on each of RESUME_RANKS; their final probes must match the serial run's the same way.
+# on each of RESUME_RANKS; their final probes must match the serial run's the same way. PETSC: PETSc
+# options (adamss run --petsc) for every run.
 cmake_minimum_required(VERSION 3.20)
 string(REPLACE "," ";" RANKS "${RANKS}")
 string(REPLACE "," ";" RESUME_RANKS "${RESUME_RANKS}")
@@ -18,7 +21,11 @@ function(adamss_run ranks dir)
   else()
     set(cmd ${MPIEXEC} --oversubscribe -np ${ranks} ${ADAMSS})
   endif()
-  execute_process(COMMAND ${cmd} run ${SCENE} -o ${dir} --cache ${CACHE} -q ${ARGN}
+  set(options "")
+  if(NOT "${PETSC}" STREQUAL "")
+    set(options --petsc "${PETSC}")
+  endif()
+  execute_process(COMMAND ${cmd} run ${SCENE} -o ${dir} --cache ${CACHE} -q ${options} ${ARGN}
                   RESULT_VARIABLE rc ERROR_VARIABLE err)
   set(rc ${rc} PARENT_SCOPE)
   set(err "${err}" PARENT_SCOPE)

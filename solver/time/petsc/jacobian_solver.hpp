@@ -13,7 +13,8 @@
 // rigid-body near-null space. A MUMPS LU factorises a symmetric operator as L D L^T
 // instead (symmetry_probe.hpp; checked before every factorisation; -adamss_symmetric_factorisation
 // false keeps LU). From 50 000 particle coordinates on (any number of ranks), the MUMPS factorisation is made
-// in single precision and refined by flexible GMRES to 1e-10 relative residual
+// in single precision, in METIS's nested-dissection pivot order (-adamss_pivot_order metis|mumps),
+// and refined by flexible GMRES to 1e-8 relative residual
 // (single_precision_factor.hpp; -adamss_factorisation_precision single|double|auto,
 // -adamss_refinement_rtol, -adamss_refinement_max_it); a refinement that fails switches to double
 // precision for the rest of the run. The fixed coordinates of a solution are always exactly the

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "common/error.hpp"
+#include "solver/time/petsc/nested_dissection.hpp"
 #include "solver/time/petsc/petsc_env.hpp"
 
 namespace adamss::solver {
@@ -32,6 +34,17 @@ std::string mumps_reason(int infog1, int infog2) {
   }
 }
 
+/// -adamss_pivot_order: "metis" (the default) or "mumps" (MUMPS's own choice: PORD or AMF).
+bool metis_order_wanted() {
+  char value[16] = "metis";
+  petsc_check(PetscOptionsGetString(nullptr, nullptr, "-adamss_pivot_order", value, sizeof value, nullptr),
+              "PetscOptionsGetString");
+  const std::string v = value;
+  if (v == "metis") return true;
+  if (v == "mumps") return false;
+  throw InputError("-adamss_pivot_order " + v + ": expected metis or mumps");
+}
+
 }  // namespace
 
 struct SinglePrecisionFactor::Mumps {
@@ -39,7 +52,8 @@ struct SinglePrecisionFactor::Mumps {
   bool started = false;
 };
 
-SinglePrecisionFactor::SinglePrecisionFactor() : mumps_(std::make_unique<Mumps>()) {}
+SinglePrecisionFactor::SinglePrecisionFactor()
+    : mumps_(std::make_unique<Mumps>()), metis_wanted_(metis_order_wanted()) {}
 
 SinglePrecisionFactor::~SinglePrecisionFactor() {
   if (gather_ != nullptr) VecScatterDestroy(&gather_);
@@ -101,6 +115,40 @@ PetscInt stored_entries(Mat block) {
   return static_cast<PetscInt>(info.nz_used);
 }
 
+/// ICNTL entries this driver sets itself and refuses to take from the options: the matrix's
+/// input format and distribution (5, 18), the right-hand side's and the solution's (20, 21), the
+/// transposed solve (9) and the Schur complement (19).
+bool driver_owned(int i) {
+  return i == 5 || i == 9 || i == 18 || i == 19 || i == 20 || i == 21;
+}
+
+/// MUMPS's controls from PETSc's options of the same names, as PETSc's double-precision MUMPS
+/// interface reads them: -mat_mumps_icntl_<i> (i = 4 .. 60; not the driver's own, driver_owned)
+/// and -mat_mumps_cntl_<i> (i = 1 .. 15). ICNTL(14), the workspace allowance for delayed pivots, is
+/// 100 % unless given, as PETSc sets it for the double factorisation. Output streams (ICNTL(1..3))
+/// are MUMPS's standard output when -mat_mumps_icntl_4 asks for messages, none otherwise.
+void apply_mumps_options(SMUMPS_STRUC_C& id) {
+  id.icntl[3] = 0;  // no messages unless asked
+  id.icntl[13] = 100;
+  for (int i = 4; i <= 60; ++i) {
+    if (driver_owned(i)) continue;
+    const std::string name = "-mat_mumps_icntl_" + std::to_string(i);
+    PetscInt value = 0;
+    PetscBool set = PETSC_FALSE;
+    petsc_check(PetscOptionsGetInt(nullptr, nullptr, name.c_str(), &value, &set), "PetscOptionsGetInt");
+    if (set == PETSC_TRUE) id.icntl[i - 1] = static_cast<MUMPS_INT>(value);
+  }
+  for (int i = 1; i <= 15; ++i) {
+    const std::string name = "-mat_mumps_cntl_" + std::to_string(i);
+    PetscReal value = 0.0;
+    PetscBool set = PETSC_FALSE;
+    petsc_check(PetscOptionsGetReal(nullptr, nullptr, name.c_str(), &value, &set), "PetscOptionsGetReal");
+    if (set == PETSC_TRUE) id.cntl[i - 1] = static_cast<float>(value);
+  }
+  const bool talk = id.icntl[3] > 0;
+  id.icntl[0] = id.icntl[1] = id.icntl[2] = talk ? 6 : -1;
+}
+
 }  // namespace
 
 void SinglePrecisionFactor::map(Mat a, bool symmetric) {
@@ -136,6 +184,54 @@ void SinglePrecisionFactor::map(Mat a, bool symmetric) {
   if (whole_ != nullptr) petsc_check(VecDestroy(&whole_), "VecDestroy");
 }
 
+namespace {
+
+/// All ranks' coordinate lists on rank 0 of `comm` (empty elsewhere). Collective.
+void gather_pattern(MPI_Comm comm, const std::vector<int>& irn, const std::vector<int>& jcn, std::vector<int>& all_irn,
+                    std::vector<int>& all_jcn) {
+  int ranks = 1, rank = 0;
+  MPI_Comm_size(comm, &ranks);
+  MPI_Comm_rank(comm, &rank);
+  const int mine = static_cast<int>(irn.size());
+  std::vector<int> counts(static_cast<std::size_t>(ranks)), starts(static_cast<std::size_t>(ranks));
+  MPI_Gather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
+  int total = 0;
+  for (int r = 0; r < ranks; ++r) {
+    starts[static_cast<std::size_t>(r)] = total;
+    total += counts[static_cast<std::size_t>(r)];
+  }
+  all_irn.assign(rank == 0 ? static_cast<std::size_t>(total) : 0, 0);
+  all_jcn.assign(all_irn.size(), 0);
+  MPI_Gatherv(irn.data(), mine, MPI_INT, all_irn.data(), counts.data(), starts.data(), MPI_INT, 0, comm);
+  MPI_Gatherv(jcn.data(), mine, MPI_INT, all_jcn.data(), counts.data(), starts.data(), MPI_INT, 0, comm);
+}
+
+}  // namespace
+
+std::vector<int> SinglePrecisionFactor::pivot_order(int ranks) {
+  metis_order_ = metis_wanted_;
+  if (!metis_order_) return {};
+  int rank = 0;
+  MPI_Comm_rank(comm_, &rank);
+  std::vector<int> all_irn, all_jcn;
+  if (ranks > 1) gather_pattern(comm_, irn_, jcn_, all_irn, all_jcn);
+  std::vector<int> order;
+  int failed = 0;
+  if (rank == 0) {
+    try {
+      order = nested_dissection_order(static_cast<int>(rows_), ranks > 1 ? all_irn : irn_, ranks > 1 ? all_jcn : jcn_);
+    } catch (const std::runtime_error&) {
+      failed = 1;  // METIS fails only when out of memory: MUMPS's own order then
+    }
+  }
+  if (ranks > 1) MPI_Bcast(&failed, 1, MPI_INT, 0, comm_);
+  if (failed != 0) {
+    metis_order_ = false;
+    order.clear();
+  }
+  return order;
+}
+
 bool SinglePrecisionFactor::factorise(Mat a, bool symmetric) {
   error_.clear();
   singular_ = false;
@@ -168,11 +264,7 @@ bool SinglePrecisionFactor::factorise(Mat a, bool symmetric) {
     id.comm_fortran = static_cast<MUMPS_INT>(MPI_Comm_c2f(comm_));
     mumps_->started = call(kInit, "initialisation");
     if (!mumps_->started) return false;
-    id.icntl[0] = id.icntl[1] = id.icntl[2] = -1;  // no output streams
-    id.icntl[3] = 0;
-    PetscInt percent = 100;  // workspace allowance for delayed pivots, as for the double factorisation
-    petsc_check(PetscOptionsGetInt(nullptr, nullptr, "-mat_mumps_icntl_14", &percent, nullptr), "PetscOptionsGetInt");
-    id.icntl[13] = static_cast<MUMPS_INT>(percent);
+    apply_mumps_options(id);
     id.n = static_cast<MUMPS_INT>(rows_);
     if (ranks == 1) {
       id.nnz = static_cast<MUMPS_INT8>(values_.size());
@@ -184,6 +276,9 @@ bool SinglePrecisionFactor::factorise(Mat a, bool symmetric) {
       id.irn_loc = irn_.data();
       id.jcn_loc = jcn_.data();
     }
+    const std::vector<int> order = pivot_order(ranks);
+    if (!order.empty()) id.perm_in = const_cast<int*>(order.data());  // MUMPS only reads it
+    if (metis_order_) id.icntl[6] = 1;                                // ICNTL(7) = 1: the given pivot order
     if (!call(kAnalyse, "analysis")) return false;
     analysed_ = true;
     ++analyses_;

@@ -20,15 +20,22 @@
 // the gain, and the direct solver keeps double precision there (jacobian_solver.hpp).
 //
 // Storage: the operator's stored entries in MUMPS's coordinate format (its upper triangle for
-// L D L^T), converted to float at every factorisation; the analysis (MUMPS's ordering, PORD on
-// Debian's build) is repeated only when the operator is another Mat or has another nonzero pattern
-// (PETSc's object id and nonzero state), or the symmetry changes. Right-hand sides are scaled by
+// L D L^T), converted to float at every factorisation; the analysis is repeated only when the
+// operator is another Mat or has another nonzero pattern (PETSc's object id and nonzero state), or
+// the symmetry changes. Its pivot order is METIS's nested dissection of the whole pattern
+// (nested_dissection.hpp, gathered on rank 0 when there are several ranks, given as ICNTL(7) = 1),
+// unless -adamss_pivot_order mumps leaves it to MUMPS (PORD on Debian's build, which has neither
+// METIS nor SCOTCH; AMF on small operators). On biv-inflation.yaml's operator METIS's order needs
+// 4.8e10 flops against PORD's 6.3e10, and its analysis takes 0.31 s against 1.47 s (2 ranks; the
+// factorisations 0.65 s against 0.97 s; bench/README.md). Right-hand sides are scaled by
 // their largest entry before the conversion, so that neither tiny nor huge residuals leave float's
 // range.
 //
-// MUMPS's controls: ICNTL(14) (the workspace allowance for delayed pivots) follows
-// -mat_mumps_icntl_14 as the double factorisation does (100 % unless given); the other
-// -mat_mumps_* options are not read here (PORD ordering, MUMPS's default scaling).
+// MUMPS's controls follow PETSc's options of the same names, as for the double factorisation:
+// -mat_mumps_icntl_<i> (but for the input and output formats this driver sets: 5, 9, 18-21; ICNTL(7)
+// only under -adamss_pivot_order mumps) and -mat_mumps_cntl_<i>. ICNTL(14), the workspace
+// allowance for delayed pivots, is 100 % unless given; -mat_mumps_icntl_4 > 0 prints MUMPS's
+// statistics on standard output.
 //
 // Several MPI ranks: the operator is a MATMPIAIJ; each rank hands MUMPS the entries of its own rows
 // (ICNTL(18) = 3, distributed assembled input), and a solve gathers the right-hand side on rank 0
@@ -65,6 +72,9 @@ class SinglePrecisionFactor {
   [[nodiscard]] bool singular() const { return singular_; }
   /// Whether the last factorisation was L D L^T.
   [[nodiscard]] bool symmetric() const { return symmetric_; }
+  /// Whether the last analysis used METIS's nested-dissection order (-adamss_pivot_order metis,
+  /// the default) rather than MUMPS's own choice.
+  [[nodiscard]] bool metis_order() const { return metis_order_; }
   /// Analyses so far (one per pattern or symmetry change).
   [[nodiscard]] int analyses() const { return analyses_; }
 
@@ -73,6 +83,10 @@ class SinglePrecisionFactor {
   /// Entry positions and MUMPS's coordinates of this rank's stored entries of a (its upper
   /// triangle when symmetric).
   void map(Mat a, bool symmetric);
+  /// MUMPS's given pivot order (PERM_IN, on rank 0; nested_dissection.hpp) for the analysis of
+  /// the mapped pattern, or none (MUMPS's own choice) under -adamss_pivot_order mumps or when
+  /// METIS fails. Sets metis_order_. Collective on comm_.
+  std::vector<int> pivot_order(int ranks);
   /// MUMPS call with `job`; false (and error_) when INFOG(1) < 0 (MUMPS's INFOG is global).
   bool call(int job, const char* what);
   /// Ends the MUMPS instance and frees its communicator (nothing after MPI_Finalize).
@@ -85,9 +99,9 @@ class SinglePrecisionFactor {
   PetscInt64 mapped_id_ = -1;           ///< PETSc's id of the mapped Mat (unique, unlike its address)
   PetscObjectState mapped_state_ = -1;  ///< its nonzero state when mapped
   PetscInt rows_ = 0;                   ///< global rows of the mapped Mat
-  bool symmetric_ = false, analysed_ = false, singular_ = false;
+  bool symmetric_ = false, analysed_ = false, singular_ = false, metis_order_ = false;
+  bool metis_wanted_ = true;  ///< -adamss_pivot_order at construction (metis unless mumps)
   int analyses_ = 0;
-  int workspace_percent_ = 100;  ///< ICNTL(14): -mat_mumps_icntl_14 when given, else 100
   /// MUMPS's own duplicate of the mapped Mat's communicator: PETSc frees a Mat's inner
   /// communicator with its last object, and a MUMPS instance ended on a freed one fails to end
   /// (INFOG(1) = -3) and leaks (found by LeakSanitizer when the Mat died before the factor).

@@ -206,7 +206,8 @@ double single_against_double(const std::string& rtol, int& iterations) {
     if (iterations < 0) iterations = single->iterations();
     worst = std::max(worst, (us - ud).norm() / ud.norm());
     // Both operators are symmetric (the volume and elastic terms have a potential): L D L^T.
-    EXPECT_EQ(single->describe(), "fgmres + cholesky (mumps, single precision), bordered operator: 135 + 45 unknowns");
+    EXPECT_EQ(single->describe(),
+              "fgmres + cholesky (mumps, single precision, METIS order), bordered operator: 135 + 45 unknowns");
     EXPECT_EQ(plain->describe().substr(0, 8), "preonly ");
     for (solver::JacobianSolver* s : {single.get(), plain.get()}) s->assemble(model.terms, at, cx, 0.0);
     EXPECT_TRUE(single->solve_prescribed(rhs, prescribed, us));
@@ -220,7 +221,7 @@ double single_against_double(const std::string& rtol, int& iterations) {
 }  // namespace
 
 TEST(SinglePrecisionFactorisation, RefinedSolutionsAreTheDoubleOnes) {
-  // Measured: 1.1e-13 at the default 1e-10 (3 iterations), 9e-14 at 1e-13 (4); the double L U
+  // Measured: 1.1e-13 at 1e-10 (3 iterations), 9e-14 at 1e-13 (4); the double L U
   // and L D L^T differ by 1.7e-13. (Plain GMRES stalled at 9e-6 here: single_precision_factor.hpp.)
   int iterations = 0;
   EXPECT_LT(single_against_double("1e-10", iterations), 1e-10);
@@ -279,7 +280,8 @@ TEST(SinglePrecisionFactorisation, ASingularOperatorFailsItsSolvesWithoutLeaving
     EXPECT_FALSE(s->solve(rhs, u));
     EXPECT_FALSE(s->solve(rhs, u));  // the same operator: no second attempt succeeds either
   }
-  EXPECT_EQ(single->describe(), "fgmres + cholesky (mumps, single precision), bordered operator: 135 + 45 unknowns");
+  EXPECT_EQ(single->describe(),
+            "fgmres + cholesky (mumps, single precision, METIS order), bordered operator: 135 + 45 unknowns");
   single->assemble(model.terms, at, -1.0, 0.0);  // the next operator is factorised in single precision
   single->eliminate();
   EXPECT_TRUE(single->solve(rhs, u));
@@ -287,7 +289,8 @@ TEST(SinglePrecisionFactorisation, ASingularOperatorFailsItsSolvesWithoutLeaving
   Eigen::Matrix3Xd bad = rhs;
   bad(1, 5) = std::numeric_limits<double>::quiet_NaN();
   EXPECT_FALSE(single->solve(bad, u));
-  EXPECT_EQ(single->describe(), "fgmres + cholesky (mumps, single precision), bordered operator: 135 + 45 unknowns");
+  EXPECT_EQ(single->describe(),
+            "fgmres + cholesky (mumps, single precision, METIS order), bordered operator: 135 + 45 unknowns");
 }
 
 TEST(SinglePrecisionFactorisation, RefusesAnUnknownPrecision) {
@@ -298,4 +301,44 @@ TEST(SinglePrecisionFactorisation, RefusesAnUnknownPrecision) {
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()), "-adamss_factorisation_precision half: expected single, double or auto");
   }
+}
+
+TEST(SinglePrecisionFactor, MetisAndMumpsOrdersSolveAlike) {
+  // The pivot order changes the rounding, not the answer: both single-precision solves are within
+  // float's accuracy of the solution (the operator's condition number is ~4e3 here).
+  const PetscInt n = 400;
+  Mat a = laplacian(n, 1e-3, 0.2);
+  const std::vector<double> b = ramp(n, 1.0);
+  std::vector<double> xm, xp;
+  solver::SinglePrecisionFactor metis;  // the default
+  ASSERT_TRUE(metis.factorise(a, false)) << metis.error();
+  EXPECT_TRUE(metis.metis_order());
+  ASSERT_TRUE(solve(metis, b, xm));
+  PetscOptionsSetValue(nullptr, "-adamss_pivot_order", "mumps");
+  solver::SinglePrecisionFactor own;
+  PetscOptionsClearValue(nullptr, "-adamss_pivot_order");
+  ASSERT_TRUE(own.factorise(a, false)) << own.error();
+  EXPECT_FALSE(own.metis_order());
+  ASSERT_TRUE(solve(own, b, xp));
+  EXPECT_LT(relative_residual(a, xm, b), 1e-4);
+  EXPECT_LT(relative_residual(a, xp, b), 1e-4);
+  double diff = 0.0, norm = 0.0;
+  for (std::size_t i = 0; i < xm.size(); ++i) {
+    diff = std::max(diff, std::abs(xm[i] - xp[i]));
+    norm = std::max(norm, std::abs(xp[i]));
+  }
+  EXPECT_LT(diff / norm, 1e-3);
+  MatDestroy(&a);
+}
+
+TEST(SinglePrecisionFactor, RefusesAnUnknownPivotOrder) {
+  solver::ensure_petsc();
+  PetscOptionsSetValue(nullptr, "-adamss_pivot_order", "amd");
+  try {
+    solver::SinglePrecisionFactor f;
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "-adamss_pivot_order amd: expected metis or mumps");
+  }
+  PetscOptionsClearValue(nullptr, "-adamss_pivot_order");
 }
