@@ -4,8 +4,9 @@
 # Every probe displacement component of each parallel run must equal the serial run's within TOL
 # relative to the largest probe displacement component of the serial run, and so must every cavity volume
 # (relative to itself). The Newton iteration counts are printed, not compared: the distributed
-# factorisation's rounding can move modified Newton's reuse decisions (biv-inflation-coarse: 76 on
-# one rank, 77 on two; 76 and 66 in single precision). With RESUME_AFTER: a run on the first of
+# factorisation's rounding, which MUMPS's dynamic scheduling makes vary from run to run, can move
+# modified Newton's reuse decisions (biv-inflation-coarse: 76 on one rank, 77 on two; in single
+# precision 76 on one rank, 66 and 78 in two runs on two, the LV volume equal to 4e-16). With RESUME_AFTER: a run on the first of
 # RANKS stops after K steps (a checkpoint, as on SIGTERM), and copies of its folder are resumed
 # on each of RESUME_RANKS; their final probes must match the serial run's the same way. PETSC: PETSc
 # options (adamss run --petsc) for every run.

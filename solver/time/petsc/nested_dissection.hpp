@@ -12,7 +12,8 @@ namespace adamss::solver {
 /// The pivot order of nested dissection on the symmetric graph of an n x n sparse pattern given
 /// in coordinates (1-based rows `irn` and columns `jcn`; one triangle or both, duplicates and the
 /// diagonal allowed). Returns MUMPS's PERM_IN: entry i (0-based variable i) is the 1-based
-/// position of variable i in the pivot order. Throws std::runtime_error when METIS fails.
+/// position of variable i in the pivot order. Throws std::runtime_error when METIS fails (out of
+/// memory) or the graph has more adjacencies than METIS's 32-bit indices hold (Debian's build).
 std::vector<int> nested_dissection_order(int n, const std::vector<int>& irn, const std::vector<int>& jcn);
 
 }  // namespace adamss::solver
