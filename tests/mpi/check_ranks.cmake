@@ -1,6 +1,7 @@
 # One scene on one rank and under mpirun on several (issue 22; docs/parallel.md):
 #   cmake -DADAMSS=... -DMPIEXEC=... -DSCENE=... -DOUT=... -DCACHE=... -DRANKS=2,4 -DTOL=1e-6
-#         [-DRESUME_AFTER=K -DRESUME_RANKS=1,4] [-DPETSC="options"] -P check_ranks.cmake
+#         [-DRESUME_AFTER=K -DRESUME_RANKS=1,4] [-DPETSC="options"] [-DLOG_HAS=text]
+#         [-DLOG_HAS_NOT=text] -P check_ranks.cmake
 # Every probe displacement component of each parallel run must equal the serial run's within TOL
 # relative to the largest probe displacement component of the serial run, and so must every cavity volume
 # (relative to itself). The Newton iteration counts are printed, not compared: the distributed
@@ -9,7 +10,8 @@
 # precision 76 on one rank, 66 and 78 in two runs on two, the LV volume equal to 4e-16). With RESUME_AFTER: a run on the first of
 # RANKS stops after K steps (a checkpoint, as on SIGTERM), and copies of its folder are resumed
 # on each of RESUME_RANKS; their final probes must match the serial run's the same way. PETSC: PETSc
-# options (adamss run --petsc) for every run.
+# options (adamss run --petsc) for every run. LOG_HAS / LOG_HAS_NOT: text that every run's run.log
+# must contain / must not contain (e.g. the linear solver a run must keep).
 cmake_minimum_required(VERSION 3.20)
 string(REPLACE "," ";" RANKS "${RANKS}")
 string(REPLACE "," ";" RESUME_RANKS "${RESUME_RANKS}")
@@ -30,6 +32,22 @@ function(adamss_run ranks dir)
                   RESULT_VARIABLE rc ERROR_VARIABLE err)
   set(rc ${rc} PARENT_SCOPE)
   set(err "${err}" PARENT_SCOPE)
+endfunction()
+
+function(check_log dir)
+  file(READ ${dir}/run.log log)
+  if(NOT "${LOG_HAS}" STREQUAL "")
+    string(FIND "${log}" "${LOG_HAS}" at)
+    if(at EQUAL -1)
+      message(FATAL_ERROR "${dir}/run.log does not say '${LOG_HAS}'")
+    endif()
+  endif()
+  if(NOT "${LOG_HAS_NOT}" STREQUAL "")
+    string(FIND "${log}" "${LOG_HAS_NOT}" at)
+    if(NOT at EQUAL -1)
+      message(FATAL_ERROR "${dir}/run.log says '${LOG_HAS_NOT}'")
+    endif()
+  endif()
 endfunction()
 
 function(read_summary dir prefix)
@@ -135,6 +153,7 @@ if(NOT rc EQUAL 0)
   message(FATAL_ERROR "serial run of ${SCENE} exited with ${rc}: ${err}")
 endif()
 read_summary(${OUT}/serial serial)
+check_log(${OUT}/serial)
 message(STATUS "1 rank: ${serial_status}, ${serial_newton} Newton iterations, ${serial_wall} s wall")
 foreach(r ${RANKS})
   adamss_run(${r} ${OUT}/np${r})
@@ -142,6 +161,7 @@ foreach(r ${RANKS})
     message(FATAL_ERROR "mpirun -np ${r} adamss run ${SCENE} exited with ${rc}: ${err}")
   endif()
   read_summary(${OUT}/np${r} par)
+  check_log(${OUT}/np${r})
   message(STATUS "${r} ranks: ${par_status}, ${par_newton} Newton iterations, ${par_wall} s wall")
   if(NOT par_status STREQUAL serial_status)
     message(FATAL_ERROR "${r} ranks: status ${par_status}; serial ${serial_status}")

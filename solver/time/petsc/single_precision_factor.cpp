@@ -4,8 +4,11 @@
 #include <smumps_c.h>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
+#include <stdexcept>
 
 #include "common/error.hpp"
 #include "solver/time/petsc/nested_dissection.hpp"
@@ -117,9 +120,11 @@ PetscInt stored_entries(Mat block) {
 
 /// ICNTL entries this driver sets itself and refuses to take from the options: the matrix's
 /// input format and distribution (5, 18), the right-hand side's and the solution's (20, 21), the
-/// transposed solve (9) and the Schur complement (19).
+/// transposed solve (9), the Schur complement (19), the null-space and partial solves (25, 26, 30,
+/// 32), keeping the factors (31: 1 discards them) and the analysis's sequential or parallel kind
+/// (28: the given pivot order needs the sequential one, MUMPS's default on one rank and here).
 bool driver_owned(int i) {
-  return i == 5 || i == 9 || i == 18 || i == 19 || i == 20 || i == 21;
+  return i == 5 || i == 9 || (i >= 18 && i <= 21) || i == 25 || i == 26 || i == 28 || (i >= 30 && i <= 32);
 }
 
 /// MUMPS's controls from PETSc's options of the same names, as PETSc's double-precision MUMPS
@@ -145,6 +150,12 @@ void apply_mumps_options(SMUMPS_STRUC_C& id) {
     petsc_check(PetscOptionsGetReal(nullptr, nullptr, name.c_str(), &value, &set), "PetscOptionsGetReal");
     if (set == PETSC_TRUE) id.cntl[i - 1] = static_cast<float>(value);
   }
+  if (id.icntl[6] == 1) {
+    throw InputError(
+        "-mat_mumps_icntl_7 1: the single-precision factorisation has no user pivot order to give; "
+        "-adamss_pivot_order metis gives METIS's");
+  }
+  id.icntl[27] = 1;  // ICNTL(28) = 1: sequential analysis, which reads a given pivot order
   const bool talk = id.icntl[3] > 0;
   id.icntl[0] = id.icntl[1] = id.icntl[2] = talk ? 6 : -1;
 }
@@ -186,8 +197,9 @@ void SinglePrecisionFactor::map(Mat a, bool symmetric) {
 
 namespace {
 
-/// All ranks' coordinate lists on rank 0 of `comm` (empty elsewhere). Collective.
-void gather_pattern(MPI_Comm comm, const std::vector<int>& irn, const std::vector<int>& jcn, std::vector<int>& all_irn,
+/// All ranks' coordinate lists on rank 0 of `comm` (empty elsewhere). Collective; false on every
+/// rank when rank 0 cannot hold them (more than INT_MAX entries, or no memory).
+bool gather_pattern(MPI_Comm comm, const std::vector<int>& irn, const std::vector<int>& jcn, std::vector<int>& all_irn,
                     std::vector<int>& all_jcn) {
   int ranks = 1, rank = 0;
   MPI_Comm_size(comm, &ranks);
@@ -195,15 +207,28 @@ void gather_pattern(MPI_Comm comm, const std::vector<int>& irn, const std::vecto
   const int mine = static_cast<int>(irn.size());
   std::vector<int> counts(static_cast<std::size_t>(ranks)), starts(static_cast<std::size_t>(ranks));
   MPI_Gather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
-  int total = 0;
-  for (int r = 0; r < ranks; ++r) {
-    starts[static_cast<std::size_t>(r)] = total;
-    total += counts[static_cast<std::size_t>(r)];
+  int ok = 1;
+  if (rank == 0) {
+    std::int64_t total = 0;
+    for (int r = 0; r < ranks; ++r) {
+      starts[static_cast<std::size_t>(r)] = static_cast<int>(std::min<std::int64_t>(total, INT_MAX));
+      total += counts[static_cast<std::size_t>(r)];
+    }
+    try {
+      if (total > INT_MAX) throw std::length_error("more entries than MPI's counts");
+      all_irn.assign(static_cast<std::size_t>(total), 0);
+      all_jcn.assign(static_cast<std::size_t>(total), 0);
+    } catch (const std::exception&) {
+      ok = 0;
+      all_irn.clear();
+      all_jcn.clear();
+    }
   }
-  all_irn.assign(rank == 0 ? static_cast<std::size_t>(total) : 0, 0);
-  all_jcn.assign(all_irn.size(), 0);
+  MPI_Bcast(&ok, 1, MPI_INT, 0, comm);
+  if (ok == 0) return false;
   MPI_Gatherv(irn.data(), mine, MPI_INT, all_irn.data(), counts.data(), starts.data(), MPI_INT, 0, comm);
   MPI_Gatherv(jcn.data(), mine, MPI_INT, all_jcn.data(), counts.data(), starts.data(), MPI_INT, 0, comm);
+  return true;
 }
 
 }  // namespace
@@ -214,18 +239,17 @@ std::vector<int> SinglePrecisionFactor::pivot_order(int ranks) {
   int rank = 0;
   MPI_Comm_rank(comm_, &rank);
   std::vector<int> all_irn, all_jcn;
-  if (ranks > 1) gather_pattern(comm_, irn_, jcn_, all_irn, all_jcn);
+  int failed = ranks > 1 && !gather_pattern(comm_, irn_, jcn_, all_irn, all_jcn) ? 1 : 0;
   std::vector<int> order;
-  int failed = 0;
-  if (rank == 0) {
+  if (rank == 0 && failed == 0) {
     try {
       order = nested_dissection_order(static_cast<int>(rows_), ranks > 1 ? all_irn : irn_, ranks > 1 ? all_jcn : jcn_);
-    } catch (const std::runtime_error&) {
-      failed = 1;  // METIS fails only when out of memory: MUMPS's own order then
+    } catch (const std::exception&) {  // out of memory, or past METIS's 32-bit indices
+      failed = 1;
     }
   }
   if (ranks > 1) MPI_Bcast(&failed, 1, MPI_INT, 0, comm_);
-  if (failed != 0) {
+  if (failed != 0) {  // MUMPS's own order then
     metis_order_ = false;
     order.clear();
   }
@@ -279,7 +303,9 @@ bool SinglePrecisionFactor::factorise(Mat a, bool symmetric) {
     const std::vector<int> order = pivot_order(ranks);
     if (!order.empty()) id.perm_in = const_cast<int*>(order.data());  // MUMPS only reads it
     if (metis_order_) id.icntl[6] = 1;                                // ICNTL(7) = 1: the given pivot order
-    if (!call(kAnalyse, "analysis")) return false;
+    const bool analysed = call(kAnalyse, "analysis");
+    id.perm_in = nullptr;  // read by the analysis only; `order` ends here
+    if (!analysed) return false;
     analysed_ = true;
     ++analyses_;
   }

@@ -32,8 +32,10 @@
 // range.
 //
 // MUMPS's controls follow PETSc's options of the same names, as for the double factorisation:
-// -mat_mumps_icntl_<i> (but for the input and output formats this driver sets: 5, 9, 18-21; ICNTL(7)
-// only under -adamss_pivot_order mumps) and -mat_mumps_cntl_<i>. ICNTL(14), the workspace
+// -mat_mumps_icntl_<i> (but for what this driver decides itself: the input and output formats 5,
+// 9, 18-21, the sequential analysis 28, the null-space and partial solves 25, 26, 30, 32, keeping
+// the factors 31; ICNTL(7) only under -adamss_pivot_order mumps, and never 1) and
+// -mat_mumps_cntl_<i>. ICNTL(14), the workspace
 // allowance for delayed pivots, is 100 % unless given; -mat_mumps_icntl_4 > 0 prints MUMPS's
 // statistics on standard output.
 //

@@ -100,7 +100,10 @@ TEST(NestedDissection, CutsTheFillOfAThreeDimensionalGrid) {
   EXPECT_LT(nd, band / 2);
   // Both triangles, duplicates and a shuffled entry order describe the same graph: the same order.
   Pattern twice = p;
-  for (std::size_t e = 0; e < p.irn.size(); ++e) twice.add(p.jcn[e] - 1, p.irn[e] - 1);
+  for (std::size_t e = 0; e < p.irn.size(); ++e) {  // the lower triangle, as (row, column)
+    twice.irn.push_back(p.jcn[e]);
+    twice.jcn.push_back(p.irn[e]);
+  }
   std::reverse(twice.irn.begin(), twice.irn.end());
   std::reverse(twice.jcn.begin(), twice.jcn.end());
   EXPECT_EQ(nested_dissection_order(twice.n, twice.irn, twice.jcn), order);

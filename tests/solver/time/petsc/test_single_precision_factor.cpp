@@ -303,6 +303,22 @@ TEST(SinglePrecisionFactorisation, RefusesAnUnknownPrecision) {
   }
 }
 
+namespace {
+
+/// A PETSc option set for one scope (cleared also when an assertion leaves it early).
+struct ScopedOption {
+  ScopedOption(const char* option, const char* value) : name(option) {
+    solver::ensure_petsc();
+    PetscOptionsSetValue(nullptr, option, value);
+  }
+  ~ScopedOption() { PetscOptionsClearValue(nullptr, name); }
+  ScopedOption(const ScopedOption&) = delete;
+  ScopedOption& operator=(const ScopedOption&) = delete;
+  const char* name;
+};
+
+}  // namespace
+
 TEST(SinglePrecisionFactor, MetisAndMumpsOrdersSolveAlike) {
   // The pivot order changes the rounding, not the answer: both single-precision solves are within
   // float's accuracy of the solution (the operator's condition number is ~4e3 here).
@@ -314,12 +330,13 @@ TEST(SinglePrecisionFactor, MetisAndMumpsOrdersSolveAlike) {
   ASSERT_TRUE(metis.factorise(a, false)) << metis.error();
   EXPECT_TRUE(metis.metis_order());
   ASSERT_TRUE(solve(metis, b, xm));
-  PetscOptionsSetValue(nullptr, "-adamss_pivot_order", "mumps");
-  solver::SinglePrecisionFactor own;
-  PetscOptionsClearValue(nullptr, "-adamss_pivot_order");
-  ASSERT_TRUE(own.factorise(a, false)) << own.error();
-  EXPECT_FALSE(own.metis_order());
-  ASSERT_TRUE(solve(own, b, xp));
+  {
+    const ScopedOption own_order("-adamss_pivot_order", "mumps");
+    solver::SinglePrecisionFactor own;
+    ASSERT_TRUE(own.factorise(a, false)) << own.error();
+    EXPECT_FALSE(own.metis_order());
+    ASSERT_TRUE(solve(own, b, xp));
+  }
   EXPECT_LT(relative_residual(a, xm, b), 1e-4);
   EXPECT_LT(relative_residual(a, xp, b), 1e-4);
   double diff = 0.0, norm = 0.0;
@@ -332,13 +349,40 @@ TEST(SinglePrecisionFactor, MetisAndMumpsOrdersSolveAlike) {
 }
 
 TEST(SinglePrecisionFactor, RefusesAnUnknownPivotOrder) {
-  solver::ensure_petsc();
-  PetscOptionsSetValue(nullptr, "-adamss_pivot_order", "amd");
+  const ScopedOption order("-adamss_pivot_order", "amd");
   try {
     solver::SinglePrecisionFactor f;
     FAIL() << "no error";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()), "-adamss_pivot_order amd: expected metis or mumps");
   }
-  PetscOptionsClearValue(nullptr, "-adamss_pivot_order");
+}
+
+TEST(SinglePrecisionFactor, RefusesAUserPivotOrderItCannotGive) {
+  // ICNTL(7) = 1 would make MUMPS read a PERM_IN that only METIS's order fills.
+  Mat a = laplacian(30, 0.5, 0.0);
+  const ScopedOption own_order("-adamss_pivot_order", "mumps");
+  const ScopedOption given("-mat_mumps_icntl_7", "1");
+  solver::SinglePrecisionFactor f;
+  try {
+    (void)f.factorise(a, true);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("-mat_mumps_icntl_7 1"), std::string::npos) << e.what();
+  }
+  MatDestroy(&a);
+}
+
+TEST(SinglePrecisionFactor, KeepsItsOwnControlsAgainstTheOptions) {
+  // -mat_mumps_icntl_31 1 would have MUMPS discard the factors after the factorisation (its
+  // solves then fail): the driver keeps that control to itself, so the solve still works.
+  Mat a = laplacian(100, 0.5, 0.0);
+  const ScopedOption discard("-mat_mumps_icntl_31", "1");
+  solver::SinglePrecisionFactor f;
+  ASSERT_TRUE(f.factorise(a, true)) << f.error();
+  const std::vector<double> b = ramp(100, 1.0);
+  std::vector<double> x;
+  ASSERT_TRUE(solve(f, b, x)) << f.error();
+  EXPECT_LT(relative_residual(a, x, b), 1e-5);
+  MatDestroy(&a);
 }
