@@ -73,15 +73,8 @@ PetscErrorCode apply_single(PC pc, Vec x, Vec y) {
 /// -adamss_factorisation_precision: "single", "double" or "auto" (the default: single from
 /// kSinglePrecisionMinDofs particle coordinates on).
 bool single_precision_wanted(PetscInt dofs) {
-  char value[16] = "auto";
-  PetscBool given = PETSC_FALSE;
-  petsc_check(PetscOptionsGetString(nullptr, nullptr, "-adamss_factorisation_precision", value, sizeof value, &given),
-              "PetscOptionsGetString");
-  const std::string v = value;
-  if (v == "single") return true;
-  if (v == "double") return false;
-  if (v != "auto") throw InputError("-adamss_factorisation_precision " + v + ": expected single, double or auto");
-  return dofs >= kSinglePrecisionMinDofs;
+  const std::string v = option_choice("-adamss_factorisation_precision", "auto", {"single", "double", "auto"});
+  return v == "auto" ? dofs >= kSinglePrecisionMinDofs : v == "single";
 }
 
 /// This rank's particle coordinates [lo, hi) of the whole vector m (3 x n, replicated on every

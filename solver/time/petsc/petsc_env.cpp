@@ -180,6 +180,21 @@ void barrier_ranks() {
   if (several_ranks()) MPI_Barrier(PETSC_COMM_WORLD);
 }
 
+std::string option_choice(const char* name, const char* fallback, std::initializer_list<const char*> choices) {
+  char value[64] = "";
+  PetscBool given = PETSC_FALSE;
+  petsc_check(PetscOptionsGetString(nullptr, nullptr, name, value, sizeof value, &given), "PetscOptionsGetString");
+  std::string v = given == PETSC_TRUE ? value : fallback;
+  std::string expected;
+  std::size_t k = 0;
+  for (const char* c : choices) {
+    if (v == c) return v;
+    expected += (k == 0 ? "" : k + 1 == choices.size() ? " or " : ", ") + std::string(c);
+    ++k;
+  }
+  throw InputError(std::string(name) + " " + v + ": expected " + expected);
+}
+
 void petsc_check(PetscErrorCode ierr, const char* what) {
   if (ierr == 0) return;
   const char* text = nullptr;

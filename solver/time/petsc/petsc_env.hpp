@@ -18,6 +18,7 @@
 #include <petscsys.h>
 
 #include <exception>
+#include <initializer_list>
 #include <string>
 
 #include "solver/core/owned_nodes.hpp"
@@ -67,5 +68,9 @@ void finalize_petsc();
 
 /// Throws NumericalError("<what>: <PETSc message>") when ierr != 0.
 void petsc_check(PetscErrorCode ierr, const char* what);
+
+/// The value of the PETSc option `name` (e.g. "-adamss_pivot_order"), `fallback` when it is not
+/// given; throws InputError("<name> <value>: expected a, b or c") when it is none of `choices`.
+std::string option_choice(const char* name, const char* fallback, std::initializer_list<const char*> choices);
 
 }  // namespace adamss::solver

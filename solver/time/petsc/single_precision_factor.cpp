@@ -39,13 +39,7 @@ std::string mumps_reason(int infog1, int infog2) {
 
 /// -adamss_pivot_order: "metis" (the default) or "mumps" (MUMPS's own choice: PORD or AMF).
 bool metis_order_wanted() {
-  char value[16] = "metis";
-  petsc_check(PetscOptionsGetString(nullptr, nullptr, "-adamss_pivot_order", value, sizeof value, nullptr),
-              "PetscOptionsGetString");
-  const std::string v = value;
-  if (v == "metis") return true;
-  if (v == "mumps") return false;
-  throw InputError("-adamss_pivot_order " + v + ": expected metis or mumps");
+  return option_choice("-adamss_pivot_order", "metis", {"metis", "mumps"}) == "metis";
 }
 
 }  // namespace

@@ -35,9 +35,8 @@
 // -mat_mumps_icntl_<i> (but for what this driver decides itself: the input and output formats 5,
 // 9, 18-21, the sequential analysis 28, the null-space and partial solves 25, 26, 30, 32, keeping
 // the factors 31; ICNTL(7) only under -adamss_pivot_order mumps, and never 1) and
-// -mat_mumps_cntl_<i>. ICNTL(14), the workspace
-// allowance for delayed pivots, is 100 % unless given; -mat_mumps_icntl_4 > 0 prints MUMPS's
-// statistics on standard output.
+// -mat_mumps_cntl_<i>. ICNTL(14), the workspace allowance for delayed pivots, is 100 % unless
+// given; -mat_mumps_icntl_4 > 0 prints MUMPS's statistics on standard output.
 //
 // Several MPI ranks: the operator is a MATMPIAIJ; each rank hands MUMPS the entries of its own rows
 // (ICNTL(18) = 3, distributed assembled input), and a solve gathers the right-hand side on rank 0
