@@ -60,119 +60,201 @@ bool line_search(StaticEquations& eq, const Eigen::Matrix3Xd& x, const Eigen::Ma
   }
 }
 
+/// How an iteration ended: go on to the next one, or the solve is over either way.
+enum class Verdict { kGoOn, kConverged, kFailed };
+
+/// One damped Newton solve (damped_newton.hpp): the state carried from one iteration to the next
+/// and the iteration's parts.
+class DampedNewton {
+ public:
+  DampedNewton(StaticEquations& eq, JacobianSolver& linear, Eigen::Matrix3Xd& x, Eigen::Matrix3Xd dpres,
+               const ImplicitSettings& settings, NewtonRecord& record)
+      : eq_(eq),
+        linear_(linear),
+        x_(x),
+        dpres_(std::move(dpres)),
+        set_(settings),
+        record_(record),
+        pending_(dpres_.cwiseAbs().maxCoeff() > 0.0),
+        quasi_(settings.bfgs_max_updates > 0),
+        may_reuse_(!quasi_ && settings.newton_max_reuses > 0),
+        counts_operators_(quasi_ || may_reuse_) {
+    if (quasi_) bfgs_.emplace(settings.bfgs_max_updates);
+  }
+
+  /// Iterates from x until converged (true) or failed (false).
+  bool solve() {
+    eq_.residual(x_, f_);
+    for (int it = 0;; ++it) {
+      throw_if_stop_requested("static Newton");
+      const double nr = f_.norm();
+      if (!std::isfinite(nr)) return false;
+      if (report(it, nr)) return true;
+      const bool fresh = reform_ || !counts_operators_;
+      if (over_budget(it, fresh) || !direction(fresh)) return false;
+      if (pending_) {
+        if (!take_prescribed_move()) return false;
+        continue;
+      }
+      const Verdict v = step(nr, fresh);
+      if (v != Verdict::kGoOn) return v == Verdict::kConverged;
+    }
+  }
+
+ private:
+  /// The residual test of convergence: |r| <= atol or |r| <= rtol |r_0|.
+  [[nodiscard]] bool residual_converged(double n) const { return n <= set_.newton_atol || n <= set_.newton_rtol * r0_; }
+
+  /// d = H r with the current factorisation (and, with BFGS, its updates); fixed coordinates zero.
+  bool correct(const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd& d) {
+    const auto solve = [&](const Eigen::Matrix3Xd& q, Eigen::Matrix3Xd& u) { return linear_.solve(q, u); };
+    if (!(quasi_ ? bfgs_->apply(solve, r, d) : linear_.solve(r, d))) return false;
+    zero_dofs(d, linear_.fixed_dofs());
+    return true;
+  }
+
+  /// Records iteration `it`'s residual norm nr (not while the prescribed move is pending, nor
+  /// again for an iteration redone from the same x) and reports it; true when it converged.
+  bool report(int it, double nr) {
+    if (!pending_ && record_residual_) {
+      if (record_.residuals.empty()) r0_ = nr;
+      record_.residuals.push_back(nr);
+    }
+    if (set_.on_iteration && record_residual_) set_.on_iteration(it, nr);
+    record_residual_ = true;
+    return !pending_ && residual_converged(nr);
+  }
+
+  /// Whether iteration `it` would exceed max_newton. The limit counts the operators (= the
+  /// iterations under full Newton): with BFGS or reuse the cheap iterations between two
+  /// factorisations are not what it bounds.
+  [[nodiscard]] bool over_budget(int it, bool fresh) const {
+    return (counts_operators_ ? operators_ + (fresh ? 1 : 0) : it + 1) > set_.max_newton;
+  }
+
+  /// This iteration's direction dx: from a new operator when `fresh`, else the one saved for it
+  /// (BFGS's next direction, modified Newton's dxb) or the current factorisation's. False if a
+  /// solve fails.
+  bool direction(bool fresh) {
+    if (fresh) {
+      if (!newton_direction(eq_, linear_, x_, f_, dpres_, pending_, dx_)) return false;
+      ++operators_;
+      ++record_.reformations;
+      reform_ = false;
+      reuses_ = 0;
+      if (quasi_) bfgs_->reset();
+    } else if (have_next_) {
+      dx_.swap(next_);
+    } else if (!correct(f_, dx_)) {
+      return false;
+    }
+    have_next_ = false;
+    return true;
+  }
+
+  /// The linearised move of the prescribed values, taken whole (no damping); the operator
+  /// belongs to the sheared start, not to the new x. False when x is no longer finite.
+  bool take_prescribed_move() {
+    x_ += dx_;
+    pending_ = false;
+    dpres_.setZero();
+    eq_.residual(x_, f_);
+    ++record_.iterations;
+    reform_ = true;
+    return x_.allFinite();
+  }
+
+  /// The damped step along dx from x (residual norm nr), and what it decides for the next
+  /// direction.
+  Verdict step(double nr, bool fresh) {
+    double alpha = 1.0;
+    bool corrected = false;
+    const auto correct = [this](const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd& d) { return this->correct(r, d); };
+    if (!line_search(eq_, x_, dx_, nr, correct, alpha, trial_, r_, dxb_, corrected)) {
+      if (fresh) return Verdict::kFailed;
+      // A quasi-Newton direction the line search cannot use: the iteration is redone with a Newton
+      // direction from the same x (its residual is neither recorded nor reported again).
+      reform_ = true;
+      record_residual_ = false;
+      return Verdict::kGoOn;
+    }
+    if (quasi_) after_quasi_newton_step(alpha, fresh, corrected);
+    if (may_reuse_ && !choose_reuse(alpha, corrected)) return Verdict::kFailed;
+    return accept(alpha);
+  }
+
+  /// BFGS after an accepted step: the update, and whether the next direction needs a new operator.
+  void after_quasi_newton_step(double alpha, bool fresh, bool corrected) {
+    if (!bfgs_->update(dx_, alpha, f_, r_)) reform_ = true;  // refused, or the store was full
+    // A quasi-Newton step the line search had to shorten: the secant model is poor here, the
+    // next direction comes from a new operator (the biv-me unloading's last inflation: 105 -> 55
+    // iterations; without this rule the unloading took longer than with full Newton, 66 s vs 53 s).
+    if (!fresh && alpha < 1.0) reform_ = true;
+    if (!reform_ && corrected) {
+      bfgs_->next_direction(dx_, alpha, r_, dxb_, next_);  // saves the next iteration's solve
+      have_next_ = true;
+    }
+  }
+
+  /// Modified Newton: keeps the operator for the next direction when this full step contracted,
+  /// theta = |dxb| / |dx| <= 0.1, dxb = K^{-1} r(x + dx) the simplified correction with the
+  /// factorisation that gave dx (computed here when the residual test accepted the step). dxb is
+  /// then the next direction (a back-substitution instead of an assembly and a factorisation).
+  /// Not when the trial already ends the solve (its residual or update passes the tests). False
+  /// if that solve fails.
+  bool choose_reuse(double alpha, bool corrected) {
+    reform_ = true;
+    const bool ends = residual_converged(r_.norm()) || dx_.cwiseAbs().maxCoeff() <= set_.newton_xtol;
+    if (alpha != 1.0 || ends || reuses_ >= set_.newton_max_reuses) return true;
+    if (!corrected && !correct(r_, dxb_)) return false;
+    if (dxb_.norm() <= kReuseContraction * dx_.norm()) {
+      next_.swap(dxb_);
+      have_next_ = true;
+      reform_ = false;
+      ++reuses_;
+    }
+    return true;
+  }
+
+  /// x moves to the trial point; converged when the accepted change alpha |dx|_inf is at most
+  /// newton_xtol (its residual recorded too).
+  Verdict accept(double alpha) {
+    x_ = trial_;
+    f_.swap(r_);
+    ++record_.iterations;
+    if (!x_.allFinite()) return Verdict::kFailed;
+    if (alpha * dx_.cwiseAbs().maxCoeff() <= set_.newton_xtol) {
+      record_.residuals.push_back(f_.norm());
+      return Verdict::kConverged;
+    }
+    return Verdict::kGoOn;
+  }
+
+  StaticEquations& eq_;
+  JacobianSolver& linear_;
+  Eigen::Matrix3Xd& x_;
+  Eigen::Matrix3Xd dpres_;  ///< the prescribed moves of the fixed coordinates (zero elsewhere)
+  const ImplicitSettings& set_;
+  NewtonRecord& record_;
+  bool pending_;                 ///< the prescribed move is still to be made
+  const bool quasi_;             ///< BFGS updates between factorisations
+  const bool may_reuse_;         ///< modified Newton: the factorised operator kept while full steps contract
+  const bool counts_operators_;  ///< max_newton bounds the factorisations
+  std::optional<BfgsInverse> bfgs_;
+  bool reform_ = true;           ///< the next direction needs the operator at the current x
+  bool have_next_ = false;       ///< next_ holds the direction at x (BFGS's or modified Newton's)
+  bool record_residual_ = true;  ///< false when an iteration is redone from the same x
+  int reuses_ = 0;               ///< iterations since the last factorisation
+  int operators_ = 0;            ///< factorised in this solve
+  double r0_ = 0.0;              ///< the first recorded residual norm
+  Eigen::Matrix3Xd f_, dx_, trial_, r_, dxb_, next_;
+};
+
 }  // namespace
 
 bool damped_newton(StaticEquations& eq, JacobianSolver& linear, Eigen::Matrix3Xd& x, Eigen::Matrix3Xd dpres,
                    const ImplicitSettings& settings, NewtonRecord& record) {
-  bool pending = dpres.cwiseAbs().maxCoeff() > 0.0;  // the prescribed move is still to be made
-  const bool quasi = settings.bfgs_max_updates > 0;
-  // Modified Newton: the factorised operator kept while the full steps contract (no BFGS).
-  const bool may_reuse = !quasi && settings.newton_max_reuses > 0;
-  const bool counts_operators = quasi || may_reuse;  // max_newton bounds the factorisations
-  int reuses = 0;                                    // iterations since the last factorisation
-  std::optional<BfgsInverse> bfgs;
-  if (quasi) bfgs.emplace(settings.bfgs_max_updates);
-  bool reform = true;  // the next direction needs the operator at the current x
-  // d = H r with the current factorisation (and, with BFGS, its updates); fixed coordinates zero
-  const auto correct = [&](const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd& d) {
-    const auto solve = [&](const Eigen::Matrix3Xd& q, Eigen::Matrix3Xd& u) { return linear.solve(q, u); };
-    if (!(quasi ? bfgs->apply(solve, r, d) : linear.solve(r, d))) return false;
-    zero_dofs(d, linear.fixed_dofs());
-    return true;
-  };
-  double r0 = 0.0;
-  // The residual test of convergence: |r| <= atol or |r| <= rtol |r_0|.
-  const auto residual_converged = [&](double n) { return n <= settings.newton_atol || n <= settings.newton_rtol * r0; };
-  Eigen::Matrix3Xd f, dx, trial, r, dxb, next;
-  bool have_next = false;  // `next` holds the direction at x: BFGS's next_direction or modified Newton's dxb
-  eq.residual(x, f);
-  bool record_residual = true;  // false when an iteration is redone from the same x
-  int operators = 0;            // factorised in this solve
-  for (int it = 0;; ++it) {
-    throw_if_stop_requested("static Newton");
-    const double nr = f.norm();
-    if (!std::isfinite(nr)) return false;
-    if (!pending && record_residual) {
-      if (record.residuals.empty()) r0 = nr;
-      record.residuals.push_back(nr);
-    }
-    if (settings.on_iteration && record_residual) settings.on_iteration(it, nr);
-    record_residual = true;
-    if (!pending && residual_converged(nr)) return true;
-    const bool fresh = reform || !counts_operators;
-    // The limit counts the operators (= the iterations under full Newton): with BFGS the cheap
-    // updates between two factorisations are not what max_newton bounds.
-    if ((counts_operators ? operators + (fresh ? 1 : 0) : it + 1) > settings.max_newton) return false;
-    if (fresh) {
-      if (!newton_direction(eq, linear, x, f, dpres, pending, dx)) return false;
-      ++operators;
-      ++record.reformations;
-      reform = false;
-      reuses = 0;
-      if (quasi) bfgs->reset();
-    } else if (have_next) {
-      dx.swap(next);
-    } else if (!correct(f, dx)) {
-      return false;
-    }
-    have_next = false;
-    if (pending) {
-      // The linearised move of the prescribed values is taken whole (no damping).
-      x += dx;
-      pending = false;
-      dpres.setZero();
-      eq.residual(x, f);
-      ++record.iterations;
-      reform = true;  // the operator belongs to the sheared start, not to x
-      if (!x.allFinite()) return false;
-      continue;
-    }
-    double alpha = 1.0;
-    bool corrected = false;
-    if (!line_search(eq, x, dx, nr, correct, alpha, trial, r, dxb, corrected)) {
-      if (fresh) return false;
-      // A quasi-Newton direction the line search cannot use: the iteration is redone with a Newton
-      // direction from the same x (its residual is neither recorded nor reported again).
-      reform = true;
-      record_residual = false;
-      continue;
-    }
-    if (quasi && !bfgs->update(dx, alpha, f, r)) reform = true;  // refused, or the store was full
-    // A quasi-Newton step the line search had to shorten: the secant model is poor here, the
-    // next direction comes from a new operator (the biv-me unloading's last inflation: 105 -> 55
-    // iterations; without this rule the unloading took longer than with full Newton, 66 s vs 53 s).
-    if (quasi && !fresh && alpha < 1.0) reform = true;
-    if (quasi && !reform && corrected) {
-      bfgs->next_direction(dx, alpha, r, dxb, next);  // saves the next iteration's solve
-      have_next = true;
-    }
-    if (may_reuse) {
-      // Keep the operator for the next direction when this full step contracted:
-      // theta = |dxb| / |dx| <= 0.1, dxb = K^{-1} r(x + dx) the simplified correction with the
-      // factorisation that gave dx (computed here when the residual test accepted the step). dxb is
-      // then the next direction (a back-substitution instead of an assembly and a factorisation).
-      // Not when the trial already ends the solve (its residual or update passes the tests below).
-      reform = true;
-      const bool ends = residual_converged(r.norm()) || dx.cwiseAbs().maxCoeff() <= settings.newton_xtol;
-      if (alpha == 1.0 && !ends && reuses < settings.newton_max_reuses) {
-        if (!corrected && !correct(r, dxb)) return false;
-        if (dxb.norm() <= kReuseContraction * dx.norm()) {
-          next.swap(dxb);
-          have_next = true;
-          reform = false;
-          ++reuses;
-        }
-      }
-    }
-    x = trial;
-    f.swap(r);
-    ++record.iterations;
-    if (!x.allFinite()) return false;
-    if (alpha * dx.cwiseAbs().maxCoeff() <= settings.newton_xtol) {
-      record.residuals.push_back(f.norm());
-      return true;
-    }
-  }
+  return DampedNewton(eq, linear, x, std::move(dpres), settings, record).solve();
 }
 
 }  // namespace adamss::solver
