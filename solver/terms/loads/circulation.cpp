@@ -73,6 +73,40 @@ CavityCondition Circulation::condition(double t1, double h) const {
 
 void Circulation::end_step(double t, double h, double v, double p) {
   const double dv = v - v_prev_;
+  record_step(t, h, v, p, dv);
+  ValveInputs in;
+  in.t = t;
+  in.contraction_onset = set_.contraction_onset + (set_.period > 0.0 ? beat_ * set_.period : 0.0);
+  if (set_.period == 0.0 && beat_ > 0) in.contraction_onset = INFINITY;  // one beat only
+  in.dv = dv;
+  in.pressure = p;
+  in.atrial_pressure = set_.atrial_pressure(t);
+  in.arterial_pressure = wk_.compliance_pressure();
+  const CardiacPhase next = next_phase(phase_, in);
+  if (next != phase_) {
+    switch (next) {
+      case CardiacPhase::IsovolumicContraction:
+        mitral_closes(t, v, p);
+        break;
+      case CardiacPhase::Ejection:
+        events_.emplace_back(t, "aortic_opens");
+        t_ao_ = t;
+        ao_diastolic_ = wk_.compliance_pressure();
+        ao_max_ = ao_diastolic_;
+        break;
+      case CardiacPhase::IsovolumicRelaxation:
+        aortic_closes(t, v, p);
+        break;
+      case CardiacPhase::Filling:
+        mitral_opens(t);
+        break;
+    }
+    phase_ = next;
+  }
+  v_prev_ = v;
+}
+
+void Circulation::record_step(double t, double h, double v, double p, double dv) {
   const double q = h > 0.0 ? -dv / h : 0.0;
   // The Windkessel sees the outflow only while the aortic valve is open.
   const bool ejecting = phase_ == CardiacPhase::Ejection;
@@ -92,71 +126,52 @@ void Circulation::end_step(double t, double h, double v, double p) {
   p_prev_ = p;
   if (phase_ == CardiacPhase::IsovolumicContraction || phase_ == CardiacPhase::IsovolumicRelaxation)
     drift_ = std::max(drift_, std::abs(v / v_held_ - 1.0));
-  ValveInputs in;
-  in.t = t;
-  in.contraction_onset = set_.contraction_onset + (set_.period > 0.0 ? beat_ * set_.period : 0.0);
-  if (set_.period == 0.0 && beat_ > 0) in.contraction_onset = INFINITY;  // one beat only
-  in.dv = dv;
-  in.pressure = p;
-  in.atrial_pressure = set_.atrial_pressure(t);
-  in.arterial_pressure = wk_.compliance_pressure();
-  const CardiacPhase next = next_phase(phase_, in);
-  if (next != phase_) {
-    switch (next) {
-      case CardiacPhase::IsovolumicContraction:
-        events_.emplace_back(t, "mitral_closes");
-        v_held_ = v;
-        edv_ = v;
-        edp_ = p;
-        beat_peak_ = p;
-        if (edv_first_ < 0) edv_first_ = v;
-        filling_pdv_ = pdv_;
-        pdv_ = 0.0;
-        dpdt_max_ = -INFINITY;
-        t_mc_ = t;
-        break;
-      case CardiacPhase::Ejection:
-        events_.emplace_back(t, "aortic_opens");
-        t_ao_ = t;
-        ao_diastolic_ = wk_.compliance_pressure();
-        ao_max_ = ao_diastolic_;
-        break;
-      case CardiacPhase::IsovolumicRelaxation: {
-        events_.emplace_back(t, "aortic_closes");
-        v_held_ = v;
-        esv_ = v;
-        esp_ = p;
-        ++completed_;
-        BeatRecord b;
-        b.edv = edv_;
-        b.edp = edp_;
-        b.esv = esv_;
-        b.esp = esp_;
-        b.peak = beat_peak_;
-        b.dpdt_max = dpdt_max_;
-        b.stroke_work = -(pdv_ + filling_pdv_);
-        b.aortic_systolic = ao_max_;
-        b.aortic_diastolic = ao_diastolic_;
-        b.t_mc = t_mc_;
-        b.t_ao = t_ao_;
-        b.t_ac = t;
-        beats_.push_back(b);
-        dpdt_min_ = INFINITY;
-        pdv_ = 0.0;  // from here: the relaxation and filling before the next MC
-        break;
-      }
-      case CardiacPhase::Filling:
-        events_.emplace_back(t, "mitral_opens");
-        ++beat_;
-        if (!beats_.empty() && std::isnan(beats_.back().t_mo)) {
-          beats_.back().t_mo = t;
-          beats_.back().dpdt_min = dpdt_min_;
-        }
-        break;
-    }
-    phase_ = next;
+}
+
+void Circulation::mitral_closes(double t, double v, double p) {
+  events_.emplace_back(t, "mitral_closes");
+  v_held_ = v;
+  edv_ = v;
+  edp_ = p;
+  beat_peak_ = p;
+  if (edv_first_ < 0) edv_first_ = v;
+  filling_pdv_ = pdv_;
+  pdv_ = 0.0;
+  dpdt_max_ = -INFINITY;
+  t_mc_ = t;
+}
+
+void Circulation::aortic_closes(double t, double v, double p) {
+  events_.emplace_back(t, "aortic_closes");
+  v_held_ = v;
+  esv_ = v;
+  esp_ = p;
+  ++completed_;
+  BeatRecord b;
+  b.edv = edv_;
+  b.edp = edp_;
+  b.esv = esv_;
+  b.esp = esp_;
+  b.peak = beat_peak_;
+  b.dpdt_max = dpdt_max_;
+  b.stroke_work = -(pdv_ + filling_pdv_);
+  b.aortic_systolic = ao_max_;
+  b.aortic_diastolic = ao_diastolic_;
+  b.t_mc = t_mc_;
+  b.t_ao = t_ao_;
+  b.t_ac = t;
+  beats_.push_back(b);
+  dpdt_min_ = INFINITY;
+  pdv_ = 0.0;  // from here: the relaxation and filling before the next MC
+}
+
+void Circulation::mitral_opens(double t) {
+  events_.emplace_back(t, "mitral_opens");
+  ++beat_;
+  if (!beats_.empty() && std::isnan(beats_.back().t_mo)) {
+    beats_.back().t_mo = t;
+    beats_.back().dpdt_min = dpdt_min_;
   }
-  v_prev_ = v;
 }
 
 std::vector<std::pair<std::string, double>> Circulation::metrics() const {

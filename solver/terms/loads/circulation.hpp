@@ -144,6 +144,15 @@ class Circulation {
   /// The double members a checkpoint stores, in its order ("values"; an earlier layout held the
   /// first 10).
   static const std::array<double Circulation::*, 19>& state_values();
+  /// end_step's bookkeeping of the step just taken (volume change dv), in the phase it was
+  /// taken in: the Windkessel advanced by the outflow while ejecting, the haemodynamics, the
+  /// peaks, int P dV, the dP/dt extrema and the isovolumic drift.
+  void record_step(double t, double h, double v, double p, double dv);
+  /// The valve events at t (volume v, pressure p): end diastole held, the beat recorded and
+  /// closed, the next beat's filling begun.
+  void mitral_closes(double t, double v, double p);
+  void aortic_closes(double t, double v, double p);
+  void mitral_opens(double t);
 
   CirculationSettings set_;
   Windkessel wk_;
