@@ -151,6 +151,17 @@ struct JacobianSolver::Petsc {
   /// (ForceTerm::couplings_through_outer) factorises the bordered operator, unless the option
   /// -adamss_bordered false says not to.
   void configure(const Model& model, double ksp_rtol, int ksp_max_it);
+  /// configure's default KSP and PC for `dofs` unknowns: KSPPREONLY + PCLU (by MUMPS when PETSc
+  /// has it) up to kDirectSolveMaxDofs, GMRES + GAMG above; the options may override both.
+  void default_solver(PetscInt dofs, PC pc);
+  /// The operator `a` (and `border` when a factorisation, `package`, meets terms with outer
+  /// products and -adamss_bordered is not false), with the vectors of a plain operator.
+  void make_operator(const Model& model, const char* package);
+  /// A MUMPS factorisation's defaults: the workspace allowance, L D L^T where the operator is
+  /// symmetric (symmetric_choice, cholesky_asked) and single precision for large systems.
+  void configure_factorisation(const Model& model, PC pc, const char* package);
+  /// GAMG's near-null space from this rank's reference coordinates, whoever chose GAMG.
+  void give_coordinates(const Model& model, PC pc);
   /// The matrix the KSP solves with: the bordered operator, or `a`.
   [[nodiscard]] Mat op() const { return border ? border->mat() : a->mat(); }
   /// u and b sized for op(), and on several ranks the gather of u (made again when the bordered
@@ -206,20 +217,7 @@ void JacobianSolver::Petsc::configure(const Model& model, double ksp_rtol, int k
   petsc_check(KSPCreate(PETSC_COMM_WORLD, &ksp), "KSPCreate");
   PC pc = nullptr;
   petsc_check(KSPGetPC(ksp, &pc), "KSPGetPC");
-  if (3 * static_cast<PetscInt>(model.node_count()) <= kDirectSolveMaxDofs) {
-    petsc_check(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
-    petsc_check(PCSetType(pc, PCLU), "PCSetType");
-    // MUMPS when PETSc has it: its own fill-reducing ordering (chosen by MUMPS; Debian's MUMPS
-    // has neither METIS nor SCOTCH and picks AMF) and BLAS-3 supernodes. PETSc's built-in LU with its default nested
-    // dissection needed 2x the time per factorisation on Land problem 1 (40 x 4 x 4 hexahedra: 37 ms -> 18 ms,
-    // -log_view, with OpenBLAS as the BLAS).
-    PetscBool mumps = PETSC_FALSE;
-    petsc_check(PetscHasExternalPackage("mumps", &mumps), "PetscHasExternalPackage");
-    if (mumps == PETSC_TRUE) petsc_check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
-  } else {
-    petsc_check(KSPSetType(ksp, KSPGMRES), "KSPSetType");
-    petsc_check(PCSetType(pc, PCGAMG), "PCSetType");
-  }
+  default_solver(3 * static_cast<PetscInt>(model.node_count()), pc);
   petsc_check(KSPSetTolerances(ksp, ksp_rtol, PETSC_DEFAULT, PETSC_DEFAULT, ksp_max_it), "KSPSetTolerances");
   void* conv = nullptr;
   petsc_check(KSPConvergedDefaultCreate(&conv), "KSPConvergedDefaultCreate");
@@ -228,6 +226,29 @@ void JacobianSolver::Petsc::configure(const Model& model, double ksp_rtol, int k
   petsc_check(KSPSetFromOptions(ksp), "KSPSetFromOptions");
   const char* package = factorisation_package(pc);
   if (mpi_size() > 1) require_parallel_factorisation(pc, package);
+  make_operator(model, package);
+  configure_factorisation(model, pc, package);
+  give_coordinates(model, pc);
+}
+
+void JacobianSolver::Petsc::default_solver(PetscInt dofs, PC pc) {
+  if (dofs > kDirectSolveMaxDofs) {
+    petsc_check(KSPSetType(ksp, KSPGMRES), "KSPSetType");
+    petsc_check(PCSetType(pc, PCGAMG), "PCSetType");
+    return;
+  }
+  petsc_check(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
+  petsc_check(PCSetType(pc, PCLU), "PCSetType");
+  // MUMPS when PETSc has it: its own fill-reducing ordering (chosen by MUMPS; Debian's MUMPS
+  // has neither METIS nor SCOTCH and picks AMF) and BLAS-3 supernodes. PETSc's built-in LU with its default nested
+  // dissection needed 2x the time per factorisation on Land problem 1 (40 x 4 x 4 hexahedra: 37 ms -> 18 ms,
+  // -log_view, with OpenBLAS as the BLAS).
+  PetscBool mumps = PETSC_FALSE;
+  petsc_check(PetscHasExternalPackage("mumps", &mumps), "PetscHasExternalPackage");
+  if (mumps == PETSC_TRUE) petsc_check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
+}
+
+void JacobianSolver::Petsc::make_operator(const Model& model, const char* package) {
   // The bordered operator (bordered_operator.hpp) for a factorisation: the nodal volume terms'
   // patches then add one border row each instead of their two-ring blocks.
   PetscBool bordered = PETSC_TRUE;
@@ -240,6 +261,10 @@ void JacobianSolver::Petsc::configure(const Model& model, double ksp_rtol, int k
     make_vectors();
     petsc_check(KSPSetOperators(ksp, a->mat(), a->mat()), "KSPSetOperators");  // PCSetCoordinates needs them
   }
+}
+
+void JacobianSolver::Petsc::configure_factorisation(const Model& model, PC pc, const char* package) {
+  const bool mumps = package != nullptr && std::strcmp(package, MATSOLVERMUMPS) == 0;
   // A MUMPS factorisation, chosen here or by the user's options (whose own value wins; MUMPS reads
   // it when it first factorises): MUMPS sizes its workspace from the analysis plus ICNTL(14) per
   // cent (default 20) for the pivots that numerical pivoting delays. Near a loss of stability more
@@ -247,7 +272,7 @@ void JacobianSolver::Petsc::configure(const Model& model, double ksp_rtol, int k
   // (FACTOR_OUTMEMORY) at every step size on one machine's BLAS kernels and not on another's.
   // Allow 100 % (a larger allowance only reserves memory). MUMPS's own scaling (ICNTL(8)) stays:
   // without it the quick LV beat fails (bench/README.md).
-  if (package != nullptr && std::strcmp(package, MATSOLVERMUMPS) == 0) default_option("-mat_mumps_icntl_14", "100");
+  if (mumps) default_option("-mat_mumps_icntl_14", "100");
   // MUMPS's L D L^T for symmetric operators (choose_factorisation), unless the options ask for
   // -adamss_symmetric_factorisation false or for a Cholesky factorisation themselves.
   PetscBool follow = PETSC_TRUE;
@@ -255,13 +280,15 @@ void JacobianSolver::Petsc::configure(const Model& model, double ksp_rtol, int k
               "PetscOptionsGetBool");
   PCType type = nullptr;
   petsc_check(PCGetType(pc, &type), "PCGetType");
-  const bool mumps = package != nullptr && std::strcmp(package, MATSOLVERMUMPS) == 0;
   symmetric_choice = follow == PETSC_TRUE && mumps && type != nullptr && std::strcmp(type, PCLU) == 0;
   cholesky_asked = type != nullptr && std::strcmp(type, PCCHOLESKY) == 0;
   KSPType kt = nullptr;
   petsc_check(KSPGetType(ksp, &kt), "KSPGetType");
   const bool direct = kt != nullptr && std::strcmp(kt, KSPPREONLY) == 0;
   if (mumps && direct && single_precision_wanted(3 * static_cast<PetscInt>(model.node_count()))) use_single();
+}
+
+void JacobianSolver::Petsc::give_coordinates(const Model& model, PC pc) {
   // GAMG, whether chosen here (large systems) or by the user's options at any size: the particle
   // coordinates (this rank's) give it the six rigid-body modes as the near-null space. Without
   // them it coarsens with the three translations alone: 135-158 GMRES iterations a solve instead
