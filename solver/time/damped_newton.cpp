@@ -246,7 +246,7 @@ class DampedNewton {
   bool record_residual_ = true;  ///< false when an iteration is redone from the same x
   int reuses_ = 0;               ///< iterations since the last factorisation
   int operators_ = 0;            ///< factorised in this solve
-  double r0_ = 0.0;              ///< the first recorded residual norm
+  double r0_ = 0.0;              ///< the first residual norm recorded into an empty record (else 0)
   Eigen::Matrix3Xd f_, dx_, trial_, r_, dxb_, next_;
 };
 

@@ -89,10 +89,7 @@ void Circulation::end_step(double t, double h, double v, double p) {
         mitral_closes(t, v, p);
         break;
       case CardiacPhase::Ejection:
-        events_.emplace_back(t, "aortic_opens");
-        t_ao_ = t;
-        ao_diastolic_ = wk_.compliance_pressure();
-        ao_max_ = ao_diastolic_;
+        aortic_opens(t);
         break;
       case CardiacPhase::IsovolumicRelaxation:
         aortic_closes(t, v, p);
@@ -139,6 +136,13 @@ void Circulation::mitral_closes(double t, double v, double p) {
   pdv_ = 0.0;
   dpdt_max_ = -INFINITY;
   t_mc_ = t;
+}
+
+void Circulation::aortic_opens(double t) {
+  events_.emplace_back(t, "aortic_opens");
+  t_ao_ = t;
+  ao_diastolic_ = wk_.compliance_pressure();
+  ao_max_ = ao_diastolic_;
 }
 
 void Circulation::aortic_closes(double t, double v, double p) {

@@ -146,12 +146,17 @@ class Circulation {
   static const std::array<double Circulation::*, 19>& state_values();
   /// end_step's bookkeeping of the step just taken (volume change dv), in the phase it was
   /// taken in: the Windkessel advanced by the outflow while ejecting, the haemodynamics, the
-  /// peaks, int P dV, the dP/dt extrema and the isovolumic drift.
+  /// peaks, int P dV, the dP/dt extrema, the aortic systolic pressure, the last pressure and the
+  /// isovolumic drift.
   void record_step(double t, double h, double v, double p, double dv);
-  /// The valve events at t (volume v, pressure p): end diastole held, the beat recorded and
-  /// closed, the next beat's filling begun.
+  /// Mitral closure at t: end diastole (v, p) held and recorded, the beat's running values reset.
   void mitral_closes(double t, double v, double p);
+  /// Aortic opening at t: the aortic diastolic pressure (the Windkessel's P_c) recorded.
+  void aortic_opens(double t);
+  /// Aortic closure at t: end systole (v, p) held and the beat recorded (its mitral opening and
+  /// dP/dt minimum follow at mitral_opens).
   void aortic_closes(double t, double v, double p);
+  /// Mitral opening at t: the next beat's filling begins; the last beat gets t_mo and dP/dt min.
   void mitral_opens(double t);
 
   CirculationSettings set_;
