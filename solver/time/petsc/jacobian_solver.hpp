@@ -14,11 +14,15 @@
 // instead (symmetry_probe.hpp; checked before every factorisation; -adamss_symmetric_factorisation
 // false keeps LU). From 50 000 particle coordinates on (any number of ranks), the MUMPS factorisation is made
 // in single precision, in METIS's nested-dissection pivot order (-adamss_pivot_order metis|mumps),
-// and refined by flexible GMRES to 1e-8 relative residual
+// and refined by flexible GMRES to 1e-4 relative residual
 // (single_precision_factor.hpp; -adamss_factorisation_precision single|double|auto,
 // -adamss_refinement_rtol, -adamss_refinement_max_it); a refinement that fails switches to double
-// precision for the rest of the run. The fixed coordinates of a solution are always exactly the
-// right-hand side's (or the prescribed values). Tolerances ksp_rtol and ksp_max_it; any PETSc option
+// precision for the rest of the run. There a new operator keeps the last factorisation as
+// FGMRES's preconditioner until the extra iterations have cost as much as a factorisation
+// (factorisation_lag.hpp; up to 30 iterations a solve, -adamss_lag_max_it N, 0 factorises every
+// operator); a lagged solve that does not converge factorises its operator and solves again. The fixed coordinates of a
+// solution are always exactly the right-hand side's (or the prescribed values). Tolerances ksp_rtol and ksp_max_it; any
+// PETSc option
 // (-ksp_type, -pc_type, -ksp_monitor, ...) overrides them (KSPSetFromOptions). The KSP starts
 // every solve from a zero initial guess.
 #include <Eigen/Core>
@@ -63,6 +67,8 @@ class JacobianSolver {
   /// one per nodal volume constraint) as of the last assembly; 0 before the first one, and when it
   /// factorises A itself or solves iteratively.
   [[nodiscard]] std::size_t border_rows() const;
+  /// Solves preconditioned by the factorisation of an older operator (lagged factorisations).
+  [[nodiscard]] int lagged_solves() const;
   /// Krylov iterations summed over the solves since the last reset_iterations().
   [[nodiscard]] int iterations() const { return iterations_; }
   void reset_iterations() { iterations_ = 0; }

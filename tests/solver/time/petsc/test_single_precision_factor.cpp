@@ -293,6 +293,50 @@ TEST(SinglePrecisionFactorisation, ASingularOperatorFailsItsSolvesWithoutLeaving
             "fgmres + cholesky (mumps, single precision, METIS order), bordered operator: 135 + 45 unknowns");
 }
 
+TEST(SinglePrecisionFactorisation, ANewOperatorKeepsTheLastFactorisationAsItsPreconditioner) {
+  // Lagged factorisations (factorisation_lag.hpp): the operator at a second, nearby state is solved
+  // by FGMRES preconditioned by the first state's factor, to the double factorisation's answer.
+  const auto loaded = test::load_scene(kScene);
+  const solver::Model& model = loaded.model;
+  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, model.mesh->nodes.cols());
+  const Eigen::Matrix3Xd x1 = test::perturbed(model.mesh->nodes, 1e-3, 0.05);
+  const Eigen::Matrix3Xd x2 = test::perturbed(x1, 1e-3, 0.005, 11);  // 10 times closer
+  Eigen::Matrix3Xd rhs = test::perturbed(Eigen::Matrix3Xd::Zero(3, x1.cols()), 1.0, 1.0, 5);
+  const auto solve_twice = [&](const std::vector<std::pair<std::string, std::string>>& options, Eigen::Matrix3Xd& u) {
+    auto s = test::solver_with(model, options);
+    solver::zero_dofs(rhs, s->fixed_dofs());
+    for (const Eigen::Matrix3Xd* x : {&x1, &x2}) {
+      s->assemble(model.terms, solver::StateView{*x, v, 1.0}, -1.0, 0.0);
+      s->eliminate();
+      s->reset_iterations();
+      EXPECT_TRUE(s->solve(rhs, u));
+    }
+    return s;
+  };
+  Eigen::Matrix3Xd ud, ul, uf, ur;
+  const auto plain = solve_twice({{"-adamss_factorisation_precision", "double"}}, ud);
+  const std::pair<std::string, std::string> single{"-adamss_factorisation_precision", "single"};
+  const std::pair<std::string, std::string> tight{"-adamss_refinement_rtol", "1e-11"};
+  const auto lagged = solve_twice({single, tight}, ul);
+  EXPECT_EQ(lagged->times().factorisations.count, 1U);
+  EXPECT_EQ(lagged->lagged_solves(), 1);
+  const int lagged_its = lagged->iterations();
+  EXPECT_LT((ul - ud).norm() / ud.norm(), 1e-9);
+  // -adamss_lag_max_it 0: every operator is factorised; its solve needs fewer iterations.
+  const auto fresh = solve_twice({single, tight, {"-adamss_lag_max_it", "0"}}, uf);
+  EXPECT_EQ(fresh->times().factorisations.count, 2U);
+  EXPECT_EQ(fresh->lagged_solves(), 0);
+  EXPECT_LT(fresh->iterations(), lagged_its);
+  EXPECT_LT((uf - ud).norm() / ud.norm(), 1e-9);
+  // A lagged solve that cannot converge within its cap factorises its operator and solves again.
+  const auto capped = solve_twice({single, tight, {"-adamss_lag_max_it", "1"}}, ur);
+  EXPECT_EQ(capped->times().factorisations.count, 2U);
+  EXPECT_EQ(capped->lagged_solves(), 1);
+  EXPECT_LT((ur - ud).norm() / ud.norm(), 1e-9);
+  EXPECT_EQ(capped->describe(),
+            "fgmres + cholesky (mumps, single precision, METIS order), bordered operator: 135 + 45 unknowns");
+}
+
 TEST(SinglePrecisionFactorisation, RefusesAnUnknownPrecision) {
   const auto loaded = test::load_scene(kScene);
   try {

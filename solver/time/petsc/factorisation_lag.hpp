@@ -1,0 +1,60 @@
+#pragma once
+// When a new operator may keep the last factorisation as its preconditioner (lagged
+// factorisations of the single-precision path, jacobian_solver.hpp).
+//
+// The single-precision factor M of an operator A_0 already serves as the right preconditioner of
+// flexible GMRES on the double-precision operator (single_precision_factor.hpp). A later Newton
+// operator A_k (the next iteration's, the next load step's) differs from A_0 by the change of the
+// tangent along the path; M then still clusters the spectrum of A_k M^{-1} near 1, and FGMRES
+// reaches the refinement tolerance in more iterations instead of a new factorisation. Each extra
+// iteration costs one single-precision solve t_s and one product with A_k; a factorisation costs
+// t_f (on the 1 mm heart t_f / t_s is about 26, on biv-inflation.yaml about 25).
+//
+// The rule is the ski-rental one (rent until the rent paid equals the price, then buy): the
+// excess of the lagged solves since the last factorisation,
+//     E = sum over lagged solves of  t_solve (n - n_0)^+ / n,
+// with n the solve's iterations and n_0 those of the first solve after that factorisation (what
+// a fresh factor needs), is the time the stale factor has cost; once E >= t_f the next new
+// operator is factorised. Whatever the path, the time spent is then at most twice that of the
+// best choice in hindsight between factorising and lagging for each stretch. A lagged solve
+// that does not converge within its iteration cap is redone after factorising its operator.
+// On several ranks the caller feeds it the slowest rank's times (jacobian_solver.cpp), so that
+// every rank decides alike.
+//
+// Measured on biv-inflation.yaml (2 ranks; bench/README.md): 41 -> 11 factorisations with full
+// Newton directions (53 instead of 65 iterations under modified Newton), the loop 53.7 -> 37.9 s.
+namespace adamss::solver {
+
+class FactorisationLag {
+ public:
+  /// A new factorisation took `seconds`: the excess starts again.
+  void factorised(double seconds) {
+    factor_seconds_ = seconds;
+    excess_ = 0.0;
+    fresh_iterations_ = -1;
+    refactor_ = false;
+  }
+  /// The first solve after a factorisation took `iterations` (n_0).
+  void fresh_solve(int iterations) {
+    if (fresh_iterations_ < 0) fresh_iterations_ = iterations;
+  }
+  /// A solve with an older factorisation took `iterations` in `seconds`.
+  void lagged_solve(int iterations, double seconds) {
+    const int base = fresh_iterations_ < 0 ? 0 : fresh_iterations_;
+    if (iterations > base) excess_ += seconds * static_cast<double>(iterations - base) / iterations;
+    if (excess_ >= factor_seconds_) refactor_ = true;
+  }
+  /// Whether the next new operator is to be factorised rather than preconditioned by the last
+  /// factorisation.
+  [[nodiscard]] bool refactor() const { return refactor_; }
+  /// The lagged solves' excess so far (s).
+  [[nodiscard]] double excess() const { return excess_; }
+
+ private:
+  double factor_seconds_ = 0.0;
+  double excess_ = 0.0;
+  int fresh_iterations_ = -1;
+  bool refactor_ = false;
+};
+
+}  // namespace adamss::solver

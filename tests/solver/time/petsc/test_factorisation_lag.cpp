@@ -1,0 +1,49 @@
+// The ski-rental rule of the lagged factorisations (solver/time/petsc/factorisation_lag.hpp): a new
+// operator keeps the last factorisation until the lagged solves' iterations beyond a fresh
+// factor's have cost as much time as that factorisation.
+#include <gtest/gtest.h>
+
+#include "solver/time/petsc/factorisation_lag.hpp"
+
+using adamss::solver::FactorisationLag;
+
+TEST(FactorisationLag, KeepsTheFactorisationWhileLaggedSolvesCostNoMoreThanFreshOnes) {
+  FactorisationLag lag;
+  lag.factorised(1.0);
+  lag.fresh_solve(2);
+  for (int i = 0; i < 100; ++i) lag.lagged_solve(2, 0.5);  // as fast as with a fresh factor
+  EXPECT_FALSE(lag.refactor());
+  EXPECT_EQ(lag.excess(), 0.0);
+}
+
+TEST(FactorisationLag, FactorisesOnceTheExtraIterationsHaveCostAFactorisation) {
+  FactorisationLag lag;
+  lag.factorised(1.0);
+  lag.fresh_solve(2);
+  lag.fresh_solve(9);         // only the first solve after the factorisation sets n_0
+  lag.lagged_solve(12, 0.6);  // 10 of 12 iterations extra: 0.5 s
+  EXPECT_DOUBLE_EQ(lag.excess(), 0.5);
+  EXPECT_FALSE(lag.refactor());
+  lag.lagged_solve(6, 0.3);  // 4 of 6: 0.2 s
+  EXPECT_DOUBLE_EQ(lag.excess(), 0.7);
+  EXPECT_FALSE(lag.refactor());
+  lag.lagged_solve(22, 0.33);  // 20 of 22: 0.3 s, 1.0 s in all
+  EXPECT_TRUE(lag.refactor());
+  // The next factorisation starts the account again, with its own price.
+  lag.factorised(4.0);
+  EXPECT_FALSE(lag.refactor());
+  EXPECT_EQ(lag.excess(), 0.0);
+  lag.fresh_solve(3);
+  lag.lagged_solve(13, 3.9);  // 10 of 13 extra: 3 s < 4 s
+  EXPECT_FALSE(lag.refactor());
+  lag.lagged_solve(13, 1.3);  // + 1 s
+  EXPECT_TRUE(lag.refactor());
+}
+
+TEST(FactorisationLag, ASolveWithoutAFreshOneCountsEveryIteration) {
+  FactorisationLag lag;
+  lag.factorised(1.0);
+  lag.lagged_solve(4, 1.0);
+  EXPECT_DOUBLE_EQ(lag.excess(), 1.0);
+  EXPECT_TRUE(lag.refactor());
+}
