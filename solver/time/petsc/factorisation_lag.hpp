@@ -21,8 +21,12 @@
 // On several ranks the caller feeds it the slowest rank's times (jacobian_solver.cpp), so that
 // every rank decides alike.
 //
-// Measured on biv-inflation.yaml (2 ranks; bench/README.md): 41 -> 11 factorisations with full
-// Newton directions (53 instead of 65 iterations under modified Newton), the loop 53.7 -> 37.9 s.
+// The price is the last factorisation's measured time; the first one of a pattern includes its
+// analysis (and METIS's order), so the first stretch lags somewhat longer than the rule intends.
+//
+// Measured on biv-inflation.yaml (2 ranks; bench/README.md): 41 -> 14 factorisations (65 Newton
+// iterations under modified Newton either way), whole process 61.3 -> 49.6 s (A/B 0.81); the
+// heart at 1 mm 88 -> 38 factorisations, 44 min 41 s -> 40 min 28 s.
 namespace adamss::solver {
 
 class FactorisationLag {

@@ -27,7 +27,7 @@ TEST(FactorisationLag, FactorisesOnceTheExtraIterationsHaveCostAFactorisation) {
   lag.lagged_solve(6, 0.3);  // 4 of 6: 0.2 s
   EXPECT_DOUBLE_EQ(lag.excess(), 0.7);
   EXPECT_FALSE(lag.refactor());
-  lag.lagged_solve(22, 0.33);  // 20 of 22: 0.3 s, 1.0 s in all
+  lag.lagged_solve(22, 0.44);  // 20 of 22: 0.4 s, 1.1 s in all
   EXPECT_TRUE(lag.refactor());
   // The next factorisation starts the account again, with its own price.
   lag.factorised(4.0);
@@ -36,14 +36,14 @@ TEST(FactorisationLag, FactorisesOnceTheExtraIterationsHaveCostAFactorisation) {
   lag.fresh_solve(3);
   lag.lagged_solve(13, 3.9);  // 10 of 13 extra: 3 s < 4 s
   EXPECT_FALSE(lag.refactor());
-  lag.lagged_solve(13, 1.3);  // + 1 s
+  lag.lagged_solve(13, 1.69);  // + 1.3 s: 4.3 s
   EXPECT_TRUE(lag.refactor());
 }
 
 TEST(FactorisationLag, ASolveWithoutAFreshOneCountsEveryIteration) {
   FactorisationLag lag;
   lag.factorised(1.0);
-  lag.lagged_solve(4, 1.0);
-  EXPECT_DOUBLE_EQ(lag.excess(), 1.0);
+  lag.lagged_solve(4, 1.2);
+  EXPECT_DOUBLE_EQ(lag.excess(), 1.2);
   EXPECT_TRUE(lag.refactor());
 }
