@@ -416,13 +416,15 @@ bool JacobianSolver::Petsc::lagged_solve(int& its, TimeSplit& times) {
   const double before = times.solves.seconds;
   const int its_before = its;
   petsc_check(KSPSetTolerances(ksp, refine_rtol, 0.0, PETSC_DEFAULT, lag_max_it), "KSPSetTolerances");
-  struct Restore {  // the fresh factor's iteration cap again, also when the solve throws
-    KSP k;
-    PetscReal rtol;
-    PetscInt max_it;
-    ~Restore() { KSPSetTolerances(k, rtol, 0.0, PETSC_DEFAULT, max_it); }
-  } restore{ksp, refine_rtol, refine_max_it};
-  const bool ok = krylov_solve(its, times);
+  const auto restore = [this] { KSPSetTolerances(ksp, refine_rtol, 0.0, PETSC_DEFAULT, refine_max_it); };
+  bool ok = false;
+  try {
+    ok = krylov_solve(its, times);
+  } catch (...) {
+    restore();  // the fresh factor's iteration cap again, also when the solve throws
+    throw;
+  }
+  restore();
   ++lagged;
   lag.lagged_solve(its - its_before, slowest_rank(times.solves.seconds - before));
   return ok;
