@@ -432,11 +432,13 @@ bool JacobianSolver::Petsc::lagged_solve(int& its, TimeSplit& times) {
 
 bool JacobianSolver::Petsc::solve(int& its, TimeSplit& times) {
   ++solves;
-  if (fresh) stale = may_lag();
-  if (stale && fresh) {
-    // The new operator, preconditioned by the last factorisation (no set-up for the shell).
-    petsc_check(KSPSetOperators(ksp, op(), op()), "KSPSetOperators");
-    fresh = false;
+  if (fresh) {
+    stale = may_lag();
+    if (stale) {
+      // The new operator, preconditioned by the last factorisation (no set-up for the shell).
+      petsc_check(KSPSetOperators(ksp, op(), op()), "KSPSetOperators");
+      fresh = false;
+    }
   }
   if (stale) {
     if (lagged_solve(its, times)) return true;
@@ -467,14 +469,11 @@ bool JacobianSolver::Petsc::solve(int& its, TimeSplit& times) {
 
 void JacobianSolver::Petsc::use_single() {
   single = std::make_unique<SinglePrecisionFactor>();
-  PetscReal rtol = kRefinementRtol;
-  PetscInt max_it = kRefinementMaxIts;
-  petsc_check(PetscOptionsGetReal(nullptr, nullptr, "-adamss_refinement_rtol", &rtol, nullptr), "PetscOptionsGetReal");
-  petsc_check(PetscOptionsGetInt(nullptr, nullptr, "-adamss_refinement_max_it", &max_it, nullptr),
+  petsc_check(PetscOptionsGetReal(nullptr, nullptr, "-adamss_refinement_rtol", &refine_rtol, nullptr),
+              "PetscOptionsGetReal");
+  petsc_check(PetscOptionsGetInt(nullptr, nullptr, "-adamss_refinement_max_it", &refine_max_it, nullptr),
               "PetscOptionsGetInt");
   petsc_check(PetscOptionsGetInt(nullptr, nullptr, "-adamss_lag_max_it", &lag_max_it, nullptr), "PetscOptionsGetInt");
-  refine_rtol = rtol;
-  refine_max_it = max_it;
   // Flexible GMRES: it keeps the preconditioned vectors z_j = M^{-1} v_j and forms the solution
   // from them. Plain right-preconditioned GMRES applies M^{-1} once more to the combined vector,
   // and float's rounding makes that M^{-1} another operator than the one the iterations saw: on
@@ -483,7 +482,7 @@ void JacobianSolver::Petsc::use_single() {
   petsc_check(KSPSetType(ksp, KSPFGMRES), "KSPSetType");
   petsc_check(KSPSetPCSide(ksp, PC_RIGHT), "KSPSetPCSide");
   petsc_check(KSPSetNormType(ksp, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
-  petsc_check(KSPSetTolerances(ksp, rtol, 0.0, PETSC_DEFAULT, max_it), "KSPSetTolerances");
+  petsc_check(KSPSetTolerances(ksp, refine_rtol, 0.0, PETSC_DEFAULT, refine_max_it), "KSPSetTolerances");
   PC pc = nullptr;
   petsc_check(KSPGetPC(ksp, &pc), "KSPGetPC");
   petsc_check(PCSetType(pc, PCSHELL), "PCSetType");

@@ -20,11 +20,11 @@
 // precision for the rest of the run. There a new operator keeps the last factorisation as
 // FGMRES's preconditioner until the extra iterations have cost as much as a factorisation
 // (factorisation_lag.hpp; up to 30 iterations a solve, -adamss_lag_max_it N, 0 factorises every
-// operator); a lagged solve that does not converge factorises its operator and solves again. The fixed coordinates of a
-// solution are always exactly the right-hand side's (or the prescribed values). Tolerances ksp_rtol and ksp_max_it; any
-// PETSc option
-// (-ksp_type, -pc_type, -ksp_monitor, ...) overrides them (KSPSetFromOptions). The KSP starts
-// every solve from a zero initial guess.
+// operator); a lagged solve that does not converge factorises its operator and solves again.
+// The fixed coordinates of a solution are always exactly the right-hand side's (or the
+// prescribed values). Tolerances ksp_rtol and ksp_max_it; any PETSc option (-ksp_type,
+// -pc_type, -ksp_monitor, ...) overrides them (KSPSetFromOptions). The KSP starts every solve
+// from a zero initial guess.
 #include <Eigen/Core>
 #include <cstddef>
 #include <memory>
