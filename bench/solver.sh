@@ -14,7 +14,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/.." && pwd)
 out=${2:-$here/results/solver.json}
 repeat=${BENCH_REPEAT:-$([[ ${BENCH_QUICK:-0} == 1 ]] && echo 1 || echo 3)}
-scenes=${BENCH_SOLVER_SCENES:-"cases/benchmarks/land-p1.yaml cases/benchmarks/land-p1-fast.yaml cases/benchmarks/land-p2.yaml"}
+scenes=${BENCH_SOLVER_SCENES:-"cases/benchmarks/land-p1.yaml cases/benchmarks/land-p1-half.yaml cases/benchmarks/land-p1-fast.yaml cases/benchmarks/land-p2.yaml"}
 mkdir -p "$(dirname "$out")"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
