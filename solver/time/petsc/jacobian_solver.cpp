@@ -474,6 +474,13 @@ void JacobianSolver::Petsc::use_single() {
   petsc_check(PetscOptionsGetInt(nullptr, nullptr, "-adamss_refinement_max_it", &refine_max_it, nullptr),
               "PetscOptionsGetInt");
   petsc_check(PetscOptionsGetInt(nullptr, nullptr, "-adamss_lag_max_it", &lag_max_it, nullptr), "PetscOptionsGetInt");
+  PetscInt price_its = 0;  // -adamss_lag_price_its K: a factorisation priced at K iterations, not its time
+  petsc_check(PetscOptionsGetInt(nullptr, nullptr, "-adamss_lag_price_its", &price_its, nullptr), "PetscOptionsGetInt");
+  if (price_its < 0) {
+    throw InputError("-adamss_lag_price_its " + std::to_string(price_its) +
+                     ": give a number of FGMRES iterations > 0, or 0 to price a factorisation at its time");
+  }
+  lag.set_price_iterations(static_cast<int>(price_its));
   // Flexible GMRES: it keeps the preconditioned vectors z_j = M^{-1} v_j and forms the solution
   // from them. Plain right-preconditioned GMRES applies M^{-1} once more to the combined vector,
   // and float's rounding makes that M^{-1} another operator than the one the iterations saw: on

@@ -47,3 +47,23 @@ TEST(FactorisationLag, ASolveWithoutAFreshOneCountsEveryIteration) {
   EXPECT_DOUBLE_EQ(lag.excess(), 1.2);
   EXPECT_TRUE(lag.refactor());
 }
+
+TEST(FactorisationLag, APriceInIterationsIgnoresTheMeasuredTimes) {
+  FactorisationLag lag;
+  lag.set_price_iterations(10);
+  lag.factorised(1e-6);  // a fast factorisation: the price stays 10 iterations
+  lag.fresh_solve(3);
+  lag.lagged_solve(7, 100.0);  // 4 extra iterations, however long they took
+  EXPECT_DOUBLE_EQ(lag.excess(), 4.0);
+  EXPECT_FALSE(lag.refactor());
+  lag.lagged_solve(3, 100.0);  // no extra iteration
+  lag.lagged_solve(8, 1e-9);   // 5 more: 9 < 10
+  EXPECT_FALSE(lag.refactor());
+  lag.lagged_solve(4, 1e-9);  // 10
+  EXPECT_TRUE(lag.refactor());
+  lag.set_price_iterations(0);  // back to the measured time
+  lag.factorised(1.0);
+  lag.fresh_solve(2);
+  lag.lagged_solve(12, 0.6);
+  EXPECT_DOUBLE_EQ(lag.excess(), 0.5);
+}

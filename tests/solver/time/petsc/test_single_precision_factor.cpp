@@ -337,6 +337,94 @@ TEST(SinglePrecisionFactorisation, ANewOperatorKeepsTheLastFactorisationAsItsPre
             "fgmres + cholesky (mumps, single precision, METIS order), bordered operator: 135 + 45 unknowns");
 }
 
+TEST(SinglePrecisionFactorisation, TheLagsRuleDecidesWhichOperatorsAreFactorised) {
+  // The rule inside the solver, with the price in iterations (-adamss_lag_price_its) so that the
+  // decisions do not depend on the machine's timing. Four operators along a path of states 10 times
+  // closer than the first perturbation; each lagged solve needs more FGMRES iterations than the
+  // fresh one (asserted below), so a price of 1 iteration factorises the operator after every
+  // lagged solve (1, 3), a price of 1000 none after the first.
+  const auto loaded = test::load_scene(kScene);
+  const solver::Model& model = loaded.model;
+  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, model.mesh->nodes.cols());
+  std::vector<Eigen::Matrix3Xd> path{test::perturbed(model.mesh->nodes, 1e-3, 0.05)};
+  for (int k = 1; k < 4; ++k) path.push_back(test::perturbed(path.back(), 1e-3, 0.005, 11 + k));
+  Eigen::Matrix3Xd rhs = test::perturbed(Eigen::Matrix3Xd::Zero(3, path[0].cols()), 1.0, 1.0, 5);
+  struct Run {
+    std::vector<int> iterations;
+    std::size_t factorisations;
+    int lagged;
+  };
+  const auto run = [&](const std::string& price) {
+    auto s = test::solver_with(model, {{"-adamss_factorisation_precision", "single"},
+                                       {"-adamss_refinement_rtol", "1e-11"},
+                                       {"-adamss_lag_price_its", price}});
+    solver::zero_dofs(rhs, s->fixed_dofs());
+    Run out;
+    Eigen::Matrix3Xd u;
+    for (const Eigen::Matrix3Xd& x : path) {
+      s->assemble(model.terms, solver::StateView{x, v, 1.0}, -1.0, 0.0);
+      s->eliminate();
+      s->reset_iterations();
+      EXPECT_TRUE(s->solve(rhs, u));
+      out.iterations.push_back(s->iterations());
+    }
+    out.factorisations = s->times().factorisations.count;
+    out.lagged = s->lagged_solves();
+    return out;
+  };
+  const Run cheap = run("1");
+  EXPECT_EQ(cheap.factorisations, 2U);
+  EXPECT_EQ(cheap.lagged, 2);
+  EXPECT_GT(cheap.iterations[1], cheap.iterations[0]);  // lagged (2, 4) against fresh (1, 3)
+  EXPECT_GT(cheap.iterations[3], cheap.iterations[2]);
+  const Run dear = run("1000");
+  EXPECT_EQ(dear.factorisations, 1U);
+  EXPECT_EQ(dear.lagged, 3);
+  try {
+    (void)test::solver_with(model, {{"-adamss_factorisation_precision", "single"}, {"-adamss_lag_price_its", "-2"}});
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(
+        std::string(e.what()),
+        "-adamss_lag_price_its -2: give a number of FGMRES iterations > 0, or 0 to price a factorisation at its time");
+  }
+}
+
+TEST(SinglePrecisionFactorisation, ALaggedSolveOfANonFiniteRightHandSideFailsWithoutFactorising) {
+  // A Newton trial state gone bad gives a right-hand side with a NaN: the lagged solve fails, and
+  // neither a factorisation of the new operator nor the fall-back to double precision follows. The
+  // next finite right-hand side is solved with the same (older) factorisation.
+  const auto loaded = test::load_scene(kScene);
+  const solver::Model& model = loaded.model;
+  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, model.mesh->nodes.cols());
+  const Eigen::Matrix3Xd x1 = test::perturbed(model.mesh->nodes, 1e-3, 0.05);
+  const Eigen::Matrix3Xd x2 = test::perturbed(x1, 1e-3, 0.005, 11);
+  auto s = test::solver_with(model, {{"-adamss_factorisation_precision", "single"}});
+  auto plain = test::solver_with(model, {{"-adamss_factorisation_precision", "double"}});
+  Eigen::Matrix3Xd rhs = test::perturbed(Eigen::Matrix3Xd::Zero(3, x1.cols()), 1.0, 1.0, 5);
+  solver::zero_dofs(rhs, s->fixed_dofs());
+  Eigen::Matrix3Xd u, ud;
+  s->assemble(model.terms, solver::StateView{x1, v, 1.0}, -1.0, 0.0);
+  s->eliminate();
+  ASSERT_TRUE(s->solve(rhs, u));
+  for (solver::JacobianSolver* j : {s.get(), plain.get()}) {
+    j->assemble(model.terms, solver::StateView{x2, v, 1.0}, -1.0, 0.0);
+    j->eliminate();
+  }
+  Eigen::Matrix3Xd bad = rhs;
+  bad(2, 7) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(s->solve(bad, u));
+  EXPECT_EQ(s->times().factorisations.count, 1U);
+  EXPECT_EQ(s->lagged_solves(), 1);
+  EXPECT_EQ(s->describe(),
+            "fgmres + cholesky (mumps, single precision, METIS order), bordered operator: 135 + 45 unknowns");
+  ASSERT_TRUE(s->solve(rhs, u));
+  ASSERT_TRUE(plain->solve(rhs, ud));
+  EXPECT_EQ(s->times().factorisations.count, 1U);
+  EXPECT_EQ(s->lagged_solves(), 2);
+  EXPECT_LT((u - ud).norm() / ud.norm(), 1e-3);  // FGMRES to the default 1e-4 residual
+}
+
 TEST(SinglePrecisionFactorisation, RefusesAnUnknownPrecision) {
   const auto loaded = test::load_scene(kScene);
   try {
