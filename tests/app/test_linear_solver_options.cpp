@@ -14,7 +14,7 @@ using adamss::test::write_scene;
 
 namespace {
 
-/// A 8 x 4 x 4 mm block of 8 x 4 x 4 neo-Hookean hexahedra (675 unknowns, below the 60 000 of the
+/// A 8 x 4 x 4 mm block of 8 x 4 x 4 neo-Hookean hexahedra (675 unknowns, below the 750 000 of the
 /// automatic switch to GAMG), clamped at x = 0 and pulled 0.2 mm along x at x = 8 mm in two
 /// static load steps.
 const char* const kBlock = R"(

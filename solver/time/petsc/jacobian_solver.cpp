@@ -39,8 +39,17 @@ void default_option(const char* name, const char* value) {
   if (given == PETSC_FALSE) petsc_check(PetscOptionsSetValue(nullptr, name, value), "PETSc options");
 }
 
-/// Below this many unknowns the default linear solver is a direct LU factorisation.
-constexpr PetscInt kDirectSolveMaxDofs = 60000;
+/// Up to this many particle coordinates the default linear solver is a direct factorisation
+/// (MUMPS; in single precision with lagged factorisations from kSinglePrecisionMinDofs on), GMRES
+/// + GAMG above. GAMG's iterations barely converge on nearly incompressible walls: the biv-me beat
+/// meshed at 1.5 mm (152 391 coordinates, one process) took 193 s for its first 5 ms step with
+/// GAMG (3 844 GMRES iterations for 7 solves) against 33.5 s with the direct path, the same 6
+/// Newton iterations and cavity volumes to 4e-12 (bench/README.md), and biv-inflation.yaml
+/// ~60 s per Newton iteration against ~0.7 s. The bound is memory: the 1 mm heart's 689 568
+/// coordinates (+ 229 856 border rows of its nodal volume term) peaked at 7.6 GB on rank 0 of
+/// 2; a factor grows about as n^(4/3), so beyond this a 24 GB machine runs short. (60 000 until
+/// 2026-12-06, when the direct path was double precision only.)
+constexpr PetscInt kDirectSolveMaxDofs = 750000;
 /// From this many particle coordinates on, a MUMPS factorisation is made in single
 /// precision and refined by GMRES (single_precision_factor.hpp), unless
 /// -adamss_factorisation_precision says otherwise. Measured (bench/README.md): biv-inflation.yaml's

@@ -8,7 +8,7 @@
 // until the matrix is assembled again, so a second solve is a back-substitution).
 //
 // Linear solver: by default a direct LU factorisation (KSPPREONLY + PCLU, by MUMPS when PETSc
-// has it, else PETSc's own) up to 60 000 unknowns -- exact Newton steps, robust for nearly incompressible and thin
+// has it, else PETSc's own) up to 750 000 particle coordinates -- exact Newton steps, robust for nearly incompressible and thin
 // structures where Krylov + AMG struggles -- and GMRES + GAMG above, with the particle reference coordinates for GAMG's
 // rigid-body near-null space. A MUMPS LU factorises a symmetric operator as L D L^T
 // instead (symmetry_probe.hpp; checked before every factorisation; -adamss_symmetric_factorisation

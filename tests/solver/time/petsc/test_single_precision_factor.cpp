@@ -425,6 +425,28 @@ TEST(SinglePrecisionFactorisation, ALaggedSolveOfANonFiniteRightHandSideFailsWit
   EXPECT_LT((u - ud).norm() / ud.norm(), 1e-3);  // FGMRES to the default 1e-4 residual
 }
 
+TEST(SinglePrecisionFactorisation, IsTheDefaultSolverWellAboveTheOldSwitchToGamg) {
+  // 105 903 particle coordinates: the default is the direct single-precision path, not GMRES +
+  // GAMG (the switch moved from 60 000 to 750 000 coordinates: jacobian_solver.cpp,
+  // kDirectSolveMaxDofs). The solver is only configured here; nothing is factorised.
+  const auto loaded = test::load_scene(R"(
+name: large
+mesh: {box: [40 mm, 40 mm, 20 mm], divisions: [40, 40, 20], topology: hex}
+materials:
+  - name: m
+    labels: [1]
+    density: 1000 kg/m^3
+    terms:
+      - fem_element: {law: neo_hookean, parameters: {E: 10 kPa, nu: 0.3}}
+integrator: {type: static, dt: 1 s}
+run: {t_end: 1 s}
+)");
+  ASSERT_EQ(3 * loaded.model.node_count(), 105903U);
+  const auto s = test::solver_with(loaded.model, {});
+  EXPECT_EQ(s->describe().substr(0, 10), "fgmres + l") << s->describe();
+  EXPECT_NE(s->describe().find("single precision"), std::string::npos) << s->describe();
+}
+
 TEST(SinglePrecisionFactorisation, RefusesAnUnknownPrecision) {
   const auto loaded = test::load_scene(kScene);
   try {
