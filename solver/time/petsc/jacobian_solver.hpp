@@ -8,18 +8,16 @@
 // until the matrix is assembled again, so a second solve is a back-substitution).
 //
 // Linear solver: by default a direct LU factorisation (KSPPREONLY + PCLU, by MUMPS when PETSc
-// has it, else PETSc's own) up to 750 000 particle coordinates -- exact Newton steps, robust for nearly incompressible and thin
-// structures where Krylov + AMG struggles -- and GMRES + GAMG above, with the particle reference coordinates for GAMG's
-// rigid-body near-null space. A MUMPS LU factorises a symmetric operator as L D L^T
-// instead (symmetry_probe.hpp; checked before every factorisation; -adamss_symmetric_factorisation
-// false keeps LU). From 50 000 particle coordinates on (any number of ranks), the MUMPS factorisation is made
-// in single precision, in METIS's nested-dissection pivot order (-adamss_pivot_order metis|mumps),
-// and refined by flexible GMRES to 1e-4 relative residual
-// (single_precision_factor.hpp; -adamss_factorisation_precision single|double|auto,
-// -adamss_refinement_rtol, -adamss_refinement_max_it); a refinement that fails switches to double
-// precision for the rest of the run. There a new operator keeps the last factorisation as
-// FGMRES's preconditioner until the extra iterations have cost as much as a factorisation
-// (factorisation_lag.hpp; up to 30 iterations a solve, -adamss_lag_max_it N, 0 factorises every
+// has it, else PETSc's own) up to 750 000 particle coordinates -- exact Newton steps, robust for nearly incompressible
+// and thin structures where Krylov + AMG struggles -- and GMRES + GAMG above, with the particle reference coordinates
+// for GAMG's rigid-body near-null space. A MUMPS LU factorises a symmetric operator as L D L^T instead
+// (symmetry_probe.hpp; checked before every factorisation; -adamss_symmetric_factorisation false keeps LU). From 50 000
+// particle coordinates on (any number of ranks), the MUMPS factorisation is made in single precision, in METIS's
+// nested-dissection pivot order (-adamss_pivot_order metis|mumps), and refined by flexible GMRES to 1e-4 relative
+// residual (single_precision_factor.hpp; -adamss_factorisation_precision single|double|auto, -adamss_refinement_rtol,
+// -adamss_refinement_max_it); a refinement that fails switches to double precision for the rest of the run. There a new
+// operator keeps the last factorisation as FGMRES's preconditioner until the extra iterations have cost as much as a
+// factorisation (factorisation_lag.hpp; up to 30 iterations a solve, -adamss_lag_max_it N, 0 factorises every
 // operator); a lagged solve that does not converge factorises its operator and solves again.
 // The fixed coordinates of a solution are always exactly the right-hand side's (or the
 // prescribed values). Tolerances ksp_rtol and ksp_max_it; any PETSc option (-ksp_type,
