@@ -51,7 +51,9 @@ ImplicitIntegrator::ImplicitIntegrator(System& system, Kind kind, const Implicit
                      constraints_.front()->name() + "); use the integrator type backward_euler_newton or static");
   }
   if (!(set_.dt_min > 0.0) || !(set_.dt_max >= set_.dt_min)) throw InputError(label + ": need 0 < dt_min <= dt_max");
-  linear_ = std::make_unique<JacobianSolver>(sys_.model(), set_.petsc_options, set_.ksp_rtol, set_.ksp_max_it);
+  linear_ = std::make_unique<JacobianSolver>(
+      sys_.model(), set_.petsc_options, set_.ksp_rtol, set_.ksp_max_it,
+      kind_ == Kind::BackwardEuler ? JacobianSolver::Directions::Exact : JacobianSolver::Directions::Newton);
 }
 
 ImplicitIntegrator::~ImplicitIntegrator() = default;

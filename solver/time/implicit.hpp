@@ -19,7 +19,7 @@
 //                           damped Newton on that pressure load
 // Fixed and controlled coordinates are eliminated (rows and columns, unit diagonal) with their
 // prescribed values, not given huge masses. Linear solves: KSP, by default a direct LU
-// factorisation up to 750 000 unknowns and GMRES + GAMG (with the particle coordinates for the
+// factorisation up to 750 000 particle coordinates and GMRES + GAMG (with the particle coordinates for the
 // rigid-body near-null space) above; any PETSc option (-ksp_type, -pc_type, -ksp_monitor, ...)
 // overrides it.
 //

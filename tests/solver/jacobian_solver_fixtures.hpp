@@ -15,8 +15,10 @@ namespace adamss::test {
 
 /// A JacobianSolver of `model` (ksp_rtol 1e-12, 100 iterations) configured while the PETSc options
 /// `options` (name, value pairs) hold; they are cleared again afterwards, also when it throws.
+/// `directions`: what the solves are for (JacobianSolver::Directions).
 inline std::unique_ptr<solver::JacobianSolver> solver_with(
-    const solver::Model& model, const std::vector<std::pair<std::string, std::string>>& options) {
+    const solver::Model& model, const std::vector<std::pair<std::string, std::string>>& options,
+    solver::JacobianSolver::Directions directions = solver::JacobianSolver::Directions::Newton) {
   solver::ensure_petsc();
   for (const auto& [name, value] : options) PetscOptionsSetValue(nullptr, name.c_str(), value.c_str());
   struct Clear {
@@ -25,7 +27,7 @@ inline std::unique_ptr<solver::JacobianSolver> solver_with(
       for (const auto& [name, value] : options) PetscOptionsClearValue(nullptr, name.c_str());
     }
   } clear{options};
-  return std::make_unique<solver::JacobianSolver>(model, "", 1e-12, 100);
+  return std::make_unique<solver::JacobianSolver>(model, "", 1e-12, 100, directions);
 }
 
 }  // namespace adamss::test

@@ -46,9 +46,12 @@ void default_option(const char* name, const char* value) {
 /// GAMG (3 844 GMRES iterations for 7 solves) against 33.5 s with the direct path, the same 6
 /// Newton iterations and cavity volumes to 4e-12 (bench/README.md), and biv-inflation.yaml
 /// ~60 s per Newton iteration against ~0.7 s. The bound is memory: the 1 mm heart's 689 568
-/// coordinates (+ 229 856 border rows of its nodal volume term) peaked at 7.6 GB on rank 0 of
-/// 2; a factor grows about as n^(4/3), so beyond this a 24 GB machine runs short. (60 000 until
-/// 2026-12-06, when the direct path was double precision only.)
+/// coordinates (+ 229 856 border rows of its nodal volume term) took 6.9-8.5 GB on one rank in
+/// single precision, 12.9 GB in double (the fall-back after a failed refinement), 7.6 GB on
+/// rank 0 of 2; a factor grows about as n^(4/3), so beyond this a 24 GB machine runs short.
+/// Without MUMPS in PETSc the direct default is PETSc's own LU (refused on several ranks, where
+/// -pc_type gamg must be asked for). (60 000 until 2026-12-06, when the direct path was double
+/// precision only.)
 constexpr PetscInt kDirectSolveMaxDofs = 750000;
 /// From this many particle coordinates on, a MUMPS factorisation is made in single
 /// precision and refined by GMRES (single_precision_factor.hpp), unless
@@ -223,6 +226,8 @@ struct JacobianSolver::Petsc {
   bool krylov_solve(int& its, TimeSplit& times);
   /// The KSP as GMRES preconditioned by `single` (configure, when chosen).
   void use_single();
+  /// -adamss_lag_price_its (checked whatever the path, used by the lagged factorisations only).
+  void read_lag_price();
   /// Leaves the single-precision factorisation for MUMPS in double precision, for the rest of the
   /// run; `why` goes into describe().
   void use_double(const std::string& why);
@@ -277,6 +282,7 @@ void JacobianSolver::Petsc::configure(const Model& model, double ksp_rtol, int k
   petsc_check(KSPSetFromOptions(ksp), "KSPSetFromOptions");
   const char* package = factorisation_package(pc);
   if (mpi_size() > 1) require_parallel_factorisation(pc, package);
+  read_lag_price();
   make_operator(model, package);
   configure_factorisation(model, pc, package);
   give_coordinates(model, pc);
@@ -476,6 +482,17 @@ bool JacobianSolver::Petsc::solve(int& its, TimeSplit& times) {
   return krylov_solve(its, times);
 }
 
+void JacobianSolver::Petsc::read_lag_price() {
+  PetscInt price_its = 0;  // -adamss_lag_price_its K: a factorisation priced at K iterations, not its time
+  petsc_check(PetscOptionsGetInt(nullptr, nullptr, "-adamss_lag_price_its", &price_its, nullptr), "PetscOptionsGetInt");
+  if (price_its < 0 || price_its > 1000000) {
+    throw InputError("-adamss_lag_price_its " + std::to_string(price_its) +
+                     ": give a number of FGMRES iterations from 1 to 1000000, or 0 to price a factorisation at its "
+                     "time");
+  }
+  lag.set_price_iterations(static_cast<int>(price_its));
+}
+
 void JacobianSolver::Petsc::use_single() {
   single = std::make_unique<SinglePrecisionFactor>();
   petsc_check(PetscOptionsGetReal(nullptr, nullptr, "-adamss_refinement_rtol", &refine_rtol, nullptr),
@@ -483,13 +500,6 @@ void JacobianSolver::Petsc::use_single() {
   petsc_check(PetscOptionsGetInt(nullptr, nullptr, "-adamss_refinement_max_it", &refine_max_it, nullptr),
               "PetscOptionsGetInt");
   petsc_check(PetscOptionsGetInt(nullptr, nullptr, "-adamss_lag_max_it", &lag_max_it, nullptr), "PetscOptionsGetInt");
-  PetscInt price_its = 0;  // -adamss_lag_price_its K: a factorisation priced at K iterations, not its time
-  petsc_check(PetscOptionsGetInt(nullptr, nullptr, "-adamss_lag_price_its", &price_its, nullptr), "PetscOptionsGetInt");
-  if (price_its < 0) {
-    throw InputError("-adamss_lag_price_its " + std::to_string(price_its) +
-                     ": give a number of FGMRES iterations > 0, or 0 to price a factorisation at its time");
-  }
-  lag.set_price_iterations(static_cast<int>(price_its));
   // Flexible GMRES: it keeps the preconditioned vectors z_j = M^{-1} v_j and forms the solution
   // from them. Plain right-preconditioned GMRES applies M^{-1} once more to the combined vector,
   // and float's rounding makes that M^{-1} another operator than the one the iterations saw: on
@@ -534,9 +544,13 @@ void JacobianSolver::Petsc::choose_factorisation() {
   petsc_check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
 }
 
-JacobianSolver::JacobianSolver(const Model& model, const std::string& petsc_options, double ksp_rtol, int ksp_max_it)
+JacobianSolver::JacobianSolver(const Model& model, const std::string& petsc_options, double ksp_rtol, int ksp_max_it,
+                               Directions directions)
     : petsc_(std::make_unique<Petsc>()) {
   ensure_petsc(petsc_options);
+  // A solve that is the whole step (the linearised backward Euler) is refined to ksp_rtol, not to
+  // an inexact Newton direction's 1e-4.
+  if (directions == Directions::Exact) petsc_->refine_rtol = ksp_rtol;
   petsc_->fixed = constrained_dofs(model.constraints.mask());
   fixed_.assign(petsc_->fixed.begin(), petsc_->fixed.end());
   petsc_->configure(model, ksp_rtol, ksp_max_it);

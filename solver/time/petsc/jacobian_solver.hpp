@@ -38,7 +38,13 @@ class JacobianSolver {
  public:
   /// Starts PETSc if needed (ensure_petsc with `petsc_options`), preallocates A on the mesh
   /// graph and configures the KSP as above.
-  JacobianSolver(const Model& model, const std::string& petsc_options, double ksp_rtol, int ksp_max_it);
+  /// What the solves are for. Newton: directions of a Newton iteration, which the
+  /// single-precision path refines to 1e-4 relative residual only (an inexact Newton step; the
+  /// -adamss_refinement_rtol option overrides). Exact: each solve is a result of its own (the
+  /// linearised backward Euler's one solve a step), refined to ksp_rtol.
+  enum class Directions { Newton, Exact };
+  JacobianSolver(const Model& model, const std::string& petsc_options, double ksp_rtol, int ksp_max_it,
+                 Directions directions = Directions::Newton);
   ~JacobianSolver();
   JacobianSolver(const JacobianSolver&) = delete;
   JacobianSolver& operator=(const JacobianSolver&) = delete;

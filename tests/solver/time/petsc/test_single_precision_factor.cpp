@@ -384,9 +384,9 @@ TEST(SinglePrecisionFactorisation, TheLagsRuleDecidesWhichOperatorsAreFactorised
     (void)test::solver_with(model, {{"-adamss_factorisation_precision", "single"}, {"-adamss_lag_price_its", "-2"}});
     FAIL() << "no error";
   } catch (const InputError& e) {
-    EXPECT_EQ(
-        std::string(e.what()),
-        "-adamss_lag_price_its -2: give a number of FGMRES iterations > 0, or 0 to price a factorisation at its time");
+    EXPECT_EQ(std::string(e.what()),
+              "-adamss_lag_price_its -2: give a number of FGMRES iterations from 1 to 1000000, or 0 to price a "
+              "factorisation at its time");
   }
 }
 
@@ -445,6 +445,34 @@ run: {t_end: 1 s}
   const auto s = test::solver_with(loaded.model, {});
   EXPECT_EQ(s->describe().substr(0, 10), "fgmres + l") << s->describe();
   EXPECT_NE(s->describe().find("single precision"), std::string::npos) << s->describe();
+}
+
+TEST(SinglePrecisionFactorisation, ExactSolvesAreRefinedToTheKrylovTolerance) {
+  // Newton directions are refined to 1e-4 relative residual only; a solve that is a step's whole
+  // result (Directions::Exact, the linearised backward Euler) to ksp_rtol (1e-12 here).
+  const auto loaded = test::load_scene(kScene);
+  const solver::Model& model = loaded.model;
+  const Eigen::Matrix3Xd x = test::perturbed(model.mesh->nodes, 1e-3, 0.05);
+  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, x.cols());
+  const solver::StateView at{x, v, 1.0};
+  const std::vector<std::pair<std::string, std::string>> single{{"-adamss_factorisation_precision", "single"}};
+  const auto newton = test::solver_with(model, single);
+  const auto exact = test::solver_with(model, single, solver::JacobianSolver::Directions::Exact);
+  const auto plain = test::solver_with(model, {{"-adamss_factorisation_precision", "double"}});
+  Eigen::Matrix3Xd rhs = test::perturbed(Eigen::Matrix3Xd::Zero(3, x.cols()), 1.0, 1.0, 9);
+  solver::zero_dofs(rhs, plain->fixed_dofs());
+  Eigen::Matrix3Xd un, ue, ud;
+  for (solver::JacobianSolver* s : {newton.get(), exact.get(), plain.get()}) {
+    s->assemble(model.terms, at, -1.0, 0.0);
+    s->eliminate();
+  }
+  ASSERT_TRUE(newton->solve(rhs, un));
+  ASSERT_TRUE(exact->solve(rhs, ue));
+  ASSERT_TRUE(plain->solve(rhs, ud));
+  EXPECT_LT((ue - ud).norm() / ud.norm(), 1e-9);
+  EXPECT_GT((un - ud).norm() / ud.norm(), 1e-9);  // a 1e-4 residual leaves more than rounding
+  EXPECT_LT((un - ud).norm() / ud.norm(), 1e-2);
+  EXPECT_GT(exact->iterations(), newton->iterations());
 }
 
 TEST(SinglePrecisionFactorisation, RefusesAnUnknownPrecision) {
