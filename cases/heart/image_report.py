@@ -38,7 +38,8 @@ def main(out, image, lv, rv, es_image, es_json, t_unload, t_sim, check):
              f"). Mesh: {s['nodes']} nodes, {s['elements']} tetrahedra (the recipe of [beat.yaml](beat.yaml)). "
              f"Unloading {len(u['iterations'])} iterations ({t_unload} s), max distance of the re-filled reference "
              f"to the image {1e3 * u['max_error_m']:.3f} mm; two beats {s['steps']} steps, "
-             f"{s['newton_iterations']} Newton iterations ({t_sim} s). Wall volume change at most "
+             f"{s['newton_iterations']} Newton iterations ({t_sim} s"
+             + (f" on {s['mpi_ranks']} MPI ranks" if s.get("mpi_ranks", 1) > 1 else "") + "). Wall volume change at most "
              f"{100 * s['total_volume_m3']['max_abs_relative_change']:.2f} %.\n",
              "| | " + " | ".join(f"{k.upper()} simulated (last beat) | {k.upper()} image" for k in labels) + " |",
              "|---|" + "---|---|" * len(labels)]
