@@ -95,12 +95,12 @@ twitch_value=${twitch%kPa}
 }
 threads=${OMP_NUM_THREADS:-2}
 mpirun_env=(env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1)  # Open MPI refuses root otherwise
-if [[ -n ${HEART_RANKS:-} ]]; then
-  if [[ ! $HEART_RANKS =~ ^[1-9][0-9]*$ ]]; then
-    echo "run_image.sh: HEART_RANKS=$HEART_RANKS: give a number of MPI ranks (1 runs one process with threads)" >&2
+ranks=${HEART_RANKS:-auto}  # auto: chosen before the beats (2 where they can start)
+if [[ $ranks != auto ]]; then
+  if [[ ! $ranks =~ ^[1-9][0-9]*$ ]]; then
+    echo "run_image.sh: HEART_RANKS=$ranks: give a number of MPI ranks (1 runs one process with threads)" >&2
     exit 2
   fi
-  ranks=$HEART_RANKS
   if ((ranks > 1)) && ! command -v mpirun > /dev/null; then
     echo "run_image.sh: HEART_RANKS=$ranks needs mpirun, which is not on PATH" >&2
     exit 2
@@ -154,7 +154,7 @@ t_unload=$((SECONDS - t_unload))
 
 echo "== 3/4 two beats from the unloaded reference (twitch $twitch_value kPa), see beat.yaml"
 t_sim=$SECONDS
-if [[ -z ${HEART_RANKS:-} ]]; then  # 2 ranks where they can start (tried with a trivial program)
+if [[ $ranks == auto ]]; then  # 2 ranks where they can start (tried with a trivial program)
   ranks=1
   if (($(nproc) >= 2)) && command -v mpirun > /dev/null && "${mpirun_env[@]}" mpirun -np 2 true > /dev/null 2>&1; then
     ranks=2

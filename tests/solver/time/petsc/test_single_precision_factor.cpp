@@ -9,7 +9,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/error.hpp"
@@ -293,25 +295,43 @@ TEST(SinglePrecisionFactorisation, ASingularOperatorFailsItsSolvesWithoutLeaving
             "fgmres + cholesky (mumps, single precision, METIS order), bordered operator: 135 + 45 unknowns");
 }
 
+namespace {
+
+using Options = std::vector<std::pair<std::string, std::string>>;
+
+/// One solver (built with `options`) solving `rhs` at each state of `path` in turn: the static
+/// operator (cx = -1) assembled, eliminated and solved with the iteration count reset first;
+/// `rhs`'s fixed coordinates are zeroed, `u` is the last solution and `iterations` (if given)
+/// gets each solve's FGMRES iterations.
+std::unique_ptr<solver::JacobianSolver> solve_along(const solver::Model& model,
+                                                    const std::vector<Eigen::Matrix3Xd>& path, const Options& options,
+                                                    Eigen::Matrix3Xd& rhs, Eigen::Matrix3Xd& u,
+                                                    std::vector<int>* iterations = nullptr) {
+  auto s = test::solver_with(model, options);
+  solver::zero_dofs(rhs, s->fixed_dofs());
+  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, model.mesh->nodes.cols());
+  for (const Eigen::Matrix3Xd& x : path) {
+    s->assemble(model.terms, solver::StateView{x, v, 1.0}, -1.0, 0.0);
+    s->eliminate();
+    s->reset_iterations();
+    EXPECT_TRUE(s->solve(rhs, u));
+    if (iterations != nullptr) iterations->push_back(s->iterations());
+  }
+  return s;
+}
+
+}  // namespace
+
 TEST(SinglePrecisionFactorisation, ANewOperatorKeepsTheLastFactorisationAsItsPreconditioner) {
   // Lagged factorisations (factorisation_lag.hpp): the operator at a second, nearby state is solved
   // by FGMRES preconditioned by the first state's factor, to the double factorisation's answer.
   const auto loaded = test::load_scene(kScene);
   const solver::Model& model = loaded.model;
-  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, model.mesh->nodes.cols());
   const Eigen::Matrix3Xd x1 = test::perturbed(model.mesh->nodes, 1e-3, 0.05);
-  const Eigen::Matrix3Xd x2 = test::perturbed(x1, 1e-3, 0.005, 11);  // 10 times closer
+  const std::vector<Eigen::Matrix3Xd> path{x1, test::perturbed(x1, 1e-3, 0.005, 11)};  // 10 times closer
   Eigen::Matrix3Xd rhs = test::perturbed(Eigen::Matrix3Xd::Zero(3, x1.cols()), 1.0, 1.0, 5);
-  const auto solve_twice = [&](const std::vector<std::pair<std::string, std::string>>& options, Eigen::Matrix3Xd& u) {
-    auto s = test::solver_with(model, options);
-    solver::zero_dofs(rhs, s->fixed_dofs());
-    for (const Eigen::Matrix3Xd* x : {&x1, &x2}) {
-      s->assemble(model.terms, solver::StateView{*x, v, 1.0}, -1.0, 0.0);
-      s->eliminate();
-      s->reset_iterations();
-      EXPECT_TRUE(s->solve(rhs, u));
-    }
-    return s;
+  const auto solve_twice = [&](const Options& options, Eigen::Matrix3Xd& u) {
+    return solve_along(model, path, options, rhs, u);
   };
   Eigen::Matrix3Xd ud, ul, uf, ur;
   const auto plain = solve_twice({{"-adamss_factorisation_precision", "double"}}, ud);
@@ -345,7 +365,6 @@ TEST(SinglePrecisionFactorisation, TheLagsRuleDecidesWhichOperatorsAreFactorised
   // lagged solve (1, 3), a price of 1000 none after the first.
   const auto loaded = test::load_scene(kScene);
   const solver::Model& model = loaded.model;
-  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, model.mesh->nodes.cols());
   std::vector<Eigen::Matrix3Xd> path{test::perturbed(model.mesh->nodes, 1e-3, 0.05)};
   for (int k = 1; k < 4; ++k) path.push_back(test::perturbed(path.back(), 1e-3, 0.005, 11 + k));
   Eigen::Matrix3Xd rhs = test::perturbed(Eigen::Matrix3Xd::Zero(3, path[0].cols()), 1.0, 1.0, 5);
@@ -355,19 +374,13 @@ TEST(SinglePrecisionFactorisation, TheLagsRuleDecidesWhichOperatorsAreFactorised
     int lagged;
   };
   const auto run = [&](const std::string& price) {
-    auto s = test::solver_with(model, {{"-adamss_factorisation_precision", "single"},
-                                       {"-adamss_refinement_rtol", "1e-11"},
-                                       {"-adamss_lag_price_its", price}});
-    solver::zero_dofs(rhs, s->fixed_dofs());
     Run out;
     Eigen::Matrix3Xd u;
-    for (const Eigen::Matrix3Xd& x : path) {
-      s->assemble(model.terms, solver::StateView{x, v, 1.0}, -1.0, 0.0);
-      s->eliminate();
-      s->reset_iterations();
-      EXPECT_TRUE(s->solve(rhs, u));
-      out.iterations.push_back(s->iterations());
-    }
+    const auto s = solve_along(model, path,
+                               {{"-adamss_factorisation_precision", "single"},
+                                {"-adamss_refinement_rtol", "1e-11"},
+                                {"-adamss_lag_price_its", price}},
+                               rhs, u, &out.iterations);
     out.factorisations = s->times().factorisations.count;
     out.lagged = s->lagged_solves();
     return out;
