@@ -44,7 +44,8 @@ class RunLoop {
   void write_frame(const State& s);
   void show_progress(const State& s, double ke, bool on_terminal, bool in_log);
   [[nodiscard]] ImplicitSettings observed(const ImplicitSettings& implicit);
-  void show_newton(int iteration, double residual);
+  void show_newton(const NewtonIterate& n);
+  void log_newton(const NewtonIterate& n);
   [[nodiscard]] ProgressSnapshot snapshot(const State& s, double ke);
   void stop(const std::string& status, const std::string& reason);
   void fail(State& s, const std::string& status, const std::string& why);
@@ -73,6 +74,7 @@ class RunLoop {
   Clock::time_point step_start_;        ///< when the step under way began (for show_newton)
   Clock::time_point last_newton_line_;  ///< show_newton's last line
   double step_t0_ = 0.0;                ///< its start time, s
+  int attempt_ = 0;                     ///< attempts of the step under way so far (output.newton_log)
   RunLoopState loop_;
   RunOutcome out_;      ///< status, reason, bad element, memory; the counters are loop_'s until finish
   State spare_;         ///< the instability check copies s here; swapped with loop_.good when it passes
@@ -172,6 +174,7 @@ bool RunLoop::step(State& s) {
   StepReport& rep = loop_.last_report;
   step_start_ = Clock::now();
   step_t0_ = s.t;
+  attempt_ = 0;
   try {
     rep = integ_->step(s, h);
   } catch (const StepInterrupted&) {
@@ -310,15 +313,39 @@ void RunLoop::show_progress(const State& s, double ke, bool on_terminal, bool in
   }
 }
 
-/// The implicit settings with on_iteration calling show_newton after any observer the caller set
-/// (this loop outlives integ_).
+/// The implicit settings with on_iteration calling show_newton (and log_newton with
+/// output.newton_log) after any observer the caller set (this loop outlives integ_).
 ImplicitSettings RunLoop::observed(const ImplicitSettings& implicit) {
   ImplicitSettings set = implicit;
-  set.on_iteration = [this, earlier = implicit.on_iteration](int iteration, double residual) {
-    if (earlier) earlier(iteration, residual);
-    show_newton(iteration, residual);
+  set.on_iteration = [this, earlier = implicit.on_iteration](const NewtonIterate& n) {
+    if (earlier) earlier(n);
+    if (n.iteration == 0) ++attempt_;
+    if (set_.newton_log) log_newton(n);
+    show_newton(n);
   };
   return set;
+}
+
+/// output.newton_log: one run.log line per Newton iterate (newton_iterate.hpp), e.g.
+///   newton step 12 (from t = 0.45 s) attempt 1 iteration 3: |R| 1.234e-03 N, update 2.10e-05 m (alpha 0.5,
+///   new operator, 1 factorisation, 7 KSP), wall 12.3 s
+/// Iteration 0 is the attempt's start (no update). Not on stderr: a terminal keeps its progress line.
+void RunLoop::log_newton(const NewtonIterate& n) {
+  char line[320];
+  if (n.iteration == 0) {
+    std::snprintf(line, sizeof line,
+                  "newton step %zu (from t = %.6g s) attempt %d iteration 0: |R| %.4e N, wall %.1f s", loop_.steps + 1,
+                  step_t0_, attempt_, n.residual, wall());
+  } else {
+    std::snprintf(
+        line, sizeof line,
+        "newton step %zu (from t = %.6g s) attempt %d iteration %d: |R| %.4e N, update %.3e %s (alpha %.4g, %s "
+        "operator, %d factorisation%s, %d KSP), wall %.1f s",
+        loop_.steps + 1, step_t0_, attempt_, n.iteration, n.residual, n.update,
+        set_.integrator == "backward_euler_newton" ? "m/s" : "m", n.step_length, n.new_operator ? "new" : "kept",
+        n.factorisations, n.factorisations == 1 ? "" : "s", n.linear_iterations, wall());
+  }
+  writer_.log().line(line);
 }
 
 /// Inside a step that has run for progress_interval or more (wall), a line per Newton iteration
@@ -326,14 +353,14 @@ ImplicitSettings RunLoop::observed(const ImplicitSettings& implicit) {
 /// and run.log (a terminal keeps its progress line): a long implicit step (a real heart's first
 /// load step can take minutes) is seen moving.
 /// Nothing with progress_interval 0 (its lines come every step anyway).
-void RunLoop::show_newton(int iteration, double residual) {
+void RunLoop::show_newton(const NewtonIterate& n) {
   if (!(set_.progress_interval > 0.0)) return;
   const auto now = Clock::now();
   const auto since = [&now](Clock::time_point t) { return std::chrono::duration<double>(now - t).count(); };
   if (since(step_start_) < set_.progress_interval || since(last_newton_line_) < set_.progress_interval) return;
   char line[200];
   std::snprintf(line, sizeof line, "  in step %zu (from t = %.6g s): Newton iteration %d, residual %.3e N, wall %.1f s",
-                loop_.steps + 1, step_t0_, iteration, residual, wall());
+                loop_.steps + 1, step_t0_, n.iteration, n.residual, wall());
   last_newton_line_ = now;
   writer_.log().line(line);
   if (batch_) {

@@ -56,6 +56,9 @@ struct RunSettings {
   /// Wall seconds between progress lines when stderr is not a terminal (a batch log), and between
   /// the progress lines of run.log (solver/run/progress.hpp); 0: every step.
   double progress_interval = 10.0;
+  /// output.newton_log: a run.log line for every Newton iterate of the implicit and static steps
+  /// (its residual and the update that led to it; solver/time/newton_iterate.hpp).
+  bool newton_log = false;
   double checkpoint_interval = 0.0;  ///< s of simulated time between checkpoints; 0: only on signals/failures
   std::size_t stop_after_steps = 0;  ///< > 0: stop as on SIGINT once this many steps are done (tests)
   /// What the run was made from, stored in every resumable checkpoint so that a resume can refuse

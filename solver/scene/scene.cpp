@@ -230,6 +230,7 @@ void load_output(SceneNode& root, RunSettings& run, Model& model) {
   run.frame_compression = compression == "lz4"    ? FrameCompression::lz4
                           : compression == "none" ? FrameCompression::none
                                                   : FrameCompression::zlib;
+  run.newton_log = out->flag("newton_log", false);
   std::set<std::string> probe_names;
   for (SceneNode& p : out->list("probes")) {
     const std::string pname = p.text("name");

@@ -62,9 +62,10 @@ Eigen::VectorXd solve_schur(const std::vector<CavityCondition>& cond, const std:
 /// the largest alpha in 1, 1/2, ..., 1/256 whose simplified correction (same factorisation and
 /// Schur vectors, at the trial point) is smaller than (1 - alpha/4) |du|; the full step when none
 /// is (what the undamped iteration did). Returns the contraction theta = |simplified correction|
-/// / |du| when the full step passed the test, else infinity (damped, or no alpha passed).
+/// / |du| when the full step passed the test, else infinity (damped, or no alpha passed); `taken`
+/// is the alpha applied.
 double damped_update(StepEquations& eq, JacobianSolver& linear, const CavityBorder& border, const Eigen::VectorXd& dp,
-                     const Eigen::Matrix3Xd& du, Eigen::Matrix3Xd& u) {
+                     const Eigen::Matrix3Xd& du, Eigen::Matrix3Xd& u, double& taken) {
   Eigen::VectorXd p0;
   border.multipliers(p0);
   const double ndu = du.norm();
@@ -79,11 +80,13 @@ double damped_update(StepEquations& eq, JacobianSolver& linear, const CavityBord
     if (!border.simplified_correction(linear, r, rv, dub)) continue;
     if (dub.norm() <= (1.0 - 0.25 * alpha) * ndu) {
       u = trial;
+      taken = alpha;
       return alpha == 1.0 ? dub.norm() / ndu : kNoContraction;
     }
   }
   u += du;
   border.set_multipliers(p0 + dp);
+  taken = 1.0;
   return kNoContraction;
 }
 
@@ -174,6 +177,7 @@ bool bordered_newton(StepEquations& eq, JacobianSolver& linear, CavityBorder& bo
   const bool may_reuse = settings.bordered_max_reuses > 0 && !border.empty();
   bool reform = true;
   int reuses = 0, factorised = 0;
+  NewtonReporter reporter(settings.on_iteration, linear);
   for (int it = 0;; ++it) {
     throw_if_stop_requested("bordered Newton");
     eq.residual(u, r);
@@ -181,7 +185,7 @@ bool bordered_newton(StepEquations& eq, JacobianSolver& linear, CavityBorder& bo
     const bool volumes_ok = border.residuals(eq.positions(u), rv);
     if (!std::isfinite(nr) || !rv.allFinite()) return fail();
     record.residuals.push_back(nr);
-    if (settings.on_iteration) settings.on_iteration(it, nr);
+    reporter.report(it, nr);
     if (it == 0) r0 = std::max(nr, r0_floor);
     const bool forces_ok = nr <= settings.newton_atol || nr <= settings.newton_rtol * r0;
     if ((border.empty() || it > 0) && volumes_ok && forces_ok) return true;
@@ -199,12 +203,15 @@ bool bordered_newton(StepEquations& eq, JacobianSolver& linear, CavityBorder& bo
     if (!linear.solve(r, du)) return fail();
     if (!border.empty() && !border.correct(linear, eq, eq.positions(u), rv, du, dp)) return fail();
     zero_dofs(du, linear.fixed_dofs());
+    double alpha = 1.0;
+    const bool fresh = reform;
     if (border.empty()) {
       u += du;
     } else {
-      const double theta = damped_update(eq, linear, border, dp, du, u);
+      const double theta = damped_update(eq, linear, border, dp, du, u, alpha);
       reform = !(may_reuse && theta <= kReuseContraction && reuses < settings.bordered_max_reuses);
     }
+    reporter.took(alpha * du.cwiseAbs().maxCoeff(), alpha, fresh);
     ++record.iterations;
     if (!u.allFinite()) return fail();
     if (border.empty() && eq.position_change(du) <= settings.newton_xtol) {

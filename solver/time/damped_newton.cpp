@@ -78,7 +78,8 @@ class DampedNewton {
         pending_(dpres_.cwiseAbs().maxCoeff() > 0.0),
         quasi_(settings.bfgs_max_updates > 0),
         may_reuse_(!quasi_ && settings.newton_max_reuses > 0),
-        counts_operators_(quasi_ || may_reuse_) {
+        counts_operators_(quasi_ || may_reuse_),
+        reporter_(settings.on_iteration, linear) {
     if (quasi_) bfgs_.emplace(settings.bfgs_max_updates);
   }
 
@@ -86,6 +87,7 @@ class DampedNewton {
   bool solve() {
     eq_.residual(x_, f_);
     for (int it = 0;; ++it) {
+      it_ = it;
       throw_if_stop_requested("static Newton");
       const double nr = f_.norm();
       if (!std::isfinite(nr)) return false;
@@ -120,7 +122,7 @@ class DampedNewton {
       if (record_.residuals.empty()) r0_ = nr;
       record_.residuals.push_back(nr);
     }
-    if (set_.on_iteration && record_residual_) set_.on_iteration(it, nr);
+    if (record_residual_) reporter_.report(it, nr);
     record_residual_ = true;
     return !pending_ && residual_converged(nr);
   }
@@ -155,6 +157,7 @@ class DampedNewton {
   /// The linearised move of the prescribed values, taken whole (no damping); the operator
   /// belongs to the sheared start, not to the new x. False when x is no longer finite.
   bool take_prescribed_move() {
+    reporter_.took(dx_.cwiseAbs().maxCoeff(), 1.0, true);
     x_ += dx_;
     pending_ = false;
     dpres_.setZero();
@@ -180,6 +183,7 @@ class DampedNewton {
     }
     if (quasi_) after_quasi_newton_step(alpha, fresh, corrected);
     if (may_reuse_ && !choose_reuse(alpha, corrected)) return Verdict::kFailed;
+    reporter_.took(alpha * dx_.cwiseAbs().maxCoeff(), alpha, fresh);
     return accept(alpha);
   }
 
@@ -225,6 +229,7 @@ class DampedNewton {
     if (!x_.allFinite()) return Verdict::kFailed;
     if (alpha * dx_.cwiseAbs().maxCoeff() <= set_.newton_xtol) {
       record_.residuals.push_back(f_.norm());
+      reporter_.report(it_ + 1, f_.norm());
       return Verdict::kConverged;
     }
     return Verdict::kGoOn;
@@ -241,11 +246,13 @@ class DampedNewton {
   const bool may_reuse_;         ///< modified Newton: the factorised operator kept while full steps contract
   const bool counts_operators_;  ///< max_newton bounds the factorisations
   std::optional<BfgsInverse> bfgs_;
+  NewtonReporter reporter_;      ///< the observer's view of each iterate (settings.on_iteration)
   bool reform_ = true;           ///< the next direction needs the operator at the current x
   bool have_next_ = false;       ///< next_ holds the direction at x (BFGS's or modified Newton's)
   bool record_residual_ = true;  ///< false when an iteration is redone from the same x
   int reuses_ = 0;               ///< iterations since the last factorisation
   int operators_ = 0;            ///< factorised in this solve
+  int it_ = 0;                   ///< the iteration under way
   double r0_ = 0.0;              ///< the first residual norm recorded into an empty record (else 0)
   Eigen::Matrix3Xd f_, dx_, trial_, r_, dxb_, next_;
 };

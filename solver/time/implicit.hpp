@@ -58,6 +58,7 @@
 #include <vector>
 
 #include "solver/time/integrator.hpp"
+#include "solver/time/newton_iterate.hpp"
 
 namespace adamss::solver {
 
@@ -87,10 +88,11 @@ struct ImplicitSettings {
   /// contracts (damped_newton.hpp); max_newton then bounds the factorisations.
   int newton_max_reuses = 0;
   std::string petsc_options;  ///< e.g. "-ksp_type cg -pc_type hypre"
-  /// Called at every Newton iteration of every attempt with the iteration (0 = the start of the
-  /// attempt) and its residual 2-norm (N): the run loop's progress lines inside a long step
-  /// (solver/run/run.cpp). Empty: nothing is called. It must not change the solve.
-  std::function<void(int iteration, double residual)> on_iteration;
+  /// Called at every Newton iteration of every attempt (NewtonIterate: the iterate's residual
+  /// and the update that led to it): the run loop's progress lines inside a long step and
+  /// output.newton_log (solver/run/run.cpp). Empty: nothing is called. It must not change the
+  /// solve.
+  std::function<void(const NewtonIterate&)> on_iteration;
 };
 
 /// What the Newton iterations of one attempt did (for the step-size rule, tests and logs).

@@ -4,10 +4,13 @@
 // --resume, moved into previous/ by a fresh run, written with -q too).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "cli_runner.hpp"
 
@@ -128,4 +131,126 @@ TEST(RunLog, TheLogIsAppendedOnResumeAndMovedAsideByAFreshRun) {
   r = run_adamss(run + " --progress-interval 5mm");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("--progress-interval: unit 'mm' is a length"), std::string::npos) << r.output;
+}
+
+namespace {
+
+/// One "newton step S (from t = ...) attempt A iteration K: |R| ..." line of run.log.
+struct NewtonLine {
+  std::size_t step = 0;
+  int attempt = 0, iteration = 0;
+  double residual = 0.0, alpha = 0.0;
+  int factorisations = 0, krylov = 0;
+  bool kept = false;
+};
+
+/// The integer written just before `tag` in `line` (0 when the tag is absent).
+int number_before(const std::string& line, const std::string& tag) {
+  std::size_t end = line.find(tag);
+  if (end == std::string::npos) return 0;
+  std::size_t begin = end;
+  while (begin > 0 && line[begin - 1] >= '0' && line[begin - 1] <= '9') --begin;
+  return std::stoi(line.substr(begin, end - begin));
+}
+
+/// The output.newton_log lines of a run.log, in order.
+std::vector<NewtonLine> newton_lines(const std::string& log) {
+  std::vector<NewtonLine> out;
+  std::istringstream lines(log);
+  for (std::string line; std::getline(lines, line);) {
+    const auto at = line.find("newton step ");
+    if (at == std::string::npos) continue;
+    NewtonLine n;
+    std::sscanf(line.c_str() + at, "newton step %zu", &n.step);
+    std::sscanf(line.c_str() + line.find(") attempt "), ") attempt %d iteration %d: |R| %lf", &n.attempt, &n.iteration,
+                &n.residual);
+    if (n.iteration > 0) {
+      std::sscanf(line.c_str() + line.find("(alpha "), "(alpha %lf", &n.alpha);
+      n.kept = line.find(", kept operator, ") != std::string::npos;
+      n.factorisations = number_before(line, " factorisation");
+      n.krylov = number_before(line, " KSP)");
+    }
+    out.push_back(n);
+  }
+  return out;
+}
+
+/// Checks a run's newton_log lines against its summary: every step's last attempt starts at
+/// iteration 0, numbers its iterates 1, 2, ... and ends below newton_atol (1e-12 N) or rtol x the
+/// residual of iterate `reference` (1 where the first update is a prescribed move, whose residual
+/// starts the relative test; damped_newton.hpp);
+/// those attempts' iterates sum to the summary's Newton and Krylov iterations, and every attempt's
+/// factorisations to the time split's.
+void expect_log_matches_summary(const std::vector<NewtonLine>& lines, const nlohmann::json& summary, double rtol,
+                                std::size_t reference) {
+  const auto steps = summary["steps"].get<std::size_t>();
+  ASSERT_FALSE(lines.empty());
+  std::size_t newton = 0, krylov = 0, factorised = 0;
+  for (std::size_t s = 1; s <= steps; ++s) {
+    std::vector<NewtonLine> last;  // the step's last attempt
+    for (const NewtonLine& n : lines) {
+      if (n.step != s) continue;
+      if (n.iteration == 0) last.clear();
+      last.push_back(n);
+    }
+    ASSERT_GE(last.size(), reference + 2) << "step " << s;
+    for (std::size_t k = 0; k < last.size(); ++k) EXPECT_EQ(last[k].iteration, static_cast<int>(k)) << "step " << s;
+    EXPECT_LE(last.back().residual, std::max(1e-12, rtol * last[reference].residual)) << "step " << s;
+    EXPECT_GT(last.back().residual, 0.0) << "step " << s;
+    newton += last.size() - 1;
+    for (const NewtonLine& n : last) krylov += static_cast<std::size_t>(n.krylov);
+  }
+  for (const NewtonLine& n : lines) factorised += static_cast<std::size_t>(n.factorisations);
+  EXPECT_EQ(newton, summary["newton_iterations"].get<std::size_t>());
+  EXPECT_EQ(krylov, summary["linear_iterations"].get<std::size_t>());
+  EXPECT_EQ(factorised, summary["time_split_s"]["factorisations"]["calls"].get<std::size_t>());
+}
+
+}  // namespace
+
+// output.newton_log: a run.log line for every Newton iterate, in the held-cavity steps (bordered
+// Newton) and in the damped Newton of a static stretch whose first update is the prescribed move.
+// The lines add up to the summary's counts; without the key there are none.
+TEST(RunLog, TheNewtonLogHasALineForEveryIterate) {
+  const fs::path dir = scratch_dir("runlog_newton_log");
+  std::ifstream in(std::string(ADAMSS_SOURCE_DIR) + "/cases/quick/lv_isovolumic_static.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string lv = text.str();
+  const auto at = lv.find("output:\n");
+  ASSERT_NE(at, std::string::npos);
+  lv.insert(at + 8, "  newton_log: true\n");
+  for (const char* sub : {"lv", "slab", "bad"}) fs::create_directories(dir / sub);
+  const fs::path lv_scene = write_scene(dir / "lv", lv);
+  auto r = run_adamss("run " + lv_scene.string() + " -o " + (dir / "lv_out").string() + cache_arg(dir));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string lv_log = contents(dir / "lv_out" / "run.log");
+  EXPECT_EQ(r.output.find("newton step "), std::string::npos) << "the Newton log went to stderr";
+  expect_log_matches_summary(newton_lines(lv_log), read_summary(dir / "lv_out"), 1e-9, 0);
+
+  const fs::path slab = write_scene(dir / "slab", adamss::test::slab_scene_head() +
+                                                      "{type: static, dt: 1 ms, newton_rtol: 1e-10}\n"
+                                                      "run: {t_end: 2 ms}\noutput: {newton_log: true}\n");
+  r = run_adamss("run " + slab.string() + " -o " + (dir / "slab_out").string() + cache_arg(dir));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto slab_lines = newton_lines(contents(dir / "slab_out" / "run.log"));
+  expect_log_matches_summary(slab_lines, read_summary(dir / "slab_out"), 1e-10, 1);
+  // The first update of each step moves the controlled face: whole, from a new operator.
+  ASSERT_GE(slab_lines.size(), 2u);
+  EXPECT_EQ(slab_lines[1].iteration, 1);
+  EXPECT_EQ(slab_lines[1].alpha, 1.0);
+  EXPECT_FALSE(slab_lines[1].kept);
+  EXPECT_EQ(slab_lines[1].factorisations, 1);
+
+  r = run_adamss("run " + std::string(ADAMSS_SOURCE_DIR) + "/cases/quick/lv_isovolumic_static.yaml -o " +
+                 (dir / "off").string() + cache_arg(dir));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(contents(dir / "off" / "run.log").find("newton step "), std::string::npos);
+
+  const fs::path bad = write_scene(dir / "bad", adamss::test::slab_scene_head() +
+                                                    "{type: static, dt: 1 ms}\nrun: {t_end: 2 ms}\n"
+                                                    "output: {newton_log: sometimes}\n");
+  r = run_adamss("run " + bad.string() + " --check" + cache_arg(dir));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("output.newton_log: expected true or false, got 'sometimes'"), std::string::npos) << r.output;
 }

@@ -184,8 +184,8 @@ TEST(PenaltyContinuation, AFailedOrInterruptedStepLeavesTheFullPenaltyAndTheStep
     solver::ImplicitSettings set = tight(40);
     const PenaltyContinuation* staged = beam.staged();
     bool requested = false;
-    set.on_iteration = [&](int it, double /*r*/) {
-      if (!requested && it == 1 && staged->scale() > 0.01) {
+    set.on_iteration = [&](const solver::NewtonIterate& n) {
+      if (!requested && n.iteration == 1 && staged->scale() > 0.01) {
         requested = true;
         solver::request_stop(SIGTERM);
       }
