@@ -74,7 +74,8 @@ class RunLoop {
   Clock::time_point step_start_;        ///< when the step under way began (for show_newton)
   Clock::time_point last_newton_line_;  ///< show_newton's last line
   double step_t0_ = 0.0;                ///< its start time, s
-  int attempt_ = 0;                     ///< attempts of the step under way so far (output.newton_log)
+  int solve_ = 0;                       ///< Newton solves of the step under way so far (output.newton_log)
+  bool newton_log_ = set_.newton_log;   ///< output.newton_log, until a write fails
   RunLoopState loop_;
   RunOutcome out_;      ///< status, reason, bad element, memory; the counters are loop_'s until finish
   State spare_;         ///< the instability check copies s here; swapped with loop_.good when it passes
@@ -174,7 +175,7 @@ bool RunLoop::step(State& s) {
   StepReport& rep = loop_.last_report;
   step_start_ = Clock::now();
   step_t0_ = s.t;
-  attempt_ = 0;
+  solve_ = 0;
   try {
     rep = integ_->step(s, h);
   } catch (const StepInterrupted&) {
@@ -319,33 +320,49 @@ ImplicitSettings RunLoop::observed(const ImplicitSettings& implicit) {
   ImplicitSettings set = implicit;
   set.on_iteration = [this, earlier = implicit.on_iteration](const NewtonIterate& n) {
     if (earlier) earlier(n);
-    if (n.iteration == 0) ++attempt_;
-    if (set_.newton_log) log_newton(n);
-    show_newton(n);
+    if (n.iteration == 0 && !n.failed) ++solve_;
+    if (newton_log_) log_newton(n);
+    if (!n.failed) show_newton(n);
   };
   return set;
 }
 
 /// output.newton_log: one run.log line per Newton iterate (newton_iterate.hpp), e.g.
-///   newton step 12 (from t = 0.45 s) attempt 1 iteration 3: |R| 1.234e-03 N, update 2.10e-05 m (alpha 0.5,
-///   new operator, 1 factorisation, 7 KSP), wall 12.3 s
-/// Iteration 0 is the attempt's start (no update). Not on stderr: a terminal keeps its progress line.
+///   newton step 12 (from t = 0.45 s) solve 1 iteration 3: |R| 1.2340e-03 N, update 2.100e-05 m
+///   (alpha 0.5, new operator, 1 factorisation, 7 KSP), wall 12.3 s
+/// `solve` counts the step's Newton solves: a rejected attempt, a penalty raise or a multiplier
+/// update starts another. Not on stderr (a terminal keeps its progress line). A failed write
+/// stops these lines only (the run goes on; rank 0 alone writes, so throwing here, inside the
+/// Newton loop, would leave the other ranks waiting in the solver).
 void RunLoop::log_newton(const NewtonIterate& n) {
-  char line[320];
-  if (n.iteration == 0) {
-    std::snprintf(line, sizeof line,
-                  "newton step %zu (from t = %.6g s) attempt %d iteration 0: |R| %.4e N, wall %.1f s", loop_.steps + 1,
-                  step_t0_, attempt_, n.residual, wall());
+  char head[96], tail[256];
+  std::snprintf(head, sizeof head, "newton step %zu (from t = %.6g s) solve %d iteration %d: ", loop_.steps + 1,
+                step_t0_, solve_, n.iteration);
+  const auto cost = [&n] {
+    return std::to_string(n.factorisations) + (n.factorisations == 1 ? " factorisation, " : " factorisations, ") +
+           std::to_string(n.linear_iterations) + " KSP";
+  };
+  if (n.failed) {
+    std::snprintf(tail, sizeof tail, "failed (%s since the last iterate), wall %.1f s", cost().c_str(), wall());
+  } else if (n.iteration == 0) {
+    std::snprintf(tail, sizeof tail, "|R| %.4e N, wall %.1f s", n.residual, wall());
   } else {
-    std::snprintf(
-        line, sizeof line,
-        "newton step %zu (from t = %.6g s) attempt %d iteration %d: |R| %.4e N, update %.3e %s (alpha %.4g, %s "
-        "operator, %d factorisation%s, %d KSP), wall %.1f s",
-        loop_.steps + 1, step_t0_, attempt_, n.iteration, n.residual, n.update,
-        set_.integrator == "backward_euler_newton" ? "m/s" : "m", n.step_length, n.new_operator ? "new" : "kept",
-        n.factorisations, n.factorisations == 1 ? "" : "s", n.linear_iterations, wall());
+    char r[48];
+    if (std::isfinite(n.residual)) {
+      std::snprintf(r, sizeof r, "|R| %.4e N", n.residual);
+    } else {
+      std::snprintf(r, sizeof r, "|R| not evaluated (converged on the update)");
+    }
+    std::snprintf(tail, sizeof tail, "%s, update %.3e %s (alpha %.4g, %s operator, %s), wall %.1f s", r, n.update,
+                  set_.integrator == "backward_euler_newton" ? "m/s" : "m", n.step_length,
+                  n.new_operator ? "new" : "kept", cost().c_str(), wall());
   }
-  writer_.log().line(line);
+  try {
+    writer_.log().line(std::string(head) + tail);
+  } catch (const IoError& e) {
+    newton_log_ = false;
+    std::fprintf(stderr, "adamss: warning: output.newton_log stopped: %s\n", e.what());
+  }
 }
 
 /// Inside a step that has run for progress_interval or more (wall), a line per Newton iteration

@@ -166,8 +166,10 @@ void CavityBorder::restore() const {
 
 bool bordered_newton(StepEquations& eq, JacobianSolver& linear, CavityBorder& border, Eigen::Matrix3Xd& u,
                      const ImplicitSettings& settings, double r0_floor, NewtonRecord& record) {
-  const auto fail = [&border] {
+  NewtonReporter reporter(settings.on_iteration, linear);
+  const auto fail = [&border, &reporter] {
     border.restore();
+    reporter.fail();
     return false;
   };
   Eigen::Matrix3Xd r, du;
@@ -177,7 +179,6 @@ bool bordered_newton(StepEquations& eq, JacobianSolver& linear, CavityBorder& bo
   const bool may_reuse = settings.bordered_max_reuses > 0 && !border.empty();
   bool reform = true;
   int reuses = 0, factorised = 0;
-  NewtonReporter reporter(settings.on_iteration, linear);
   for (int it = 0;; ++it) {
     throw_if_stop_requested("bordered Newton");
     eq.residual(u, r);
@@ -185,7 +186,7 @@ bool bordered_newton(StepEquations& eq, JacobianSolver& linear, CavityBorder& bo
     const bool volumes_ok = border.residuals(eq.positions(u), rv);
     if (!std::isfinite(nr) || !rv.allFinite()) return fail();
     record.residuals.push_back(nr);
-    reporter.report(it, nr);
+    reporter.report(nr);
     if (it == 0) r0 = std::max(nr, r0_floor);
     const bool forces_ok = nr <= settings.newton_atol || nr <= settings.newton_rtol * r0;
     if ((border.empty() || it > 0) && volumes_ok && forces_ok) return true;
@@ -216,6 +217,7 @@ bool bordered_newton(StepEquations& eq, JacobianSolver& linear, CavityBorder& bo
     if (!u.allFinite()) return fail();
     if (border.empty() && eq.position_change(du) <= settings.newton_xtol) {
       record.residuals.push_back(0.0);
+      reporter.report(std::numeric_limits<double>::quiet_NaN());  // converged on the update
       return true;
     }
   }

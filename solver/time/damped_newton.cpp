@@ -83,15 +83,21 @@ class DampedNewton {
     if (quasi_) bfgs_.emplace(settings.bfgs_max_updates);
   }
 
-  /// Iterates from x until converged (true) or failed (false).
+  /// Iterates from x until converged (true) or failed (false; the observer is told).
   bool solve() {
+    const bool ok = iterate();
+    if (!ok) reporter_.fail();
+    return ok;
+  }
+
+ private:
+  bool iterate() {
     eq_.residual(x_, f_);
     for (int it = 0;; ++it) {
-      it_ = it;
       throw_if_stop_requested("static Newton");
       const double nr = f_.norm();
       if (!std::isfinite(nr)) return false;
-      if (report(it, nr)) return true;
+      if (report(nr)) return true;
       const bool fresh = reform_ || !counts_operators_;
       if (over_budget(it, fresh) || !direction(fresh)) return false;
       if (pending_) {
@@ -103,7 +109,6 @@ class DampedNewton {
     }
   }
 
- private:
   /// The residual test of convergence: |r| <= atol or |r| <= rtol |r_0|.
   [[nodiscard]] bool residual_converged(double n) const { return n <= set_.newton_atol || n <= set_.newton_rtol * r0_; }
 
@@ -115,14 +120,14 @@ class DampedNewton {
     return true;
   }
 
-  /// Records iteration `it`'s residual norm nr (not while the prescribed move is pending, nor
+  /// Records the iterate's residual norm nr (not while the prescribed move is pending, nor
   /// again for an iteration redone from the same x) and reports it; true when it converged.
-  bool report(int it, double nr) {
+  bool report(double nr) {
     if (!pending_ && record_residual_) {
       if (record_.residuals.empty()) r0_ = nr;
       record_.residuals.push_back(nr);
     }
-    if (record_residual_) reporter_.report(it, nr);
+    if (record_residual_) reporter_.report(nr);
     record_residual_ = true;
     return !pending_ && residual_converged(nr);
   }
@@ -229,7 +234,7 @@ class DampedNewton {
     if (!x_.allFinite()) return Verdict::kFailed;
     if (alpha * dx_.cwiseAbs().maxCoeff() <= set_.newton_xtol) {
       record_.residuals.push_back(f_.norm());
-      reporter_.report(it_ + 1, f_.norm());
+      reporter_.report(f_.norm());
       return Verdict::kConverged;
     }
     return Verdict::kGoOn;
@@ -252,7 +257,6 @@ class DampedNewton {
   bool record_residual_ = true;  ///< false when an iteration is redone from the same x
   int reuses_ = 0;               ///< iterations since the last factorisation
   int operators_ = 0;            ///< factorised in this solve
-  int it_ = 0;                   ///< the iteration under way
   double r0_ = 0.0;              ///< the first residual norm recorded into an empty record (else 0)
   Eigen::Matrix3Xd f_, dx_, trial_, r_, dxb_, next_;
 };

@@ -1,5 +1,7 @@
 #include "solver/time/newton_iterate.hpp"
 
+#include <limits>
+
 #include "solver/time/petsc/jacobian_solver.hpp"
 
 namespace adamss::solver {
@@ -7,17 +9,9 @@ namespace adamss::solver {
 NewtonReporter::NewtonReporter(const NewtonObserver& observer, const JacobianSolver& linear)
     : observer_(observer), linear_(linear) {
   if (observer_) {
-    krylov0_ = krylov();
-    factorised0_ = factorised();
+    krylov0_ = linear_.iterations();
+    factorised0_ = linear_.times().factorisations.count;
   }
-}
-
-int NewtonReporter::krylov() const {
-  return linear_.iterations();
-}
-
-std::size_t NewtonReporter::factorised() const {
-  return linear_.times().factorisations.count;
 }
 
 void NewtonReporter::took(double update, double step_length, bool new_operator) {
@@ -26,20 +20,29 @@ void NewtonReporter::took(double update, double step_length, bool new_operator) 
   next_.new_operator = new_operator;
 }
 
-void NewtonReporter::report(int iteration, double residual) {
+void NewtonReporter::report(double residual) {
   if (!observer_) return;
-  next_.iteration = iteration;
+  next_.iteration = index_++;
   next_.residual = residual;
-  // The solver's counters only grow within an attempt; a reset between reports counts from zero.
-  next_.linear_iterations = krylov() - (krylov() >= krylov0_ ? krylov0_ : 0);
-  next_.factorisations = static_cast<int>(factorised() - (factorised() >= factorised0_ ? factorised0_ : 0));
-  if (iteration == 0) {
-    next_.update = next_.step_length = 0.0;
-    next_.new_operator = false;
-  }
-  observer_(next_);
-  krylov0_ = krylov();
-  factorised0_ = factorised();
+  if (next_.iteration == 0) next_ = NewtonIterate{0, residual};
+  send(next_);
+}
+
+void NewtonReporter::fail() {
+  if (!observer_) return;
+  NewtonIterate n;
+  n.iteration = index_;
+  n.residual = std::numeric_limits<double>::quiet_NaN();
+  n.failed = true;
+  send(n);
+}
+
+void NewtonReporter::send(NewtonIterate& n) {
+  n.linear_iterations = linear_.iterations() - krylov0_;
+  n.factorisations = static_cast<int>(linear_.times().factorisations.count - factorised0_);
+  observer_(n);
+  krylov0_ = linear_.iterations();
+  factorised0_ = linear_.times().factorisations.count;
   next_ = NewtonIterate{};
 }
 
