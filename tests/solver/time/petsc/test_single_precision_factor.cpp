@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <memory>
 #include <string>
@@ -176,31 +177,52 @@ integrator: {type: static, dt: 1 s}
 run: {t_end: 1 s}
 )";
 
+/// kScene's model at a perturbed state (nodes moved by up to 5 % of 1 mm, no velocity): the state
+/// at which the single- and double-precision solvers of these tests are compared.
+struct PerturbedBlock {
+  PerturbedBlock() = default;
+  PerturbedBlock(const PerturbedBlock&) = delete;
+  PerturbedBlock& operator=(const PerturbedBlock&) = delete;
+
+  /// A random right-hand side (generator `seed`) with the fixed coordinates of `s` zeroed.
+  [[nodiscard]] Eigen::Matrix3Xd rhs(unsigned seed, const solver::JacobianSolver& s) const {
+    Eigen::Matrix3Xd b = test::perturbed(Eigen::Matrix3Xd::Zero(3, x.cols()), 1.0, 1.0, seed);
+    solver::zero_dofs(b, s.fixed_dofs());
+    return b;
+  }
+
+  /// Assembles cx dF/dx at the state into each solver and eliminates its fixed coordinates.
+  void assemble(std::initializer_list<solver::JacobianSolver*> solvers, double cx) const {
+    for (solver::JacobianSolver* s : solvers) {
+      s->assemble(model.terms, at, cx, 0.0);
+      s->eliminate();
+    }
+  }
+
+  solver::LoadedScene loaded = test::load_scene(kScene);
+  const solver::Model& model = loaded.model;
+  const Eigen::Matrix3Xd x = test::perturbed(model.mesh->nodes, 1e-3, 0.05);
+  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, x.cols());
+  const solver::StateView at{x, v, 1.0};
+};
+
 /// The single-precision solver (GMRES to relative residual `rtol`) against the double-precision
 /// factorisation on the nodal-volume block, static (L D L^T) and negated operators, free and
 /// prescribed solves: the largest relative difference of the solutions, and the GMRES iterations of
 /// the first solve.
 double single_against_double(const std::string& rtol, int& iterations) {
-  const auto loaded = test::load_scene(kScene);
-  const solver::Model& model = loaded.model;
-  const Eigen::Matrix3Xd x = test::perturbed(model.mesh->nodes, 1e-3, 0.05);
-  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, x.cols());
-  const solver::StateView at{x, v, 1.0};
+  const PerturbedBlock b;
   const auto single =
-      test::solver_with(model, {{"-adamss_factorisation_precision", "single"}, {"-adamss_refinement_rtol", rtol}});
-  const auto plain = test::solver_with(model, {});  // auto: double precision for 135 coordinates
-  Eigen::Matrix3Xd rhs = test::perturbed(Eigen::Matrix3Xd::Zero(3, x.cols()), 1.0, 1.0, 7);
-  solver::zero_dofs(rhs, single->fixed_dofs());
-  Eigen::Matrix3Xd prescribed = Eigen::Matrix3Xd::Zero(3, x.cols());
+      test::solver_with(b.model, {{"-adamss_factorisation_precision", "single"}, {"-adamss_refinement_rtol", rtol}});
+  const auto plain = test::solver_with(b.model, {});  // auto: double precision for 135 coordinates
+  const Eigen::Matrix3Xd rhs = b.rhs(7, *single);
+  Eigen::Matrix3Xd prescribed = Eigen::Matrix3Xd::Zero(3, b.x.cols());
   for (const Eigen::Index d : single->fixed_dofs()) prescribed.data()[d] = 1e-4 * static_cast<double>(d % 5);
   double worst = 0.0;
   iterations = -1;
   for (const double cx : {-1.0, 1.0}) {
     SCOPED_TRACE("cx = " + std::to_string(cx));
-    for (solver::JacobianSolver* s : {single.get(), plain.get()}) {
-      s->assemble(model.terms, at, cx, 0.0);
-      s->eliminate();
-    }
+    b.assemble({single.get(), plain.get()}, cx);
     Eigen::Matrix3Xd us, ud;
     single->reset_iterations();
     EXPECT_TRUE(single->solve(rhs, us));
@@ -211,7 +233,7 @@ double single_against_double(const std::string& rtol, int& iterations) {
     EXPECT_EQ(single->describe(),
               "fgmres + cholesky (mumps, single precision, METIS order), bordered operator: 135 + 45 unknowns");
     EXPECT_EQ(plain->describe().substr(0, 8), "preonly ");
-    for (solver::JacobianSolver* s : {single.get(), plain.get()}) s->assemble(model.terms, at, cx, 0.0);
+    for (solver::JacobianSolver* s : {single.get(), plain.get()}) s->assemble(b.model.terms, b.at, cx, 0.0);
     EXPECT_TRUE(single->solve_prescribed(rhs, prescribed, us));
     EXPECT_TRUE(plain->solve_prescribed(rhs, prescribed, ud));
     worst = std::max(worst, (us - ud).norm() / ud.norm());
@@ -234,22 +256,14 @@ TEST(SinglePrecisionFactorisation, RefinedSolutionsAreTheDoubleOnes) {
 }
 
 TEST(SinglePrecisionFactorisation, FallsBackToDoublePrecisionWhenTheRefinementStalls) {
-  const auto loaded = test::load_scene(kScene);
-  const solver::Model& model = loaded.model;
-  const Eigen::Matrix3Xd x = test::perturbed(model.mesh->nodes, 1e-3, 0.05);
-  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, x.cols());
-  const solver::StateView at{x, v, 1.0};
+  const PerturbedBlock b;
   // One GMRES iteration cannot reach 1e-14 from a single-precision factor.
-  const auto single = test::solver_with(model, {{"-adamss_factorisation_precision", "single"},
-                                                {"-adamss_refinement_rtol", "1e-14"},
-                                                {"-adamss_refinement_max_it", "1"}});
-  const auto plain = test::solver_with(model, {{"-adamss_factorisation_precision", "double"}});
-  Eigen::Matrix3Xd rhs = test::perturbed(Eigen::Matrix3Xd::Zero(3, x.cols()), 1.0, 1.0, 3);
-  solver::zero_dofs(rhs, single->fixed_dofs());
-  for (solver::JacobianSolver* s : {single.get(), plain.get()}) {
-    s->assemble(model.terms, at, -1.0, 0.0);
-    s->eliminate();
-  }
+  const auto single = test::solver_with(b.model, {{"-adamss_factorisation_precision", "single"},
+                                                  {"-adamss_refinement_rtol", "1e-14"},
+                                                  {"-adamss_refinement_max_it", "1"}});
+  const auto plain = test::solver_with(b.model, {{"-adamss_factorisation_precision", "double"}});
+  const Eigen::Matrix3Xd rhs = b.rhs(3, *single);
+  b.assemble({single.get(), plain.get()}, -1.0);
   Eigen::Matrix3Xd us, ud;
   ASSERT_TRUE(single->solve(rhs, us));
   ASSERT_TRUE(plain->solve(rhs, ud));
@@ -258,34 +272,26 @@ TEST(SinglePrecisionFactorisation, FallsBackToDoublePrecisionWhenTheRefinementSt
             "preonly + cholesky (mumps), bordered operator: 135 + 45 unknowns; single precision left at solve 1: "
             "GMRES DIVERGED_ITS after 1 iterations");
   // ... for good: the next assembly is factorised in double precision too.
-  single->assemble(model.terms, at, -1.0, 0.0);
-  single->eliminate();
+  b.assemble({single.get()}, -1.0);
   ASSERT_TRUE(single->solve(rhs, us));
   EXPECT_LT((us - ud).norm() / ud.norm(), 1e-12);
   EXPECT_EQ(single->describe().substr(0, 27), "preonly + cholesky (mumps),");
 }
 
 TEST(SinglePrecisionFactorisation, ASingularOperatorFailsItsSolvesWithoutLeavingSinglePrecision) {
-  const auto loaded = test::load_scene(kScene);
-  const solver::Model& model = loaded.model;
-  const Eigen::Matrix3Xd x = test::perturbed(model.mesh->nodes, 1e-3, 0.05);
-  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, x.cols());
-  const solver::StateView at{x, v, 1.0};
-  const auto single = test::solver_with(model, {{"-adamss_factorisation_precision", "single"}});
-  const auto plain = test::solver_with(model, {{"-adamss_factorisation_precision", "double"}});
-  Eigen::Matrix3Xd rhs = test::perturbed(Eigen::Matrix3Xd::Zero(3, x.cols()), 1.0, 1.0, 5);
-  solver::zero_dofs(rhs, single->fixed_dofs());
+  const PerturbedBlock b;
+  const auto single = test::solver_with(b.model, {{"-adamss_factorisation_precision", "single"}});
+  const auto plain = test::solver_with(b.model, {{"-adamss_factorisation_precision", "double"}});
+  const Eigen::Matrix3Xd rhs = b.rhs(5, *single);
   Eigen::Matrix3Xd u;
   for (solver::JacobianSolver* s : {single.get(), plain.get()}) {
-    s->assemble(model.terms, at, 0.0, 0.0);  // the zero operator: singular but for the fixed rows
-    s->eliminate();
+    b.assemble({s}, 0.0);  // the zero operator: singular but for the fixed rows
     EXPECT_FALSE(s->solve(rhs, u));
     EXPECT_FALSE(s->solve(rhs, u));  // the same operator: no second attempt succeeds either
   }
   EXPECT_EQ(single->describe(),
             "fgmres + cholesky (mumps, single precision, METIS order), bordered operator: 135 + 45 unknowns");
-  single->assemble(model.terms, at, -1.0, 0.0);  // the next operator is factorised in single precision
-  single->eliminate();
+  b.assemble({single.get()}, -1.0);  // the next operator is factorised in single precision
   EXPECT_TRUE(single->solve(rhs, u));
   // A right-hand side with a NaN (a Newton trial state gone bad) fails without leaving either.
   Eigen::Matrix3Xd bad = rhs;
@@ -463,22 +469,14 @@ run: {t_end: 1 s}
 TEST(SinglePrecisionFactorisation, ExactSolvesAreRefinedToTheKrylovTolerance) {
   // Newton directions are refined to 1e-4 relative residual only; a solve that is a step's whole
   // result (Directions::Exact, the linearised backward Euler) to ksp_rtol (1e-12 here).
-  const auto loaded = test::load_scene(kScene);
-  const solver::Model& model = loaded.model;
-  const Eigen::Matrix3Xd x = test::perturbed(model.mesh->nodes, 1e-3, 0.05);
-  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, x.cols());
-  const solver::StateView at{x, v, 1.0};
+  const PerturbedBlock b;
   const std::vector<std::pair<std::string, std::string>> single{{"-adamss_factorisation_precision", "single"}};
-  const auto newton = test::solver_with(model, single);
-  const auto exact = test::solver_with(model, single, solver::JacobianSolver::Directions::Exact);
-  const auto plain = test::solver_with(model, {{"-adamss_factorisation_precision", "double"}});
-  Eigen::Matrix3Xd rhs = test::perturbed(Eigen::Matrix3Xd::Zero(3, x.cols()), 1.0, 1.0, 9);
-  solver::zero_dofs(rhs, plain->fixed_dofs());
+  const auto newton = test::solver_with(b.model, single);
+  const auto exact = test::solver_with(b.model, single, solver::JacobianSolver::Directions::Exact);
+  const auto plain = test::solver_with(b.model, {{"-adamss_factorisation_precision", "double"}});
+  const Eigen::Matrix3Xd rhs = b.rhs(9, *plain);
   Eigen::Matrix3Xd un, ue, ud;
-  for (solver::JacobianSolver* s : {newton.get(), exact.get(), plain.get()}) {
-    s->assemble(model.terms, at, -1.0, 0.0);
-    s->eliminate();
-  }
+  b.assemble({newton.get(), exact.get(), plain.get()}, -1.0);
   ASSERT_TRUE(newton->solve(rhs, un));
   ASSERT_TRUE(exact->solve(rhs, ue));
   ASSERT_TRUE(plain->solve(rhs, ud));
