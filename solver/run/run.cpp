@@ -76,6 +76,8 @@ class RunLoop {
   double step_t0_ = 0.0;                ///< its start time, s
   int solve_ = 0;                       ///< Newton solves of the step under way so far (output.newton_log)
   bool newton_log_ = set_.newton_log;   ///< output.newton_log, until a write fails
+  /// The unknown of the Newton updates: velocities for backward Euler Newton, else positions.
+  const char* update_unit_ = integrator_info(set_.integrator).type == IntegratorType::BackwardEulerNewton ? "m/s" : "m";
   RunLoopState loop_;
   RunOutcome out_;      ///< status, reason, bad element, memory; the counters are loop_'s until finish
   State spare_;         ///< the instability check copies s here; swapped with loop_.good when it passes
@@ -354,8 +356,7 @@ void RunLoop::log_newton(const NewtonIterate& n) {
       std::snprintf(r, sizeof r, "|R| not evaluated (converged on the update)");
     }
     std::snprintf(tail, sizeof tail, "%s, update %.3e %s (alpha %.4g, %s operator, %s), wall %.1f s", r, n.update,
-                  set_.integrator == "backward_euler_newton" ? "m/s" : "m", n.step_length,
-                  n.new_operator ? "new" : "kept", cost().c_str(), wall());
+                  update_unit_, n.step_length, n.new_operator ? "new" : "kept", cost().c_str(), wall());
   }
   try {
     writer_.log().line(std::string(head) + tail);

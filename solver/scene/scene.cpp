@@ -400,7 +400,8 @@ LoadedScene assemble(const YAML::Node& root_yaml, const fs::path& origin, const 
   const bool check_dt = load_integrator(root.map("integrator"), sc.run);
   load_run(root.map("run"), sc.run);
   load_output(root, sc.run, model);
-  if (sc.run.newton_log && sc.run.integrator != "static" && sc.run.integrator != "backward_euler_newton") {
+  const IntegratorType type = integrator_info(sc.run.integrator).type;
+  if (sc.run.newton_log && type != IntegratorType::Static && type != IntegratorType::BackwardEulerNewton) {
     sc.warnings.push_back("output.newton_log: the " + sc.run.integrator +
                           " integrator takes no Newton iterations, so run.log gets no Newton lines");
   }

@@ -22,9 +22,9 @@ void NewtonReporter::took(double update, double step_length, bool new_operator) 
 
 void NewtonReporter::report(double residual) {
   if (!observer_) return;
+  if (index_ == 0) next_ = NewtonIterate{};  // the solve's start: no update
   next_.iteration = index_++;
   next_.residual = residual;
-  if (next_.iteration == 0) next_ = NewtonIterate{0, residual};
   send(next_);
 }
 
