@@ -12,6 +12,7 @@
 
 #include "common/error.hpp"
 #include "solver/core/stop_flag.hpp"
+#include "solver/time/petsc/block_mirror.hpp"
 #include "solver/time/petsc/bordered_operator.hpp"
 #include "solver/time/petsc/factorisation_lag.hpp"
 #include "solver/time/petsc/petsc_env.hpp"
@@ -202,6 +203,11 @@ struct JacobianSolver::Petsc {
   void configure_factorisation(const Model& model, PC pc, const char* package);
   /// GAMG's near-null space from this rank's reference coordinates, whoever chose GAMG.
   void give_coordinates(const Model& model, PC pc);
+  /// PETSc's own LU of the plain operator on one rank: factorised from `blocks` (3 x 3 block
+  /// storage, block_mirror.hpp) unless -adamss_block_factorisation false.
+  void choose_block_storage(PC pc, const char* package);
+  /// The matrix the preconditioner is built from: `blocks`'s copy of op() when chosen, else op().
+  [[nodiscard]] Mat factorised() { return blocks ? blocks->update(op()) : op(); }
   /// The matrix the KSP solves with: the bordered operator, or `a`.
   [[nodiscard]] Mat op() const { return border ? border->mat() : a->mat(); }
   /// u and b sized for op(), and on several ranks the gather of u (made again when the bordered
@@ -234,6 +240,7 @@ struct JacobianSolver::Petsc {
 
   std::unique_ptr<BorderedOperator> border;  ///< the bordered form of `a`, when chosen (configure)
   std::unique_ptr<BlockMatrix> a;
+  std::unique_ptr<BlockMirror> blocks;  ///< op() in 3 x 3 block storage for PETSc's LU (choose_block_storage)
   std::vector<PetscInt> fixed;
   KSP ksp = nullptr;
   Vec b = nullptr, u = nullptr;
@@ -285,6 +292,7 @@ void JacobianSolver::Petsc::configure(const Model& model, double ksp_rtol, int k
   read_lag_price();
   make_operator(model, package);
   configure_factorisation(model, pc, package);
+  choose_block_storage(pc, package);
   give_coordinates(model, pc);
 }
 
@@ -343,6 +351,18 @@ void JacobianSolver::Petsc::configure_factorisation(const Model& model, PC pc, c
   petsc_check(KSPGetType(ksp, &kt), "KSPGetType");
   const bool direct = kt != nullptr && std::strcmp(kt, KSPPREONLY) == 0;
   if (mumps && direct && single_precision_wanted(3 * static_cast<PetscInt>(model.node_count()))) use_single();
+}
+
+void JacobianSolver::Petsc::choose_block_storage(PC pc, const char* package) {
+  PetscBool want = PETSC_TRUE;
+  petsc_check(PetscOptionsGetBool(nullptr, nullptr, "-adamss_block_factorisation", &want, nullptr),
+              "PetscOptionsGetBool");
+  PCType type = nullptr;
+  petsc_check(PCGetType(pc, &type), "PCGetType");
+  // LU only: a block ILU is another preconditioner than the pointwise one the options asked for.
+  if (want == PETSC_TRUE && mpi_size() == 1 && !border && package != nullptr &&
+      std::strcmp(package, MATSOLVERPETSC) == 0 && type != nullptr && std::strcmp(type, PCLU) == 0)
+    blocks = std::make_unique<BlockMirror>();
 }
 
 void JacobianSolver::Petsc::give_coordinates(const Model& model, PC pc) {
@@ -409,7 +429,7 @@ void JacobianSolver::Petsc::set_up(TimeSplit& times) {
     }
   }
   if (!single && symmetric_choice) choose_factorisation();
-  petsc_check(KSPSetOperators(ksp, op(), op()), "KSPSetOperators");
+  petsc_check(KSPSetOperators(ksp, op(), factorised()), "KSPSetOperators");
   petsc_check(KSPSetUp(ksp), "KSPSetUp");
   fresh = false;
   factor_kept = single != nullptr;
@@ -570,7 +590,8 @@ std::string JacobianSolver::describe() const {
            (petsc_->single->metis_order() ? ", METIS order)" : ")");
   } else {
     out += pct != nullptr ? pct : "?";
-    if (const char* package = factorisation_package(pc)) out += std::string(" (") + package + ")";
+    if (const char* package = factorisation_package(pc))
+      out += std::string(" (") + package + (petsc_->blocks ? ", 3 x 3 blocks)" : ")");
   }
   const std::string n = std::to_string(petsc_->a->size());
   if (petsc_->border) {
