@@ -405,8 +405,54 @@ std::size_t open_edge_count(const Surface& surface) {
   return boundary_edges(surface).size();
 }
 
+SurfaceClosure surface_closure(const Surface& surface, std::size_t node_count) {
+  validate_surface(surface, node_count);
+  SurfaceClosure c;
+  c.node_count = node_count;
+  c.open = boundary_edges(surface);
+  if (c.open.empty()) return c;
+  // Group the boundary edges by connectivity (union-find over their vertices).
+  std::vector<Index> verts;
+  verts.reserve(2 * c.open.size());
+  for (const Edge& e : c.open) {
+    verts.push_back(e.a);
+    verts.push_back(e.b);
+  }
+  std::sort(verts.begin(), verts.end());
+  verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
+  const auto local = [&verts](Index n) {
+    return static_cast<Index>(std::lower_bound(verts.begin(), verts.end(), n) - verts.begin());
+  };
+  std::vector<Index> parent(verts.size());
+  std::iota(parent.begin(), parent.end(), Index{0});
+  for (const Edge& e : c.open) {
+    const Index ra = find_root(parent, local(e.a)), rb = find_root(parent, local(e.b));
+    if (ra != rb) parent[static_cast<std::size_t>(ra)] = rb;
+  }
+  // Loops numbered in the order of their roots; vertices in increasing order within each.
+  std::vector<std::size_t> loop_of_root(verts.size(), verts.size());
+  for (std::size_t i = 0; i < verts.size(); ++i) {
+    const auto r = static_cast<std::size_t>(find_root(parent, static_cast<Index>(i)));
+    if (loop_of_root[r] == verts.size()) {
+      loop_of_root[r] = c.vertices.size();
+      c.vertices.emplace_back();
+    }
+    c.vertices[loop_of_root[r]].push_back(verts[i]);
+  }
+  c.loop.reserve(c.open.size());
+  for (const Edge& e : c.open) c.loop.push_back(loop_of_root[static_cast<std::size_t>(find_root(parent, local(e.a)))]);
+  return c;
+}
+
 double enclosed_volume(const Surface& surface, const Eigen::Matrix3Xd& x) {
-  validate_surface(surface, static_cast<std::size_t>(x.cols()));
+  return enclosed_volume(surface, surface_closure(surface, static_cast<std::size_t>(x.cols())), x);
+}
+
+double enclosed_volume(const Surface& surface, const SurfaceClosure& closure, const Eigen::Matrix3Xd& x) {
+  if (static_cast<std::size_t>(x.cols()) != closure.node_count) {
+    throw InputError("surface '" + surface.name + "': positions of " + std::to_string(x.cols()) +
+                     " nodes for a surface closed over " + std::to_string(closure.node_count));
+  }
   // Origin: mean of the nodes used (each occurrence counted; any point would do).
   Eigen::Vector3d o = Eigen::Vector3d::Zero();
   std::size_t count = 0;
@@ -444,39 +490,15 @@ double enclosed_volume(const Surface& surface, const Eigen::Matrix3Xd& x) {
     }
   }
 
-  const std::vector<Edge> open = boundary_edges(surface);
-  if (!open.empty()) {
-    // Group the boundary edges by connectivity (union-find over their vertices).
-    std::vector<Index> verts;
-    verts.reserve(2 * open.size());
-    for (const Edge& e : open) {
-      verts.push_back(e.a);
-      verts.push_back(e.b);
-    }
-    std::sort(verts.begin(), verts.end());
-    verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
-    const auto local = [&verts](Index n) {
-      return static_cast<Index>(std::lower_bound(verts.begin(), verts.end(), n) - verts.begin());
-    };
-    std::vector<Index> parent(verts.size());
-    std::iota(parent.begin(), parent.end(), Index{0});
-    for (const Edge& e : open) {
-      const Index ra = find_root(parent, local(e.a)), rb = find_root(parent, local(e.b));
-      if (ra != rb) parent[static_cast<std::size_t>(ra)] = rb;
-    }
-    std::vector<Eigen::Vector3d> centroid(verts.size(), Eigen::Vector3d::Zero());
-    std::vector<int> members(verts.size(), 0);
-    for (std::size_t i = 0; i < verts.size(); ++i) {
-      const auto r = static_cast<std::size_t>(find_root(parent, static_cast<Index>(i)));
-      centroid[r] += p(verts[i]);
-      ++members[r];
-    }
-    for (std::size_t r = 0; r < verts.size(); ++r)
-      if (members[r] > 0) centroid[r] /= members[r];
-    for (const Edge& e : open) {
-      const auto r = static_cast<std::size_t>(find_root(parent, local(e.a)));
-      flux += flux_of({-1, e.b, e.a}, {centroid[r], p(e.b), p(e.a)});  // fan triangle (c, b, a) closes a -> b
-    }
+  // The centroid fan over each open loop (the closure): triangle (c, b, a) closes a -> b.
+  std::vector<Eigen::Vector3d> centroid(closure.vertices.size(), Eigen::Vector3d::Zero());
+  for (std::size_t l = 0; l < closure.vertices.size(); ++l) {
+    for (const Index v : closure.vertices[l]) centroid[l] += p(v);
+    centroid[l] /= static_cast<double>(closure.vertices[l].size());
+  }
+  for (std::size_t k = 0; k < closure.open.size(); ++k) {
+    const Edge& e = closure.open[k];
+    flux += flux_of({-1, e.b, e.a}, {centroid[closure.loop[k]], p(e.b), p(e.a)});
   }
   return -flux / 3.0;
 }

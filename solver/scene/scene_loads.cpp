@@ -18,13 +18,17 @@ namespace {
 /// Reports a pressure surface's enclosed volume and its pressure course.
 class SurfaceMonitor final : public VolumeMonitor {
  public:
-  SurfaceMonitor(Surface surface, TimeCourse pressure) : surface_(std::move(surface)), pressure_(std::move(pressure)) {}
+  SurfaceMonitor(Surface surface, TimeCourse pressure, std::size_t node_count)
+      : surface_(std::move(surface)), closure_(surface_closure(surface_, node_count)), pressure_(std::move(pressure)) {}
   [[nodiscard]] std::string name() const override { return surface_.name; }
-  [[nodiscard]] double volume(const Eigen::Matrix3Xd& x) const override { return enclosed_volume(surface_, x); }
+  [[nodiscard]] double volume(const Eigen::Matrix3Xd& x) const override {
+    return enclosed_volume(surface_, closure_, x);
+  }
   [[nodiscard]] double pressure(double t) const override { return pressure_(t); }
 
  private:
   Surface surface_;
+  SurfaceClosure closure_;
   TimeCourse pressure_;
 };
 
@@ -144,7 +148,7 @@ void build_pressure(SceneNode& p, Model& model, std::set<std::string>& names) {
     const TimeCourse course = p.course("pressure", Dimension::Pressure);
     p.finish();
     model.terms.push_back(make_cavity_pressure_term(surface, course, model.node_count()));
-    model.cavities.push_back(std::make_unique<SurfaceMonitor>(std::move(surface), course));
+    model.cavities.push_back(std::make_unique<SurfaceMonitor>(std::move(surface), course, model.node_count()));
   } else {
     const TimeCourse ratio = p.course("volume_ratio", Dimension::Dimensionless);
     p.finish();

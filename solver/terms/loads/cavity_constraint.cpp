@@ -17,7 +17,8 @@ CavityConstraintTerm::CavityConstraintTerm(const Surface& surface, TimeCourse ra
                      " boundary edges); a volume constraint needs a closed cavity with its lid (e.g. mesh "
                      "--cavity or a phantom recipe)");
   }
-  v0_ = enclosed_volume(surface_, x_ref);
+  closure_ = surface_closure(surface_, static_cast<std::size_t>(x_ref.cols()));
+  v0_ = volume(x_ref);
   if (!(v0_ > 0.0)) throw InputError("cavity_volume:" + surface_.name + ": reference volume is not positive");
   unit_ = make_cavity_pressure_term(surface_, TimeCourse::constant(1.0), static_cast<std::size_t>(x_ref.cols()));
 }

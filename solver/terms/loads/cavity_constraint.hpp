@@ -62,7 +62,9 @@ class CavityConstraintTerm final : public ForceTerm, public VolumeMonitor {
   [[nodiscard]] CavityConstraintTerm* cavity_constraint() override { return this; }
 
   // VolumeMonitor
-  [[nodiscard]] double volume(const Eigen::Matrix3Xd& x) const override { return enclosed_volume(surface_, x); }
+  [[nodiscard]] double volume(const Eigen::Matrix3Xd& x) const override {
+    return enclosed_volume(surface_, closure_, x);
+  }
   [[nodiscard]] double pressure(double /*t*/) const override { return p_; }
 
   /// g = dV/dx (m^2 per coordinate), added to `g` (3 x n).
@@ -78,6 +80,7 @@ class CavityConstraintTerm final : public ForceTerm, public VolumeMonitor {
 
  private:
   Surface surface_;
+  SurfaceClosure closure_;  ///< surface_'s (closed: no open edges), for volume()
   TimeCourse ratio_;
   double v0_ = 0.0;
   double p_ = 0.0;

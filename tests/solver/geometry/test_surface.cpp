@@ -181,6 +181,40 @@ TEST(Surface, OpenSurfaceIsClosedByACentroidFanOrByItsLid) {
   }
 }
 
+TEST(Surface, AClosureKeptOnceGivesTheSameVolumeAsOneFoundAtEachCall) {
+  for (auto t : kTopologies) {
+    const auto mesh = hollow_cube(t);
+    const Surface wall = inner_wall(mesh);
+    // Drop the top and bottom faces of the cavity: a square tube with two rims (two loops).
+    Surface tube = wall;
+    tube.triangles.clear();
+    tube.quads.clear();
+    const auto on_cap = [&](const auto& f) {
+      for (auto n : f) {
+        const double z = mesh.nodes(2, n) / kMm;
+        if (std::abs(z - 3.5) > 1e-9 && std::abs(z - 0.5) > 1e-9) return false;
+      }
+      return true;
+    };
+    for (const auto& f : wall.triangles)
+      if (!on_cap(f)) tube.triangles.push_back(f);
+    for (const auto& f : wall.quads)
+      if (!on_cap(f)) tube.quads.push_back(f);
+    const solver::SurfaceClosure closure = solver::surface_closure(tube, static_cast<std::size_t>(mesh.nodes.cols()));
+    ASSERT_EQ(closure.vertices.size(), 2u);      // the two rims
+    EXPECT_EQ(closure.vertices[0].size(), 12u);  // 4 sides x 3 voxel edges, one vertex each
+    EXPECT_EQ(closure.vertices[1].size(), 12u);
+    EXPECT_EQ(closure.open.size(), 24u);
+    // Warped positions (non-planar rims): the kept closure and the per-call one agree to the bit.
+    Eigen::Matrix3Xd x = mesh.nodes;
+    for (Eigen::Index i = 0; i < x.cols(); ++i) x(2, i) += 0.1 * kMm * std::sin(3.0 * x(0, i) / kMm + x(1, i) / kMm);
+    EXPECT_EQ(solver::enclosed_volume(tube, closure, x), solver::enclosed_volume(tube, x));
+    EXPECT_GT(solver::enclosed_volume(tube, closure, x), 0.0);
+    const Eigen::Matrix3Xd fewer = x.leftCols(x.cols() - 1);
+    EXPECT_THROW((void)solver::enclosed_volume(tube, closure, fewer), InputError);
+  }
+}
+
 TEST(Surface, LvPhantomEndocardiumMatchesVoxelAndAnalyticCavityVolume) {
   preprocess::PhantomOptions po;
   po.voxel_size_m = 1e-3;
