@@ -310,7 +310,7 @@ class StencilTerm final : public ForceTerm {
 
   static constexpr std::size_t kParallelMin = 256;
   /// Items per parallel batch of add_jacobian. The batch's local Jacobians (2 x 9 N^2 doubles an
-  /// item: 1.2 MB for 256 hexahedra) stay in the cache between the kernel that writes them and
+  /// item: 2.4 MB for 256 hexahedra) stay in the cache between the kernel that writes them and
   /// the sink that reads them. 1024 took Land problem 1's 16 assemblies from 0.103 to 0.126 s (one
   /// thread; the first assembly also page-faults in 4 x 3 MB); biv-inflation-coarse.yaml (2
   /// threads) is the same either way (11.78 against 11.85 s, 3 pairs).

@@ -409,6 +409,7 @@ SurfaceClosure surface_closure(const Surface& surface, std::size_t node_count) {
   validate_surface(surface, node_count);
   SurfaceClosure c;
   c.node_count = node_count;
+  c.faces = {surface.triangles.size(), surface.quads.size(), surface.lid.size()};
   c.open = boundary_edges(surface);
   if (c.open.empty()) return c;
   // Group the boundary edges by connectivity (union-find over their vertices).
@@ -449,6 +450,11 @@ double enclosed_volume(const Surface& surface, const Eigen::Matrix3Xd& x) {
 }
 
 double enclosed_volume(const Surface& surface, const SurfaceClosure& closure, const Eigen::Matrix3Xd& x) {
+  if (closure.faces != std::array<std::size_t, 3>{surface.triangles.size(), surface.quads.size(), surface.lid.size()}) {
+    throw InputError("surface '" + surface.name + "': its closing fans were found for another surface (" +
+                     std::to_string(closure.faces[0]) + " triangles, " + std::to_string(closure.faces[1]) + " quads, " +
+                     std::to_string(closure.faces[2]) + " lid triangles)");
+  }
   if (static_cast<std::size_t>(x.cols()) != closure.node_count) {
     throw InputError("surface '" + surface.name + "': positions of " + std::to_string(x.cols()) +
                      " nodes for a surface closed over " + std::to_string(closure.node_count));

@@ -117,13 +117,17 @@ struct SurfaceClosure {
   std::vector<std::size_t> loop;               ///< per open edge: its loop
   std::vector<std::vector<Index>> vertices;    ///< per loop: its distinct vertices, increasing
   std::size_t node_count = 0;                  ///< the node count the surface was validated against
+  /// The surface's triangle, quad and lid counts when it was made: enclosed_volume refuses a
+  /// closure of another surface by them.
+  std::array<std::size_t, 3> faces{};
 };
 
 /// The closure of `surface` (validated against node_count: InputError as validate_surface).
 [[nodiscard]] SurfaceClosure surface_closure(const Surface& surface, std::size_t node_count);
 
 /// enclosed_volume with the closure computed once (surface_closure of the same surface); x must
-/// have the closure's node count (InputError otherwise). The same value to the last bit.
+/// have the closure's node count and the surface its face counts (InputError otherwise). The same
+/// value to the last bit.
 [[nodiscard]] double enclosed_volume(const Surface& surface, const SurfaceClosure& closure, const Eigen::Matrix3Xd& x);
 
 /// Sum over the loaded faces (triangles and quads, not the lid) of |A_j n_j|, the norm

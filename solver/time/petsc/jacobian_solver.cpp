@@ -203,8 +203,9 @@ struct JacobianSolver::Petsc {
   void configure_factorisation(const Model& model, PC pc, const char* package);
   /// GAMG's near-null space from this rank's reference coordinates, whoever chose GAMG.
   void give_coordinates(const Model& model, PC pc);
-  /// PETSc's own LU of the plain operator on one rank: factorised from `blocks` (3 x 3 block
-  /// storage, block_mirror.hpp) unless -adamss_block_factorisation false.
+  /// -adamss_block_factorisation true: PETSc's own LU of the plain operator on one rank factorises
+  /// `blocks` (3 x 3 block storage, block_mirror.hpp); InputError for any other factorisation, or
+  /// for a shift or diagonal reordering the block LU does not have.
   void choose_block_storage(PC pc, const char* package);
   /// The matrix the preconditioner is built from: `blocks`'s copy of op() when chosen, else op().
   [[nodiscard]] Mat factorised() { return blocks ? blocks->update(op()) : op(); }
@@ -354,15 +355,42 @@ void JacobianSolver::Petsc::configure_factorisation(const Model& model, PC pc, c
 }
 
 void JacobianSolver::Petsc::choose_block_storage(PC pc, const char* package) {
-  PetscBool want = PETSC_TRUE;
+  PetscBool want = PETSC_FALSE;
   petsc_check(PetscOptionsGetBool(nullptr, nullptr, "-adamss_block_factorisation", &want, nullptr),
               "PetscOptionsGetBool");
+  if (want == PETSC_FALSE) return;
   PCType type = nullptr;
   petsc_check(PCGetType(pc, &type), "PCGetType");
   // LU only: a block ILU is another preconditioner than the pointwise one the options asked for.
-  if (want == PETSC_TRUE && mpi_size() == 1 && !border && package != nullptr &&
-      std::strcmp(package, MATSOLVERPETSC) == 0 && type != nullptr && std::strcmp(type, PCLU) == 0)
-    blocks = std::make_unique<BlockMirror>();
+  const bool lu = package != nullptr && std::strcmp(package, MATSOLVERPETSC) == 0 && type != nullptr &&
+                  std::strcmp(type, PCLU) == 0;
+  if (!lu || mpi_size() > 1 || border) {
+    throw InputError(
+        "-adamss_block_factorisation true: the 3 x 3 block storage is for PETSc's own LU "
+        "(-pc_factor_mat_solver_type petsc) on one rank without a nodal volume term's bordered operator; this "
+        "run has " +
+        std::string(type != nullptr ? type : "no PC") + (package != nullptr ? std::string(" (") + package + ")" : "") +
+        (mpi_size() > 1 ? " on " + std::to_string(mpi_size()) + " ranks" : "") +
+        (border ? " on the bordered operator" : ""));
+  }
+  // PETSc's block LU knows no shift but its in-block one, and does not move zeros off the diagonal.
+  MatFactorShiftType shift = MAT_SHIFT_NONE;
+  petsc_check(PCFactorGetShiftType(pc, &shift), "PCFactorGetShiftType");
+  const char* prefix = nullptr;
+  petsc_check(PCGetOptionsPrefix(pc, &prefix), "PCGetOptionsPrefix");
+  PetscBool reorder = PETSC_FALSE;
+  petsc_check(PetscOptionsHasName(nullptr, prefix, "-pc_factor_nonzeros_along_diagonal", &reorder),
+              "PetscOptionsHasName");
+  if ((shift != MAT_SHIFT_NONE && shift != MAT_SHIFT_INBLOCKS) || reorder == PETSC_TRUE) {
+    throw InputError(
+        std::string("-adamss_block_factorisation true: PETSc's block LU ") +
+        (reorder == PETSC_TRUE
+             ? "does not move zeros off the diagonal "
+               "(-pc_factor_nonzeros_along_diagonal)"
+             : std::string("supports -pc_factor_shift_type none or inblocks only, not ") + MatFactorShiftTypes[shift]) +
+        "; drop that option or -adamss_block_factorisation");
+  }
+  blocks = std::make_unique<BlockMirror>();
 }
 
 void JacobianSolver::Petsc::give_coordinates(const Model& model, PC pc) {

@@ -212,6 +212,7 @@ TEST(Surface, AClosureKeptOnceGivesTheSameVolumeAsOneFoundAtEachCall) {
     EXPECT_GT(solver::enclosed_volume(tube, closure, x), 0.0);
     const Eigen::Matrix3Xd fewer = x.leftCols(x.cols() - 1);
     EXPECT_THROW((void)solver::enclosed_volume(tube, closure, fewer), InputError);
+    EXPECT_THROW((void)solver::enclosed_volume(wall, closure, x), InputError);  // another surface's closure
   }
 }
 

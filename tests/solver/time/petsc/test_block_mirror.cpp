@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/error.hpp"
 #include "force_term_harness.hpp"
 #include "jacobian_solver_fixtures.hpp"
 #include "scene_fixtures.hpp"
@@ -165,9 +166,9 @@ Eigen::Matrix3Xd solve_with(const Options& options, std::string& describe) {
 }  // namespace
 
 TEST(BlockMirror, PetscLuOnBlocksSolvesAsThePointwiseLu) {
-  const Options petsc = {{"-pc_factor_mat_solver_type", "petsc"}, {"-pc_factor_mat_ordering_type", "rcm"}};
-  Options pointwise = petsc;
-  pointwise.emplace_back("-adamss_block_factorisation", "false");
+  const Options pointwise = {{"-pc_factor_mat_solver_type", "petsc"}, {"-pc_factor_mat_ordering_type", "rcm"}};
+  Options petsc = pointwise;
+  petsc.emplace_back("-adamss_block_factorisation", "true");
   Options mumps = {{"-pc_factor_mat_solver_type", "mumps"}};
   std::string d_blocks, d_pointwise, d_mumps;
   const Eigen::Matrix3Xd u_blocks = solve_with(petsc, d_blocks);
@@ -179,4 +180,28 @@ TEST(BlockMirror, PetscLuOnBlocksSolvesAsThePointwiseLu) {
   ASSERT_GT(u_pointwise.norm(), 0.0);
   EXPECT_LT((u_blocks - u_pointwise).norm() / u_pointwise.norm(), 1e-12);
   EXPECT_LT((u_blocks - u_mumps).norm() / u_mumps.norm(), 1e-12);
+}
+
+TEST(BlockMirror, IsRefusedWhereTheBlockLuCannotDoWhatTheOptionsAsk) {
+  const auto loaded = test::load_scene(kScene);
+  const Options blocks = {{"-pc_factor_mat_solver_type", "petsc"}, {"-adamss_block_factorisation", "true"}};
+  const auto refused = [&](Options extra, const std::string& says) {
+    Options o = blocks;
+    for (auto& e : extra) o.push_back(std::move(e));
+    try {
+      (void)test::solver_with(loaded.model, o);
+      ADD_FAILURE() << "not refused: " << says;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
+  };
+  refused({{"-pc_factor_shift_type", "nonzero"}}, "none or inblocks only, not NONZERO");
+  refused({{"-pc_factor_nonzeros_along_diagonal", ""}}, "does not move zeros off the diagonal");
+  refused({{"-pc_factor_mat_solver_type", "mumps"}}, "PETSc's own LU");
+  refused({{"-pc_type", "ilu"}}, "PETSc's own LU");
+  // The in-block shift is the block LU's own: accepted.
+  const auto s = test::solver_with(loaded.model, {{"-pc_factor_mat_solver_type", "petsc"},
+                                                  {"-adamss_block_factorisation", "true"},
+                                                  {"-pc_factor_shift_type", "inblocks"}});
+  EXPECT_NE(s->describe().find("3 x 3 blocks"), std::string::npos);
 }
