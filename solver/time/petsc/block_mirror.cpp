@@ -14,20 +14,22 @@ namespace {
 constexpr PetscInt kBs = 3;           ///< the block size: the coordinates of one particle
 constexpr PetscInt kBs2 = kBs * kBs;  ///< entries per block
 
-/// aij's CSR structure (MatGetRowIJ), released by the destructor.
+/// A matrix's CSR structure (MatGetRowIJ), released by the destructor; `blocks`: block rows and
+/// block columns (MATSEQBAIJ) instead of entries.
 struct RowIJ {
-  explicit RowIJ(Mat m) : mat(m) {
+  RowIJ(Mat m, bool blocks) : mat(m), compressed(blocks ? PETSC_TRUE : PETSC_FALSE) {
     PetscBool done = PETSC_FALSE;
-    petsc_check(MatGetRowIJ(mat, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia, &ja, &done), "MatGetRowIJ");
+    petsc_check(MatGetRowIJ(mat, 0, PETSC_FALSE, compressed, &n, &ia, &ja, &done), "MatGetRowIJ");
     if (done != PETSC_TRUE) throw NumericalError("block mirror: the operator's row structure is not available");
   }
   ~RowIJ() {
     PetscBool done = PETSC_FALSE;
-    MatRestoreRowIJ(mat, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia, &ja, &done);
+    MatRestoreRowIJ(mat, 0, PETSC_FALSE, compressed, &n, &ia, &ja, &done);
   }
   RowIJ(const RowIJ&) = delete;
   RowIJ& operator=(const RowIJ&) = delete;
   Mat mat;
+  PetscBool compressed;
   PetscInt n = 0;
   const PetscInt* ia = nullptr;
   const PetscInt* ja = nullptr;
@@ -36,14 +38,9 @@ struct RowIJ {
 }  // namespace
 
 void BlockMirror::check_layout(const std::vector<PetscInt>& begin, const std::vector<PetscInt>& cols) const {
-  PetscInt nb = 0;
-  const PetscInt* bi = nullptr;
-  const PetscInt* bj = nullptr;
-  PetscBool done = PETSC_FALSE;
-  petsc_check(MatGetRowIJ(baij_, 0, PETSC_FALSE, PETSC_TRUE, &nb, &bi, &bj, &done), "MatGetRowIJ");
-  const bool same = done == PETSC_TRUE && static_cast<std::size_t>(nb) + 1 == begin.size() &&
-                    std::equal(begin.begin(), begin.end(), bi) && std::equal(cols.begin(), cols.end(), bj);
-  petsc_check(MatRestoreRowIJ(baij_, 0, PETSC_FALSE, PETSC_TRUE, &nb, &bi, &bj, &done), "MatRestoreRowIJ");
+  const RowIJ b(baij_, true);
+  const bool same = static_cast<std::size_t>(b.n) + 1 == begin.size() && std::equal(begin.begin(), begin.end(), b.ia) &&
+                    std::equal(cols.begin(), cols.end(), b.ja);
   if (!same) throw NumericalError("block mirror: the block storage does not list the blocks in the assembled order");
 }
 
@@ -81,7 +78,7 @@ void BlockMirror::map(Mat aij) {
   }
   if (baij_ != nullptr) petsc_check(MatDestroy(&baij_), "MatDestroy");
   source_ = nullptr;
-  const RowIJ s(aij);
+  const RowIJ s(aij, false);
   const PetscInt nb = rows / kBs;
   // The block columns of each block row: the union over its three rows (sorted, distinct).
   std::vector<PetscInt> begin(static_cast<std::size_t>(nb) + 1, 0), cols_of;

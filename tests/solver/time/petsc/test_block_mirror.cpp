@@ -143,20 +143,14 @@ using Options = std::vector<std::pair<std::string, std::string>>;
 /// Solves -K u = rhs at a deformed state of kScene with the solver the options make; its
 /// description after the solve goes to `describe`.
 Eigen::Matrix3Xd solve_with(const Options& options, std::string& describe) {
-  const auto loaded = test::load_scene(kScene);
-  const solver::Model& model = loaded.model;
-  const Eigen::Matrix3Xd x = test::perturbed(model.mesh->nodes, 1e-3, 0.05);
-  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, x.cols());
-  const solver::StateView at{x, v, 1.0};
-  const auto s = test::solver_with(model, options);
-  Eigen::Matrix3Xd rhs = test::perturbed(Eigen::Matrix3Xd::Zero(3, x.cols()), 1.0, 1.0, 5);
-  solver::zero_dofs(rhs, s->fixed_dofs());
+  const test::PerturbedModel m(kScene);
+  const auto s = test::solver_with(m.model, options);
+  const Eigen::Matrix3Xd rhs = m.rhs(5, *s);
   Eigen::Matrix3Xd u;
   // The second assembly (another scale) refreshes the same mirror: a factorisation kept from the
   // first would give 1.5 times this solution.
-  for (int round = 0; round < 2; ++round) {
-    s->assemble(model.terms, at, -1.0 - 0.5 * round, 0.0);
-    s->eliminate();
+  for (const double cx : {-1.0, -1.5}) {
+    m.assemble({s.get()}, cx);
     EXPECT_TRUE(s->solve(rhs, u));
   }
   describe = s->describe();

@@ -177,33 +177,10 @@ integrator: {type: static, dt: 1 s}
 run: {t_end: 1 s}
 )";
 
-/// kScene's model at a perturbed state (nodes moved by up to 5 % of 1 mm, no velocity): the state
-/// at which the single- and double-precision solvers of these tests are compared.
-struct PerturbedBlock {
-  PerturbedBlock() = default;
-  PerturbedBlock(const PerturbedBlock&) = delete;
-  PerturbedBlock& operator=(const PerturbedBlock&) = delete;
-
-  /// A random right-hand side (generator `seed`) with the fixed coordinates of `s` zeroed.
-  [[nodiscard]] Eigen::Matrix3Xd rhs(unsigned seed, const solver::JacobianSolver& s) const {
-    Eigen::Matrix3Xd b = test::perturbed(Eigen::Matrix3Xd::Zero(3, x.cols()), 1.0, 1.0, seed);
-    solver::zero_dofs(b, s.fixed_dofs());
-    return b;
-  }
-
-  /// Assembles cx dF/dx at the state into each solver and eliminates its fixed coordinates.
-  void assemble(std::initializer_list<solver::JacobianSolver*> solvers, double cx) const {
-    for (solver::JacobianSolver* s : solvers) {
-      s->assemble(model.terms, at, cx, 0.0);
-      s->eliminate();
-    }
-  }
-
-  solver::LoadedScene loaded = test::load_scene(kScene);
-  const solver::Model& model = loaded.model;
-  const Eigen::Matrix3Xd x = test::perturbed(model.mesh->nodes, 1e-3, 0.05);
-  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, x.cols());
-  const solver::StateView at{x, v, 1.0};
+/// kScene's model at a perturbed state: where the single- and double-precision solvers of these
+/// tests are compared.
+struct PerturbedBlock : test::PerturbedModel {
+  PerturbedBlock() : test::PerturbedModel(kScene) {}
 };
 
 /// The single-precision solver (GMRES to relative residual `rtol`) against the double-precision

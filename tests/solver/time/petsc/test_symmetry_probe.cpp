@@ -201,20 +201,12 @@ const std::string kTopPressure = R"(loads:
 /// Solves -K u = rhs at a deformed state with the default solver and with
 /// -adamss_symmetric_factorisation false; returns the first's description after the solve.
 std::string solve_both(const std::string& pressure, double& difference) {
-  const auto loaded = test::load_scene(test::replaced(kScene, "PRESSURE", pressure));
-  const solver::Model& model = loaded.model;
-  const Eigen::Matrix3Xd x = test::perturbed(model.mesh->nodes, 1e-3, 0.05);
-  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, x.cols());
-  const solver::StateView at{x, v, 1.0};
-  solver::JacobianSolver chosen(model, "", 1e-12, 100);
-  const auto lu = test::solver_with(model, {{"-adamss_symmetric_factorisation", "false"}});
-  Eigen::Matrix3Xd rhs = test::perturbed(Eigen::Matrix3Xd::Zero(3, x.cols()), 1.0, 1.0, 5);
-  solver::zero_dofs(rhs, chosen.fixed_dofs());
+  const test::PerturbedModel m(test::replaced(kScene, "PRESSURE", pressure));
+  solver::JacobianSolver chosen(m.model, "", 1e-12, 100);
+  const auto lu = test::solver_with(m.model, {{"-adamss_symmetric_factorisation", "false"}});
+  const Eigen::Matrix3Xd rhs = m.rhs(5, chosen);
   Eigen::Matrix3Xd uc, ul;
-  for (solver::JacobianSolver* s : {&chosen, lu.get()}) {
-    s->assemble(model.terms, at, -1.0, 0.0);
-    s->eliminate();
-  }
+  m.assemble({&chosen, lu.get()}, -1.0);
   EXPECT_TRUE(chosen.solve(rhs, uc));
   EXPECT_TRUE(lu->solve(rhs, ul));
   EXPECT_EQ(lu->describe().substr(0, 20), "preonly + lu (mumps)");
