@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "solver/core/stop_flag.hpp"
 #include "solver/terms/loads/cavity_constraint.hpp"
@@ -116,14 +117,19 @@ bool CavityBorder::residuals(const Eigen::Matrix3Xd& x, Eigen::VectorXd& rv) con
 }
 
 bool CavityBorder::correct(JacobianSolver& linear, const StepEquations& eq, const Eigen::Matrix3Xd& x,
-                           const Eigen::VectorXd& rv, Eigen::Matrix3Xd& du, Eigen::VectorXd& dp) {
+                           const Eigen::Matrix3Xd& r, const Eigen::VectorXd& rv, Eigen::Matrix3Xd& du,
+                           Eigen::VectorXd& dp) {
+  std::vector<const Eigen::Matrix3Xd*> rhs{&r};
+  std::vector<Eigen::Matrix3Xd*> out{&du};
   for (std::size_t k = 0; k < terms_.size(); ++k) {
     g_[k].setZero(3, x.cols());
     terms_[k]->add_volume_gradient(x, g_[k]);
     zero_dofs(g_[k], linear.fixed_dofs());
     eq.scale_by_dx_du(g_[k]);
-    if (!linear.solve(g_[k], y_[k])) return false;
+    rhs.push_back(&g_[k]);
+    out.push_back(&y_[k]);
   }
+  if (!linear.solve_many(rhs, out)) return false;
   return add_pressure_part(rv, du, dp);
 }
 
@@ -201,8 +207,9 @@ bool bordered_newton(StepEquations& eq, JacobianSolver& linear, CavityBorder& bo
     } else {
       ++reuses;
     }
-    if (!linear.solve(r, du)) return fail();
-    if (!border.empty() && !border.correct(linear, eq, eq.positions(u), rv, du, dp)) return fail();
+    const bool solved =
+        border.empty() ? linear.solve(r, du) : border.correct(linear, eq, eq.positions(u), r, rv, du, dp);
+    if (!solved) return fail();
     zero_dofs(du, linear.fixed_dofs());
     double alpha = 1.0;
     const bool fresh = reform;

@@ -64,10 +64,12 @@ class CavityBorder {
   /// rv_k = the residual of condition k at positions x: P_given - P_k, or V*_k(P_k) - V_k(x).
   /// True when every one is within the Newton tolerance.
   bool residuals(const Eigen::Matrix3Xd& x, Eigen::VectorXd& rv) const;
-  /// Turns du = A^{-1} R into the bordered update (above) and gives the multipliers' change dP
-  /// (the caller applies it). False if a linear solve fails or dP is not finite.
-  bool correct(JacobianSolver& linear, const StepEquations& eq, const Eigen::Matrix3Xd& x, const Eigen::VectorXd& rv,
-               Eigen::Matrix3Xd& du, Eigen::VectorXd& dp);
+  /// The bordered update (above) for the force residual r: du = A^{-1} r and the y_k = A^{-1} g_k
+  /// in one solve_many (one back-substitution for all of them with a direct factorisation), then
+  /// the multipliers' change dP (the caller applies it) and its part of du. False if a linear
+  /// solve fails or dP is not finite.
+  bool correct(JacobianSolver& linear, const StepEquations& eq, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& r,
+               const Eigen::VectorXd& rv, Eigen::Matrix3Xd& du, Eigen::VectorXd& dp);
   /// The simplified Newton correction at another point with the factorisation and the Schur
   /// vectors of the last correct(): du = A^{-1} r plus the bordered part for the residuals rv
   /// (the multipliers are not changed). False if the solve fails or a value is not finite.

@@ -6,6 +6,7 @@
 
 #include "common/error.hpp"
 #include "solver/time/petsc/petsc_env.hpp"
+#include "solver/time/petsc/row_ij.hpp"
 
 namespace adamss::solver {
 
@@ -13,27 +14,6 @@ namespace {
 
 constexpr PetscInt kBs = 3;           ///< the block size: the coordinates of one particle
 constexpr PetscInt kBs2 = kBs * kBs;  ///< entries per block
-
-/// A matrix's CSR structure (MatGetRowIJ), released by the destructor; `blocks`: block rows and
-/// block columns (MATSEQBAIJ) instead of entries.
-struct RowIJ {
-  RowIJ(Mat m, bool blocks) : mat(m), compressed(blocks ? PETSC_TRUE : PETSC_FALSE) {
-    PetscBool done = PETSC_FALSE;
-    petsc_check(MatGetRowIJ(mat, 0, PETSC_FALSE, compressed, &n, &ia, &ja, &done), "MatGetRowIJ");
-    if (done != PETSC_TRUE) throw NumericalError("block mirror: the operator's row structure is not available");
-  }
-  ~RowIJ() {
-    PetscBool done = PETSC_FALSE;
-    MatRestoreRowIJ(mat, 0, PETSC_FALSE, compressed, &n, &ia, &ja, &done);
-  }
-  RowIJ(const RowIJ&) = delete;
-  RowIJ& operator=(const RowIJ&) = delete;
-  Mat mat;
-  PetscBool compressed;
-  PetscInt n = 0;
-  const PetscInt* ia = nullptr;
-  const PetscInt* ja = nullptr;
-};
 
 }  // namespace
 

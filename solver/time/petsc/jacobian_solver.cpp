@@ -8,6 +8,7 @@
 #include <cstring>
 #include <exception>
 #include <limits>
+#include <stdexcept>
 #include <string>
 
 #include "common/error.hpp"
@@ -220,6 +221,14 @@ struct JacobianSolver::Petsc {
   /// KSP solve of a u = b with the current matrix; adds the Krylov iterations to `its`. A matrix
   /// changed since the last solve (`fresh`) is set up first (factorised), timed apart.
   bool solve(int& its, TimeSplit& times);
+  /// Whether the solves are back-substitutions with a MUMPS factorisation in double precision
+  /// (KSPPREONLY, PCLU or PCCHOLESKY, no single-precision shell): those that MatMatSolve can batch.
+  [[nodiscard]] bool direct_mumps() const;
+  /// X = A^{-1} B column by column in one MatMatSolve with the factor (direct_mumps() only), the
+  /// matrix set up first when new; adds one iteration and one timed solve per column. False when the
+  /// factorisation failed or a solution is not finite.
+  bool solve_columns(const std::vector<const Eigen::Matrix3Xd*>& rhs, const std::vector<Eigen::Matrix3Xd*>& out,
+                     int& its, TimeSplit& times);
   /// The fixed coordinates eliminated from `a` (with x and b: BlockMatrix::eliminate's prescribed
   /// values), timed with the assembly; the KSP sets the changed matrix up at the next solve.
   void eliminate(TimeSplit& times, Vec x, Vec rhs);
@@ -530,6 +539,70 @@ bool JacobianSolver::Petsc::solve(int& its, TimeSplit& times) {
   return krylov_solve(its, times);
 }
 
+bool JacobianSolver::Petsc::direct_mumps() const {
+  if (single) return false;
+  KSPType kt = nullptr;
+  petsc_check(KSPGetType(ksp, &kt), "KSPGetType");
+  if (kt == nullptr || std::strcmp(kt, KSPPREONLY) != 0) return false;
+  PC pc = nullptr;
+  petsc_check(KSPGetPC(ksp, &pc), "KSPGetPC");
+  const char* package = factorisation_package(pc);
+  return package != nullptr && std::strcmp(package, MATSOLVERMUMPS) == 0;
+}
+
+bool JacobianSolver::Petsc::solve_columns(const std::vector<const Eigen::Matrix3Xd*>& rhs,
+                                          const std::vector<Eigen::Matrix3Xd*>& out, int& its, TimeSplit& times) {
+  solves += static_cast<int>(rhs.size());
+  if (fresh) set_up(times);
+  PC pc = nullptr;
+  petsc_check(KSPGetPC(ksp, &pc), "KSPGetPC");
+  PCFailedReason failed = PC_NOERROR;
+  petsc_check(PCGetFailedReason(pc, &failed), "PCGetFailedReason");
+  if (failed != PC_NOERROR) return false;
+  // Timed as one call per column: the solve counts keep their meaning (right-hand sides solved).
+  times.solves.count += rhs.size() - 1;
+  const ScopedTimer timer(times.solves);
+  Mat factor = nullptr;
+  petsc_check(PCFactorGetMatrix(pc, &factor), "PCFactorGetMatrix");
+  // B and X in op()'s row layout (this rank's particle rows, then its border rows), one column per
+  // right-hand side, filled and read column by column as solve() fills b and reads u.
+  PetscInt local = 0;
+  petsc_check(VecGetLocalSize(b, &local), "VecGetLocalSize");
+  const auto n = static_cast<PetscInt>(rhs.size());
+  Mat B = nullptr, X = nullptr;
+  petsc_check(MatCreateDense(PETSC_COMM_WORLD, local, PETSC_DECIDE, PETSC_DETERMINE, n, nullptr, &B), "MatCreateDense");
+  const auto release = [&] {
+    MatDestroy(&B);
+    MatDestroy(&X);
+  };
+  try {
+    for (PetscInt k = 0; k < n; ++k) {
+      Vec column = nullptr;
+      petsc_check(MatDenseGetColumnVecWrite(B, k, &column), "MatDenseGetColumnVecWrite");
+      to_vec(*rhs[static_cast<std::size_t>(k)], owned_lo(), owned_hi(), column);
+      petsc_check(MatDenseRestoreColumnVecWrite(B, k, &column), "MatDenseRestoreColumnVecWrite");
+    }
+    petsc_check(MatDuplicate(B, MAT_DO_NOT_COPY_VALUES, &X), "MatDuplicate");
+    petsc_check(MatMatSolve(factor, B, X), "MatMatSolve");
+    bool finite_all = true;
+    for (PetscInt k = 0; k < n; ++k) {
+      Eigen::Matrix3Xd& solution = *out[static_cast<std::size_t>(k)];
+      solution.resize(3, rhs[static_cast<std::size_t>(k)]->cols());
+      Vec column = nullptr;
+      petsc_check(MatDenseGetColumnVecRead(X, k, &column), "MatDenseGetColumnVecRead");
+      from_vec(column, all, whole, solution);
+      petsc_check(MatDenseRestoreColumnVecRead(X, k, &column), "MatDenseRestoreColumnVecRead");
+      finite_all = finite_all && solution.allFinite();
+    }
+    release();
+    its += static_cast<int>(n);
+    return finite_all;
+  } catch (...) {
+    release();
+    throw;
+  }
+}
+
 void JacobianSolver::Petsc::read_lag_price() {
   PetscInt price_its = 0;  // -adamss_lag_price_its K: a factorisation priced at K iterations, not its time
   petsc_check(PetscOptionsGetInt(nullptr, nullptr, "-adamss_lag_price_its", &price_its, nullptr), "PetscOptionsGetInt");
@@ -691,6 +764,22 @@ bool JacobianSolver::solve(const Eigen::Matrix3Xd& rhs, Eigen::Matrix3Xd& u) {
   u.resize(3, rhs.cols());
   from_vec(petsc_->u, petsc_->all, petsc_->whole, u);
   for (const Eigen::Index d : fixed_) u.data()[d] = rhs.data()[d];  // exact after a refined solve too
+  return true;
+}
+
+bool JacobianSolver::solve_many(const std::vector<const Eigen::Matrix3Xd*>& rhs,
+                                const std::vector<Eigen::Matrix3Xd*>& u) {
+  if (rhs.size() != u.size())
+    throw std::logic_error("JacobianSolver::solve_many: as many solutions as right-hand sides");
+  if (rhs.size() > 1 && petsc_->direct_mumps()) {
+    if (!petsc_->solve_columns(rhs, u, iterations_, times_)) return false;
+    batched_ += static_cast<int>(rhs.size());
+    for (std::size_t k = 0; k < rhs.size(); ++k)
+      for (const Eigen::Index d : fixed_) u[k]->data()[d] = rhs[k]->data()[d];
+    return true;
+  }
+  for (std::size_t k = 0; k < rhs.size(); ++k)
+    if (!solve(*rhs[k], *u[k])) return false;
   return true;
 }
 

@@ -57,6 +57,12 @@ class JacobianSolver {
   void eliminate();
   /// u = A^{-1} rhs with the current (eliminated) A; false if the KSP diverged.
   bool solve(const Eigen::Matrix3Xd& rhs, Eigen::Matrix3Xd& u);
+  /// u_k = A^{-1} rhs_k for several right-hand sides with the current (eliminated) A (u and rhs of
+  /// the same length, no u_k aliasing an rhs). With a double-precision direct factorisation by
+  /// MUMPS one back-substitution takes every column (MatMatSolve: the factor, tens of megabytes on a
+  /// heart, is read once instead of once per column); otherwise one solve() each. False if any
+  /// solve fails.
+  bool solve_many(const std::vector<const Eigen::Matrix3Xd*>& rhs, const std::vector<Eigen::Matrix3Xd*>& u);
   /// Eliminates the fixed coordinates with prescribed values and solves: A_ff u_f = rhs_f -
   /// A_fc values_c, u_c = values_c (PETSc's MatZeroRowsColumns with x and b); false if the KSP
   /// diverged.
@@ -73,6 +79,8 @@ class JacobianSolver {
   [[nodiscard]] std::size_t border_rows() const;
   /// Solves preconditioned by the factorisation of an older operator (lagged factorisations).
   [[nodiscard]] int lagged_solves() const;
+  /// Right-hand sides solved together by solve_many's one back-substitution (MatMatSolve).
+  [[nodiscard]] int batched_solves() const { return batched_; }
   /// Krylov iterations summed over the solves since the last reset_iterations().
   [[nodiscard]] int iterations() const { return iterations_; }
   void reset_iterations() { iterations_ = 0; }
@@ -86,6 +94,7 @@ class JacobianSolver {
   std::unique_ptr<Petsc> petsc_;
   std::vector<Eigen::Index> fixed_;
   int iterations_ = 0;
+  int batched_ = 0;
   TimeSplit times_;
 };
 
