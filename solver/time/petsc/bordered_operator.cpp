@@ -7,6 +7,7 @@
 
 #include "common/error.hpp"
 #include "solver/time/petsc/petsc_env.hpp"
+#include "solver/time/petsc/row_ij.hpp"
 
 namespace adamss::solver {
 
@@ -211,14 +212,12 @@ void BorderedOperator::map_to_blocks(const std::vector<PetscInt>& b_start, const
   Mat d = nullptr, o = nullptr;
   const PetscInt* garray = nullptr;
   petsc_check(MatMPIAIJGetSeqAIJ(b_, &d, &o, &garray), "MatMPIAIJGetSeqAIJ");
-  PetscInt c0 = 0, c1 = 0, nd = 0, no = 0;
+  PetscInt c0 = 0, c1 = 0;
   petsc_check(MatGetOwnershipRangeColumn(b_, &c0, &c1), "MatGetOwnershipRangeColumn");
-  const PetscInt *id = nullptr, *jd = nullptr, *io = nullptr, *jo = nullptr;
-  PetscBool done_d = PETSC_FALSE, done_o = PETSC_FALSE;
-  petsc_check(MatGetRowIJ(d, 0, PETSC_FALSE, PETSC_FALSE, &nd, &id, &jd, &done_d), "MatGetRowIJ");
-  petsc_check(MatGetRowIJ(o, 0, PETSC_FALSE, PETSC_FALSE, &no, &io, &jo, &done_o), "MatGetRowIJ");
+  const RowIJ sd(d, false), so(o, false);
+  const PetscInt *id = sd.ia, *jd = sd.ja, *io = so.ia, *jo = so.ja;
   const auto rows = static_cast<PetscInt>(b_start.size()) - 1;
-  bool ok = done_d == PETSC_TRUE && done_o == PETSC_TRUE && nd == rows && no == rows;
+  bool ok = sd.n == rows && so.n == rows;
   split_.assign(col.size(), 0);
   for (PetscInt r = 0; r < rows && ok; ++r) {
     PetscInt qd = id[r], qo = io[r];
@@ -234,8 +233,6 @@ void BorderedOperator::map_to_blocks(const std::vector<PetscInt>& b_start, const
     }
     ok = ok && qd == id[r + 1] && qo == io[r + 1];
   }
-  petsc_check(MatRestoreRowIJ(o, 0, PETSC_FALSE, PETSC_FALSE, &no, &io, &jo, &done_o), "MatRestoreRowIJ");
-  petsc_check(MatRestoreRowIJ(d, 0, PETSC_FALSE, PETSC_FALSE, &nd, &id, &jd, &done_d), "MatRestoreRowIJ");
   // Every rank throws if one finds a mismatch (the others would wait in the next collective call).
   int all = ok ? 1 : 0;
   MPI_Allreduce(MPI_IN_PLACE, &all, 1, MPI_INT, MPI_LAND, PetscObjectComm(reinterpret_cast<PetscObject>(b_)));

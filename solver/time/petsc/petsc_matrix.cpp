@@ -7,6 +7,7 @@
 #include "common/error.hpp"
 #include "solver/time/petsc/bordered_operator.hpp"
 #include "solver/time/petsc/petsc_env.hpp"
+#include "solver/time/petsc/row_ij.hpp"
 
 namespace adamss::solver {
 
@@ -213,13 +214,10 @@ void BlockMatrix::stage_layout() {
 void BlockMatrix::record_layout() {
   // PETSc's CSR: row r's entries at [ia[r], ia[r + 1]) with sorted columns ja. Every scalar row
   // 3a + r must hold exactly the columns 3 b + c of a's block columns b, in order.
-  PetscInt nrows = 0;
-  const PetscInt* ia = nullptr;
-  const PetscInt* ja = nullptr;
-  PetscBool done = PETSC_FALSE;
-  petsc_check(MatGetRowIJ(a_, 0, PETSC_FALSE, PETSC_FALSE, &nrows, &ia, &ja, &done), "MatGetRowIJ");
-  if (done != PETSC_TRUE || nrows != 3 * n_)
-    throw NumericalError("BlockMatrix: PETSc did not give the CSR row pointers of the Jacobian");
+  const RowIJ s(a_, false);
+  const PetscInt* ia = s.ia;
+  const PetscInt* ja = s.ja;
+  if (s.n != 3 * n_) throw NumericalError("BlockMatrix: PETSc did not give the CSR row pointers of the Jacobian");
   row_start_.assign(ia, ia + 3 * n_);
   bool ok = true;
   for (PetscInt a = 0; a < n_ && ok; ++a) {
@@ -233,7 +231,6 @@ void BlockMatrix::record_layout() {
       }
     }
   }
-  petsc_check(MatRestoreRowIJ(a_, 0, PETSC_FALSE, PETSC_FALSE, &nrows, &ia, &ja, &done), "MatRestoreRowIJ");
   if (!ok) throw NumericalError("BlockMatrix: PETSc's storage of the Jacobian is not the 3 x 3 block layout");
 }
 

@@ -13,6 +13,7 @@
 #include "common/error.hpp"
 #include "solver/time/petsc/nested_dissection.hpp"
 #include "solver/time/petsc/petsc_env.hpp"
+#include "solver/time/petsc/row_ij.hpp"
 
 namespace adamss::solver {
 
@@ -88,12 +89,10 @@ namespace {
 template <class Column>
 void append_block(Mat block, PetscInt row0, Column column, bool upper, PetscInt offset, std::vector<PetscInt>& position,
                   std::vector<int>& irn, std::vector<int>& jcn) {
-  PetscInt n = 0;
-  const PetscInt* ia = nullptr;
-  const PetscInt* ja = nullptr;
-  PetscBool done = PETSC_FALSE;
-  petsc_check(MatGetRowIJ(block, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia, &ja, &done), "MatGetRowIJ");
-  for (PetscInt i = 0; i < n; ++i) {
+  const RowIJ s(block, false);
+  const PetscInt* ia = s.ia;
+  const PetscInt* ja = s.ja;
+  for (PetscInt i = 0; i < s.n; ++i) {
     for (PetscInt k = ia[i]; k < ia[i + 1]; ++k) {
       const PetscInt j = column(ja[k]);
       if (upper && j < row0 + i) continue;  // L D L^T reads the upper triangle
@@ -102,7 +101,6 @@ void append_block(Mat block, PetscInt row0, Column column, bool upper, PetscInt 
       jcn.push_back(static_cast<int>(j + 1));
     }
   }
-  petsc_check(MatRestoreRowIJ(block, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia, &ja, &done), "MatRestoreRowIJ");
 }
 
 /// The stored entries of a MATSEQAIJ block.

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "solver/time/petsc/petsc_env.hpp"
+#include "solver/time/petsc/row_ij.hpp"
 
 namespace adamss::solver {
 
@@ -33,11 +34,10 @@ std::vector<int> displacements(const std::vector<int>& count, int width) {
 }  // namespace
 
 void SymmetryProbe::map(Mat a) {
-  PetscInt n = 0;
-  const PetscInt* ia = nullptr;
-  const PetscInt* ja = nullptr;
-  PetscBool done = PETSC_FALSE;
-  petsc_check(MatGetRowIJ(a, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia, &ja, &done), "MatGetRowIJ");
+  const RowIJ s(a, false);
+  const PetscInt n = s.n;
+  const PetscInt* ia = s.ia;
+  const PetscInt* ja = s.ja;
   mirror_.assign(static_cast<std::size_t>(ia[n]), -1);
   for (PetscInt i = 0; i < n; ++i) {
     for (PetscInt k = ia[i]; k < ia[i + 1]; ++k) {
@@ -50,7 +50,6 @@ void SymmetryProbe::map(Mat a) {
   }
   rows_ = n;
   nonzeros_ = ia[n];
-  petsc_check(MatRestoreRowIJ(a, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia, &ja, &done), "MatRestoreRowIJ");
   mapped_ = a;
 }
 
@@ -62,10 +61,10 @@ void SymmetryProbe::plan_exchange(Mat a, Mat o, const PetscInt* garray) {
   petsc_check(MatGetOwnershipRangesColumn(a, &cranges), "MatGetOwnershipRangesColumn");
   PetscInt r0 = 0;
   petsc_check(MatGetOwnershipRange(a, &r0, nullptr), "MatGetOwnershipRange");
-  PetscInt n = 0;
-  const PetscInt *io = nullptr, *jo = nullptr;
-  PetscBool done = PETSC_FALSE;
-  petsc_check(MatGetRowIJ(o, 0, PETSC_FALSE, PETSC_FALSE, &n, &io, &jo, &done), "MatGetRowIJ");
+  const RowIJ so(o, false);
+  const PetscInt n = so.n;
+  const PetscInt* io = so.ia;
+  const PetscInt* jo = so.ja;
   // Each off-diagonal entry (i, j) goes to the owner of row j, which compares it with its (j, i).
   const auto owner = [&](PetscInt col) {
     return static_cast<int>(std::upper_bound(cranges, cranges + ranks + 1, col) - cranges) - 1;
@@ -116,7 +115,6 @@ void SymmetryProbe::plan_exchange(Mat a, Mat o, const PetscInt* garray) {
     recv_pos_[k] = static_cast<PetscInt>(at - jo);
   }
   planned_nonzeros_ = io[n];
-  petsc_check(MatRestoreRowIJ(o, 0, PETSC_FALSE, PETSC_FALSE, &n, &io, &jo, &done), "MatRestoreRowIJ");
   planned_ = a;
 }
 
