@@ -56,6 +56,16 @@ if(DEFINED EXPECT_BEATS)
     check("beat-to-beat change of EDV/ESV" ${change} "${EXPECT_BEAT_TO_BEAT_CHANGE}")
   endif()
 endif()
+# REJECTED_FACTORISATIONS_MAX (given by the test, full Newton scenes): the factorisations spent in
+# rejected attempts, time_split_s.factorisations.calls - reformations, at most this many. A
+# diverging cavity step must stop where no damping factor passes (solver/time/bordered_newton.hpp)
+# instead of running on to |R| ~ 1e100 N and max_newton (lv_beat_quick.yaml: 17 against 76).
+if(DEFINED REJECTED_FACTORISATIONS_MAX)
+  string(JSON calls GET "${s}" time_split_s factorisations calls)
+  string(JSON kept GET "${s}" reformations)
+  math(EXPR rejected "${calls} - ${kept}")
+  check("factorisations in rejected attempts" ${rejected} "0;${REJECTED_FACTORISATIONS_MAX}")
+endif()
 if(failures)
   message(FATAL_ERROR "heart case differs from ${EXPECTED}:${failures}")
 endif()

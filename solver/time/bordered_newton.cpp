@@ -22,6 +22,20 @@ constexpr double kNoContraction = std::numeric_limits<double>::infinity();
 /// thread; full Newton 973 iterations, 6.2 s): theta <= 0.5 707 factorisations, 5.3 s; 0.25 683,
 /// 5.2 s; 0.1 726 on 980 iterations, 4.7 s (fewer iterations per reuse, fewer rejected steps).
 constexpr double kReuseContraction = 0.1;
+/// A fresh operator's update that no step length makes monotone fails the attempt, unless the
+/// residual is within this factor of the Newton tolerance (corrections at the round-off level,
+/// where the test cannot pass and the full step is harmless). On the biv-me beat (3-4 mm, one
+/// beat, 2026-12-07) all 7 attempts that met such an update failed later anyway, after 19 more
+/// iterations in all; none converged.
+constexpr double kRoundOffMargin = 100.0;
+
+/// What damped_update did: whether some step length passed the monotonicity test, the one
+/// applied, and the full step's contraction (kNoContraction unless the full step passed).
+struct Damping {
+  bool passed = false;
+  double alpha = 1.0;
+  double theta = kNoContraction;
+};
 
 /// Residual of cavity condition `c` at pressure p and volume v: P_given - p, or V*(p) - v.
 /// `ok` when it is within the Newton tolerance (1e-10 relative).
@@ -61,12 +75,11 @@ Eigen::VectorXd solve_schur(const std::vector<CavityCondition>& cond, const std:
 
 /// The damped bordered update (bordered_newton.hpp): u <- u + alpha du, P <- P + alpha dp with
 /// the largest alpha in 1, 1/2, ..., 1/256 whose simplified correction (same factorisation and
-/// Schur vectors, at the trial point) is smaller than (1 - alpha/4) |du|; the full step when none
-/// is (what the undamped iteration did). Returns the contraction theta = |simplified correction|
-/// / |du| when the full step passed the test, else infinity (damped, or no alpha passed); `taken`
-/// is the alpha applied.
-double damped_update(StepEquations& eq, JacobianSolver& linear, const CavityBorder& border, const Eigen::VectorXd& dp,
-                     const Eigen::Matrix3Xd& du, Eigen::Matrix3Xd& u, double& taken) {
+/// Schur vectors, at the trial point) is smaller than (1 - alpha/4) |du|. When none is: the full
+/// step if `full_step_allowed` (what the undamped iteration did), else no step (u and P as they
+/// were; the caller fails the attempt).
+Damping damped_update(StepEquations& eq, JacobianSolver& linear, const CavityBorder& border, const Eigen::VectorXd& dp,
+                      const Eigen::Matrix3Xd& du, Eigen::Matrix3Xd& u, bool full_step_allowed) {
   Eigen::VectorXd p0;
   border.multipliers(p0);
   const double ndu = du.norm();
@@ -81,14 +94,16 @@ double damped_update(StepEquations& eq, JacobianSolver& linear, const CavityBord
     if (!border.simplified_correction(linear, r, rv, dub)) continue;
     if (dub.norm() <= (1.0 - 0.25 * alpha) * ndu) {
       u = trial;
-      taken = alpha;
-      return alpha == 1.0 ? dub.norm() / ndu : kNoContraction;
+      return {true, alpha, alpha == 1.0 ? dub.norm() / ndu : kNoContraction};
     }
+  }
+  if (!full_step_allowed) {
+    border.set_multipliers(p0);
+    return {false, 0.0, kNoContraction};
   }
   u += du;
   border.set_multipliers(p0 + dp);
-  taken = 1.0;
-  return kNoContraction;
+  return {false, 1.0, kNoContraction};
 }
 
 }  // namespace
@@ -216,8 +231,14 @@ bool bordered_newton(StepEquations& eq, JacobianSolver& linear, CavityBorder& bo
     if (border.empty()) {
       u += du;
     } else {
-      const double theta = damped_update(eq, linear, border, dp, du, u, alpha);
-      reform = !(may_reuse && theta <= kReuseContraction && reuses < settings.bordered_max_reuses);
+      // A fresh operator's direction that no step length makes monotone, far from the tolerance:
+      // the attempt would diverge (bordered_newton.hpp), so it fails now. A reused operator's
+      // takes the full step and brings a new operator.
+      const bool near_tolerance = nr <= kRoundOffMargin * std::max(settings.newton_atol, settings.newton_rtol * r0);
+      const Damping d = damped_update(eq, linear, border, dp, du, u, !fresh || near_tolerance);
+      if (!d.passed && d.alpha == 0.0) return fail();
+      alpha = d.alpha;
+      reform = !(may_reuse && d.theta <= kReuseContraction && reuses < settings.bordered_max_reuses);
     }
     reporter.took(alpha * du.cwiseAbs().maxCoeff(), alpha, fresh);
     ++record.iterations;
