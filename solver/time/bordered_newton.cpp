@@ -29,10 +29,9 @@ constexpr double kReuseContraction = 0.1;
 /// iterations in all; none converged.
 constexpr double kRoundOffMargin = 100.0;
 
-/// What damped_update did: whether some step length passed the monotonicity test, the one
-/// applied, and the full step's contraction (kNoContraction unless the full step passed).
+/// What damped_update did: the step length applied (0: none, the attempt must fail) and the full
+/// step's contraction (kNoContraction unless the full step passed the monotonicity test).
 struct Damping {
-  bool passed = false;
   double alpha = 1.0;
   double theta = kNoContraction;
 };
@@ -94,16 +93,16 @@ Damping damped_update(StepEquations& eq, JacobianSolver& linear, const CavityBor
     if (!border.simplified_correction(linear, r, rv, dub)) continue;
     if (dub.norm() <= (1.0 - 0.25 * alpha) * ndu) {
       u = trial;
-      return {true, alpha, alpha == 1.0 ? dub.norm() / ndu : kNoContraction};
+      return {alpha, alpha == 1.0 ? dub.norm() / ndu : kNoContraction};
     }
   }
   if (!full_step_allowed) {
     border.set_multipliers(p0);
-    return {false, 0.0, kNoContraction};
+    return {0.0, kNoContraction};
   }
   u += du;
   border.set_multipliers(p0 + dp);
-  return {false, 1.0, kNoContraction};
+  return {1.0, kNoContraction};
 }
 
 }  // namespace
@@ -236,7 +235,7 @@ bool bordered_newton(StepEquations& eq, JacobianSolver& linear, CavityBorder& bo
       // takes the full step and brings a new operator.
       const bool near_tolerance = nr <= kRoundOffMargin * std::max(settings.newton_atol, settings.newton_rtol * r0);
       const Damping d = damped_update(eq, linear, border, dp, du, u, !fresh || near_tolerance);
-      if (!d.passed && d.alpha == 0.0) return fail();
+      if (d.alpha == 0.0) return fail();  // no step taken
       alpha = d.alpha;
       reform = !(may_reuse && d.theta <= kReuseContraction && reuses < settings.bordered_max_reuses);
     }

@@ -16,6 +16,32 @@
 
 namespace adamss::test {
 
+/// The linear-solver tests' scene: a 4 x 2 x 2 mm block in 4 x 2 x 2 cells of neo-Hookean elements
+/// (E 10 kPa, nu 0.3) clamped at x = 0, one static step. `topology`: the mesh's topology and any
+/// further mesh keys ("hex", "tet6m, order: 2"); `volume`: a volume term's settings ("{p: 1000 kPa,
+/// distribution: nodal}") or none; `loads`: a loads block (kTopPressure) or none. Placeholders in
+/// the arguments stay in the text for test::replaced.
+inline std::string clamped_block_scene(const std::string& name, const std::string& topology,
+                                       const std::string& volume = "", const std::string& loads = "") {
+  std::string s = "\nname: " + name + "\nmesh: {box: [4 mm, 2 mm, 2 mm], divisions: [4, 2, 2], topology: " + topology +
+                  "}\nmaterials:\n  - name: m\n    labels: [1]\n    density: 1000 kg/m^3\n    terms:\n"
+                  "      - fem_element: {law: neo_hookean, parameters: {E: 10 kPa, nu: 0.3}}\n";
+  if (!volume.empty()) s += "      - volume: " + volume + "\n";
+  s += loads;
+  s += "boundary:\n  - select: {region: {plane: {point: [0, 0, 0], normal: [1, 0, 0], tolerance: 0.001 mm}}}\n"
+       "    fix: xyz\nintegrator: {type: static, dt: 1 s}\nrun: {t_end: 1 s}\n";
+  return s;
+}
+
+/// A 2 kPa follower pressure on clamped_block_scene's free top face z = 2 mm: an open surface whose
+/// rim moves, so the operator is not symmetric.
+inline const std::string kTopPressure = R"(loads:
+  pressure:
+    - name: top
+      surface: {region: {plane: {point: [0, 0, 2 mm], normal: [0, 0, 1], tolerance: 0.001 mm}}}
+      pressure: 2 kPa
+)";
+
 /// A JacobianSolver of `model` (ksp_rtol 1e-12, 100 iterations) configured while the PETSc options
 /// `options` (name, value pairs) hold; they are cleared again afterwards, also when it throws.
 /// `directions`: what the solves are for (JacobianSolver::Directions).

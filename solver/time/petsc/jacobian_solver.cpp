@@ -569,38 +569,39 @@ bool JacobianSolver::Petsc::solve_columns(const std::vector<const Eigen::Matrix3
   PetscInt local = 0;
   petsc_check(VecGetLocalSize(b, &local), "VecGetLocalSize");
   const auto n = static_cast<PetscInt>(rhs.size());
-  Mat B = nullptr, X = nullptr;
-  petsc_check(MatCreateDense(PETSC_COMM_WORLD, local, PETSC_DECIDE, PETSC_DETERMINE, n, nullptr, &B), "MatCreateDense");
-  const auto release = [&] {
-    MatDestroy(&B);
-    MatDestroy(&X);
-  };
-  try {
-    for (PetscInt k = 0; k < n; ++k) {
-      Vec column = nullptr;
-      petsc_check(MatDenseGetColumnVecWrite(B, k, &column), "MatDenseGetColumnVecWrite");
-      to_vec(*rhs[static_cast<std::size_t>(k)], owned_lo(), owned_hi(), column);
-      petsc_check(MatDenseRestoreColumnVecWrite(B, k, &column), "MatDenseRestoreColumnVecWrite");
+  struct Dense {  // destroyed on every path, also when a PETSc call throws
+    Dense() = default;
+    Dense(const Dense&) = delete;
+    Dense& operator=(const Dense&) = delete;
+    Dense(Dense&&) = delete;
+    Dense& operator=(Dense&&) = delete;
+    ~Dense() {
+      if (m != nullptr) MatDestroy(&m);
     }
-    petsc_check(MatDuplicate(B, MAT_DO_NOT_COPY_VALUES, &X), "MatDuplicate");
-    petsc_check(MatMatSolve(factor, B, X), "MatMatSolve");
-    bool finite_all = true;
-    for (PetscInt k = 0; k < n; ++k) {
-      Eigen::Matrix3Xd& solution = *out[static_cast<std::size_t>(k)];
-      solution.resize(3, rhs[static_cast<std::size_t>(k)]->cols());
-      Vec column = nullptr;
-      petsc_check(MatDenseGetColumnVecRead(X, k, &column), "MatDenseGetColumnVecRead");
-      from_vec(column, all, whole, solution);
-      petsc_check(MatDenseRestoreColumnVecRead(X, k, &column), "MatDenseRestoreColumnVecRead");
-      finite_all = finite_all && solution.allFinite();
-    }
-    release();
-    its += static_cast<int>(n);
-    return finite_all;
-  } catch (...) {
-    release();
-    throw;
+    Mat m = nullptr;
+  } B, X;
+  petsc_check(MatCreateDense(PETSC_COMM_WORLD, local, PETSC_DECIDE, PETSC_DETERMINE, n, nullptr, &B.m),
+              "MatCreateDense");
+  for (PetscInt k = 0; k < n; ++k) {
+    Vec column = nullptr;
+    petsc_check(MatDenseGetColumnVecWrite(B.m, k, &column), "MatDenseGetColumnVecWrite");
+    to_vec(*rhs[static_cast<std::size_t>(k)], owned_lo(), owned_hi(), column);
+    petsc_check(MatDenseRestoreColumnVecWrite(B.m, k, &column), "MatDenseRestoreColumnVecWrite");
   }
+  petsc_check(MatDuplicate(B.m, MAT_DO_NOT_COPY_VALUES, &X.m), "MatDuplicate");
+  petsc_check(MatMatSolve(factor, B.m, X.m), "MatMatSolve");
+  bool finite_all = true;
+  for (PetscInt k = 0; k < n; ++k) {
+    Eigen::Matrix3Xd& solution = *out[static_cast<std::size_t>(k)];
+    solution.resize(3, rhs[static_cast<std::size_t>(k)]->cols());
+    Vec column = nullptr;
+    petsc_check(MatDenseGetColumnVecRead(X.m, k, &column), "MatDenseGetColumnVecRead");
+    from_vec(column, all, whole, solution);
+    petsc_check(MatDenseRestoreColumnVecRead(X.m, k, &column), "MatDenseRestoreColumnVecRead");
+    finite_all = finite_all && solution.allFinite();
+  }
+  its += static_cast<int>(n);
+  return finite_all;
 }
 
 void JacobianSolver::Petsc::read_lag_price() {
@@ -763,7 +764,7 @@ bool JacobianSolver::solve(const Eigen::Matrix3Xd& rhs, Eigen::Matrix3Xd& u) {
   if (!petsc_->solve(iterations_, times_)) return false;
   u.resize(3, rhs.cols());
   from_vec(petsc_->u, petsc_->all, petsc_->whole, u);
-  for (const Eigen::Index d : fixed_) u.data()[d] = rhs.data()[d];  // exact after a refined solve too
+  set_fixed(rhs, u);  // exact after a refined solve too
   return true;
 }
 
@@ -774,8 +775,7 @@ bool JacobianSolver::solve_many(const std::vector<const Eigen::Matrix3Xd*>& rhs,
   if (rhs.size() > 1 && petsc_->direct_mumps()) {
     if (!petsc_->solve_columns(rhs, u, iterations_, times_)) return false;
     batched_ += static_cast<int>(rhs.size());
-    for (std::size_t k = 0; k < rhs.size(); ++k)
-      for (const Eigen::Index d : fixed_) u[k]->data()[d] = rhs[k]->data()[d];
+    for (std::size_t k = 0; k < rhs.size(); ++k) set_fixed(*rhs[k], *u[k]);
     return true;
   }
   for (std::size_t k = 0; k < rhs.size(); ++k)
@@ -791,9 +791,7 @@ bool JacobianSolver::solve_prescribed(const Eigen::Matrix3Xd& rhs, const Eigen::
   if (!petsc_->solve(iterations_, times_)) return false;
   u.resize(3, rhs.cols());
   from_vec(petsc_->u, petsc_->all, petsc_->whole, u);
-  // The eliminated rows are identities: a factorisation returns the values exactly, GMRES around a
-  // single-precision one only to its tolerance. They are the prescribed values.
-  for (const Eigen::Index d : fixed_) u.data()[d] = values.data()[d];
+  set_fixed(values, u);  // the prescribed values
   return true;
 }
 

@@ -91,6 +91,11 @@ class JacobianSolver {
 
  private:
   struct Petsc;  // the PETSc objects (jacobian_solver.cpp)
+  /// u's fixed coordinates set to `values`' (the eliminated rows are identities: a factorisation
+  /// returns them exactly, GMRES around a single-precision one only to its tolerance).
+  void set_fixed(const Eigen::Matrix3Xd& values, Eigen::Matrix3Xd& u) const {
+    for (const Eigen::Index d : fixed_) u.data()[d] = values.data()[d];
+  }
   std::unique_ptr<Petsc> petsc_;
   std::vector<Eigen::Index> fixed_;
   int iterations_ = 0;

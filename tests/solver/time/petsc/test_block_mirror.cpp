@@ -117,26 +117,7 @@ namespace {
 
 // A clamped block of neo-Hookean tetrahedra under a follower pressure on its free top face (a
 // non-symmetric operator), solved by PETSc's own LU.
-const std::string kScene = R"(
-name: block-lu
-mesh: {box: [4 mm, 2 mm, 2 mm], divisions: [4, 2, 2], topology: hex}
-materials:
-  - name: m
-    labels: [1]
-    density: 1000 kg/m^3
-    terms:
-      - fem_element: {law: neo_hookean, parameters: {E: 10 kPa, nu: 0.3}}
-loads:
-  pressure:
-    - name: top
-      surface: {region: {plane: {point: [0, 0, 2 mm], normal: [0, 0, 1], tolerance: 0.001 mm}}}
-      pressure: 2 kPa
-boundary:
-  - select: {region: {plane: {point: [0, 0, 0], normal: [1, 0, 0], tolerance: 0.001 mm}}}
-    fix: xyz
-integrator: {type: static, dt: 1 s}
-run: {t_end: 1 s}
-)";
+const std::string kScene = test::clamped_block_scene("block-lu", "hex", "", test::kTopPressure);
 
 using Options = std::vector<std::pair<std::string, std::string>>;
 

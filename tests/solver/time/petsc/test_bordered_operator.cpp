@@ -20,22 +20,8 @@ using namespace adamss;
 
 namespace {
 
-const std::string kScene = R"(
-name: bordered
-mesh: {box: [4 mm, 2 mm, 2 mm], divisions: [4, 2, 2], topology: tet6m, order: ORDER}
-materials:
-  - name: m
-    labels: [1]
-    density: 1000 kg/m^3
-    terms:
-      - fem_element: {law: neo_hookean, parameters: {E: 10 kPa, nu: 0.3}}
-      - volume: {p: 1000 kPa, distribution: nodal}
-boundary:
-  - select: {region: {plane: {point: [0, 0, 0], normal: [1, 0, 0], tolerance: 0.001 mm}}}
-    fix: xyz
-integrator: {type: static, dt: 1 s}
-run: {t_end: 1 s}
-)";
+const std::string kScene =
+    test::clamped_block_scene("bordered", "tet6m, order: ORDER", "{p: 1000 kPa, distribution: nodal}");
 
 /// A solver of `model` on the two-ring matrix: -adamss_bordered false while it is configured (PETSc
 /// runs already: the caller built a bordered solver first).

@@ -24,22 +24,8 @@ namespace {
 
 // A clamped block of neo-Hookean tetrahedra; DISTRIBUTION isotropic (the plain operator) or nodal
 // (the bordered one).
-const std::string kScene = R"(
-name: solve-many
-mesh: {box: [4 mm, 2 mm, 2 mm], divisions: [4, 2, 2], topology: tet6m}
-materials:
-  - name: m
-    labels: [1]
-    density: 1000 kg/m^3
-    terms:
-      - fem_element: {law: neo_hookean, parameters: {E: 10 kPa, nu: 0.3}}
-      - volume: {p: 1000 kPa, distribution: DISTRIBUTION}
-boundary:
-  - select: {region: {plane: {point: [0, 0, 0], normal: [1, 0, 0], tolerance: 0.001 mm}}}
-    fix: xyz
-integrator: {type: static, dt: 1 s}
-run: {t_end: 1 s}
-)";
+const std::string kScene =
+    test::clamped_block_scene("solve-many", "tet6m", "{p: 1000 kPa, distribution: DISTRIBUTION}");
 
 using Options = std::vector<std::pair<std::string, std::string>>;
 

@@ -173,30 +173,8 @@ namespace {
 
 // A clamped block with a nodal volume term (bordered operator) and, with PRESSURE, a follower
 // pressure on its free top face: an open surface whose rim moves, so the operator is not symmetric.
-const std::string kScene = R"(
-name: symmetry
-mesh: {box: [4 mm, 2 mm, 2 mm], divisions: [4, 2, 2], topology: tet6m}
-materials:
-  - name: m
-    labels: [1]
-    density: 1000 kg/m^3
-    terms:
-      - fem_element: {law: neo_hookean, parameters: {E: 10 kPa, nu: 0.3}}
-      - volume: {p: 100 kPa, distribution: nodal}
-PRESSURE
-boundary:
-  - select: {region: {plane: {point: [0, 0, 0], normal: [1, 0, 0], tolerance: 0.001 mm}}}
-    fix: xyz
-integrator: {type: static, dt: 1 s}
-run: {t_end: 1 s}
-)";
-
-const std::string kTopPressure = R"(loads:
-  pressure:
-    - name: top
-      surface: {region: {plane: {point: [0, 0, 2 mm], normal: [0, 0, 1], tolerance: 0.001 mm}}}
-      pressure: 2 kPa
-)";
+const std::string kScene =
+    test::clamped_block_scene("symmetry", "tet6m", "{p: 100 kPa, distribution: nodal}", "PRESSURE\n");
 
 /// Solves -K u = rhs at a deformed state with the default solver and with
 /// -adamss_symmetric_factorisation false; returns the first's description after the solve.
@@ -221,6 +199,6 @@ TEST(SymmetricFactorisation, IsChosenForASymmetricOperatorOnly) {
   const std::string n = "bordered operator: 135 + 45 unknowns";
   EXPECT_EQ(solve_both("", difference), "preonly + cholesky (mumps), " + n);
   EXPECT_LT(difference, 1e-9);
-  EXPECT_EQ(solve_both(kTopPressure, difference), "preonly + lu (mumps), " + n);
+  EXPECT_EQ(solve_both(test::kTopPressure, difference), "preonly + lu (mumps), " + n);
   EXPECT_LT(difference, 1e-12);  // the same factorisation
 }
