@@ -156,7 +156,7 @@ bool CavityBorder::add_pressure_part(const Eigen::VectorXd& rv, Eigen::Matrix3Xd
 
 bool CavityBorder::simplified_correction(JacobianSolver& linear, const Eigen::Matrix3Xd& r, const Eigen::VectorXd& rv,
                                          Eigen::Matrix3Xd& du) const {
-  if (!linear.solve(r, du)) return false;
+  if (!linear.solve_estimate(r, du)) return false;
   Eigen::VectorXd dp;
   if (!terms_.empty() && !add_pressure_part(rv, du, dp)) return false;
   zero_dofs(du, linear.fixed_dofs());

@@ -77,7 +77,9 @@ class CavityBorder {
                const Eigen::VectorXd& rv, Eigen::Matrix3Xd& du, Eigen::VectorXd& dp);
   /// The simplified Newton correction at another point with the factorisation and the Schur
   /// vectors of the last correct(): du = A^{-1} r plus the bordered part for the residuals rv
-  /// (the multipliers are not changed). False if the solve fails or a value is not finite.
+  /// (the multipliers are not changed). The solve is JacobianSolver::solve_estimate (1e-2 relative
+  /// residual on the single-precision path): the correction only decides the step length.
+  /// False if the solve fails or a value is not finite.
   bool simplified_correction(JacobianSolver& linear, const Eigen::Matrix3Xd& r, const Eigen::VectorXd& rv,
                              Eigen::Matrix3Xd& du) const;
   /// The current multipliers P_k, and setting them.

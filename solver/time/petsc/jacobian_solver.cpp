@@ -8,11 +8,13 @@
 #include <cstring>
 #include <exception>
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 
 #include "common/error.hpp"
 #include "solver/core/stop_flag.hpp"
+#include "solver/time/petsc/batched_fgmres.hpp"
 #include "solver/time/petsc/block_mirror.hpp"
 #include "solver/time/petsc/bordered_operator.hpp"
 #include "solver/time/petsc/factorisation_lag.hpp"
@@ -72,7 +74,17 @@ constexpr PetscInt kSinglePrecisionMinDofs = 50000;
 /// every solve of this path: also the bordered Newton's cavity-gradient solves and BFGS's base,
 /// which no measured scene of this size has used yet.
 constexpr PetscReal kRefinementRtol = 1e-4;
-constexpr PetscInt kRefinementMaxIts = 10;
+/// 30, FGMRES's restart length, as a lagged solve has (10 until 2026-12-07): a fresh factor
+/// normally refines in 2-6 iterations, but at the end of the 1.5 mm biv-me beat's filling ramp (a
+/// step of 17 Newton iterations) one fresh solve needed more than 10, and the whole rest of the run
+/// then factorised in double precision (the first 120 ms: 252-256 s against 188 s with a cap of
+/// 30, which that solve met; cases/anatomy/README.md). Such a solve costs up to 20 extra iterations
+/// once (~1.6 s there) where the fall-back cost every later factorisation twice its time.
+constexpr PetscInt kRefinementMaxIts = 30;
+/// solve_estimate's relative residual on the single-precision path (never tighter than the path's
+/// own): the bordered Newton's simplified correction only decides a step length, |du_bar| <= (1 -
+/// alpha/4) |du|, which a 1 % error moves only at the boundary.
+constexpr PetscReal kEstimateRtol = 1e-2;
 /// Lagged factorisations (factorisation_lag.hpp; -adamss_lag_max_it, 0 turns them off): a solve
 /// preconditioned by an older factorisation may take this many FGMRES iterations (FGMRES's restart
 /// length) before its operator is factorised after all.
@@ -184,6 +196,7 @@ struct JacobianSolver::Petsc {
     if (ksp != nullptr) KSPDestroy(&ksp);
     if (u != nullptr) VecDestroy(&u);
     if (b != nullptr) VecDestroy(&b);
+    drop_batch_vectors();
   }
   Petsc(const Petsc&) = delete;
   Petsc& operator=(const Petsc&) = delete;
@@ -229,6 +242,21 @@ struct JacobianSolver::Petsc {
   /// factorisation failed or a solution is not finite.
   bool solve_columns(const std::vector<const Eigen::Matrix3Xd*>& rhs, const std::vector<Eigen::Matrix3Xd*>& out,
                      int& its, TimeSplit& times);
+  /// Several right-hand sides on the single-precision path (`single`): FGMRES in lockstep, one
+  /// multi-column single-precision solve per iteration (batched_fgmres.hpp), with the lagged
+  /// factorisations and the fall-back to double precision as solve() has them. Solutions in
+  /// `out` (resized); false as solve().
+  bool solve_single_batch(const std::vector<const Eigen::Matrix3Xd*>& rhs, const std::vector<Eigen::Matrix3Xd*>& out,
+                          int& its, TimeSplit& times);
+  /// The lockstep FGMRES on op() for the columns `pending` of bs into xs, at most `max_it`
+  /// iterations, timed as one solve per column; `iterations` gets each column's count (in
+  /// `pending`'s order). Returns the columns that did not converge.
+  std::vector<std::size_t> refine_batch(const std::vector<std::size_t>& pending, PetscInt max_it, int& its,
+                                        TimeSplit& times, std::vector<int>& iterations);
+  /// bs and xs hold `n` vectors of op()'s layout (made like u).
+  void batch_vectors(std::size_t n);
+  /// Frees bs, xs and the batch's Krylov vectors (op()'s layout changed).
+  void drop_batch_vectors();
   /// The fixed coordinates eliminated from `a` (with x and b: BlockMatrix::eliminate's prescribed
   /// values), timed with the assembly; the KSP sets the changed matrix up at the next solve.
   void eliminate(TimeSplit& times, Vec x, Vec rhs);
@@ -275,6 +303,9 @@ struct JacobianSolver::Petsc {
   PetscInt lag_max_it = kLagMaxIts;
   PetscInt refine_max_it = kRefinementMaxIts;  ///< FGMRES's iterations after a fresh factorisation
   PetscReal refine_rtol = kRefinementRtol;
+  bool estimating = false;  ///< inside solve_estimate: the refinement stops at kEstimateRtol
+  /// The single-precision path's relative residual for the solve at hand.
+  [[nodiscard]] PetscReal rtol_now() const { return estimating ? std::max(refine_rtol, kEstimateRtol) : refine_rtol; }
   bool factor_kept = false;  ///< `single` holds a usable factorisation of op()'s pattern
   bool stale = false;        ///< the current operator is preconditioned by an older factorisation
   FactorisationLag lag;      ///< when to factorise again (factorisation_lag.hpp)
@@ -284,6 +315,8 @@ struct JacobianSolver::Petsc {
   /// FGMRES on the current operator with the older factorisation; whether it converged within
   /// lag_max_it iterations. Tells `lag` what it cost.
   bool lagged_solve(int& its, TimeSplit& times);
+  BatchedFgmres batch;      ///< solve_single_batch's Krylov vectors
+  std::vector<Vec> bs, xs;  ///< its right-hand sides and solutions in op()'s layout
 };
 
 void JacobianSolver::Petsc::configure(const Model& model, double ksp_rtol, int ksp_max_it) {
@@ -423,6 +456,7 @@ void JacobianSolver::Petsc::make_vectors(bool new_layout) {
     if (have == want && !new_layout) return;
     petsc_check(VecDestroy(&u), "VecDestroy");
     petsc_check(VecDestroy(&b), "VecDestroy");
+    drop_batch_vectors();
   }
   petsc_check(MatCreateVecs(op(), &u, &b), "MatCreateVecs");
   if (mpi_size() == 1) return;
@@ -487,8 +521,8 @@ bool JacobianSolver::Petsc::krylov_solve(int& its, TimeSplit& times) {
 bool JacobianSolver::Petsc::lagged_solve(int& its, TimeSplit& times) {
   const double before = times.solves.seconds;
   const int its_before = its;
-  petsc_check(KSPSetTolerances(ksp, refine_rtol, 0.0, PETSC_DEFAULT, lag_max_it), "KSPSetTolerances");
-  const auto restore = [this] { KSPSetTolerances(ksp, refine_rtol, 0.0, PETSC_DEFAULT, refine_max_it); };
+  petsc_check(KSPSetTolerances(ksp, rtol_now(), 0.0, PETSC_DEFAULT, lag_max_it), "KSPSetTolerances");
+  const auto restore = [this] { KSPSetTolerances(ksp, rtol_now(), 0.0, PETSC_DEFAULT, refine_max_it); };
   bool ok = false;
   try {
     ok = krylov_solve(its, times);
@@ -601,6 +635,112 @@ bool JacobianSolver::Petsc::solve_columns(const std::vector<const Eigen::Matrix3
     finite_all = finite_all && solution.allFinite();
   }
   its += static_cast<int>(n);
+  return finite_all;
+}
+
+void JacobianSolver::Petsc::batch_vectors(std::size_t n) {
+  while (bs.size() < n) {
+    Vec v = nullptr, w = nullptr;
+    petsc_check(VecDuplicate(u, &v), "VecDuplicate");
+    bs.push_back(v);
+    petsc_check(VecDuplicate(u, &w), "VecDuplicate");
+    xs.push_back(w);
+  }
+}
+
+void JacobianSolver::Petsc::drop_batch_vectors() {
+  for (Vec& v : bs) VecDestroy(&v);
+  for (Vec& v : xs) VecDestroy(&v);
+  bs.clear();
+  xs.clear();
+  batch.release();
+}
+
+std::vector<std::size_t> JacobianSolver::Petsc::refine_batch(const std::vector<std::size_t>& pending, PetscInt max_it,
+                                                             int& its, TimeSplit& times, std::vector<int>& iterations) {
+  std::vector<Vec> in, out;
+  for (const std::size_t j : pending) {
+    in.push_back(bs[j]);
+    out.push_back(xs[j]);
+  }
+  times.solves.count += pending.size() - 1;  // one timed solve per column, as solve() counts
+  BatchedFgmres::Outcome r;
+  {
+    const ScopedTimer timer(times.solves);
+    SinglePrecisionFactor& factor = *single;
+    r = batch.solve(
+        op(), [&factor](const std::vector<Vec>& x, const std::vector<Vec>& y) { return factor.solve_many(x, y); }, in,
+        out, rtol_now(), static_cast<int>(max_it), [] { return stop_requested(); });
+  }
+  iterations = r.iterations;
+  std::vector<std::size_t> left;
+  for (std::size_t k = 0; k < pending.size(); ++k) {
+    its += r.iterations[k];
+    if (!r.converged[k]) left.push_back(pending[k]);
+  }
+  return left;
+}
+
+bool JacobianSolver::Petsc::solve_single_batch(const std::vector<const Eigen::Matrix3Xd*>& rhs,
+                                               const std::vector<Eigen::Matrix3Xd*>& out, int& its, TimeSplit& times) {
+  const std::size_t n = rhs.size();
+  solves += static_cast<int>(n);
+  batch_vectors(n);
+  for (std::size_t j = 0; j < n; ++j) to_vec(*rhs[j], owned_lo(), owned_hi(), bs[j]);
+  std::vector<std::size_t> pending(n);
+  std::iota(pending.begin(), pending.end(), std::size_t{0});
+  const auto all_finite = [this](const std::vector<std::size_t>& cols) {
+    return std::all_of(cols.begin(), cols.end(), [this](std::size_t j) { return finite(bs[j]); });
+  };
+  if (fresh) {
+    stale = may_lag();
+    if (stale) {
+      petsc_check(KSPSetOperators(ksp, op(), op()), "KSPSetOperators");
+      fresh = false;
+    }
+  }
+  if (stale) {
+    // The older factorisation for every column; the account charges each its share of the time.
+    const double before = times.solves.seconds;
+    std::vector<int> iterations;
+    pending = refine_batch(pending, lag_max_it, its, times, iterations);
+    lagged += static_cast<int>(n);
+    const double seconds = slowest_rank(times.solves.seconds - before);
+    const int total = std::accumulate(iterations.begin(), iterations.end(), 0);
+    for (const int k : iterations) lag.lagged_solve(k, total > 0 ? seconds * k / total : 0.0);
+    if (!pending.empty()) {
+      if (stop_requested() || !all_finite(pending)) return false;
+      fresh = true;  // too far from the operator now: factorise it
+    }
+  }
+  if (!pending.empty()) {
+    const bool first = fresh;
+    if (fresh) set_up(times);
+    if (singular) return false;
+    if (single) {
+      std::vector<int> iterations;
+      const int tried = static_cast<int>(pending.size());
+      pending = refine_batch(pending, refine_max_it, its, times, iterations);
+      if (first) lag.fresh_solve(iterations.front());
+      if (!pending.empty()) {
+        if (stop_requested() || !all_finite(pending)) return false;
+        use_double("batched FGMRES: " + std::to_string(pending.size()) + " of " + std::to_string(tried) +
+                   " right-hand sides not converged after " + std::to_string(refine_max_it) + " iterations");
+        set_up(times);
+      }
+    }
+    for (const std::size_t j : pending) {  // double precision (the fall-back): one back-substitution each
+      petsc_check(VecCopy(bs[j], b), "VecCopy");
+      if (!krylov_solve(its, times)) return false;
+      petsc_check(VecCopy(u, xs[j]), "VecCopy");
+    }
+  }
+  bool finite_all = true;
+  for (std::size_t j = 0; j < n; ++j) {
+    out[j]->resize(3, rhs[j]->cols());
+    from_vec(xs[j], all, whole, *out[j]);
+    finite_all = finite_all && out[j]->allFinite();
+  }
   return finite_all;
 }
 
@@ -768,12 +908,33 @@ bool JacobianSolver::solve(const Eigen::Matrix3Xd& rhs, Eigen::Matrix3Xd& u) {
   return true;
 }
 
+bool JacobianSolver::solve_estimate(const Eigen::Matrix3Xd& rhs, Eigen::Matrix3Xd& u) {
+  Petsc& p = *petsc_;
+  if (!p.single) return solve(rhs, u);
+  struct Loose {  // the path's own tolerance again on every way out (unless it left single precision)
+    Petsc& p;
+    explicit Loose(Petsc& q) : p(q) {
+      p.estimating = true;
+      petsc_check(KSPSetTolerances(p.ksp, p.rtol_now(), 0.0, PETSC_DEFAULT, p.refine_max_it), "KSPSetTolerances");
+    }
+    Loose(const Loose&) = delete;
+    Loose& operator=(const Loose&) = delete;
+    ~Loose() {
+      p.estimating = false;
+      if (p.single) KSPSetTolerances(p.ksp, p.refine_rtol, 0.0, PETSC_DEFAULT, p.refine_max_it);
+    }
+  } loose(p);
+  return solve(rhs, u);
+}
+
 bool JacobianSolver::solve_many(const std::vector<const Eigen::Matrix3Xd*>& rhs,
                                 const std::vector<Eigen::Matrix3Xd*>& u) {
   if (rhs.size() != u.size())
     throw std::logic_error("JacobianSolver::solve_many: as many solutions as right-hand sides");
-  if (rhs.size() > 1 && petsc_->direct_mumps()) {
-    if (!petsc_->solve_columns(rhs, u, iterations_, times_)) return false;
+  if (rhs.size() > 1 && (petsc_->direct_mumps() || petsc_->single)) {
+    const bool ok = petsc_->single ? petsc_->solve_single_batch(rhs, u, iterations_, times_)
+                                   : petsc_->solve_columns(rhs, u, iterations_, times_);
+    if (!ok) return false;
     batched_ += static_cast<int>(rhs.size());
     for (std::size_t k = 0; k < rhs.size(); ++k) set_fixed(*rhs[k], *u[k]);
     return true;

@@ -15,7 +15,8 @@
 // particle coordinates on (any number of ranks), the MUMPS factorisation is made in single precision, in METIS's
 // nested-dissection pivot order (-adamss_pivot_order metis|mumps), and refined by flexible GMRES to 1e-4 relative
 // residual (single_precision_factor.hpp; -adamss_factorisation_precision single|double|auto, -adamss_refinement_rtol,
-// -adamss_refinement_max_it); a refinement that fails switches to double precision for the rest of the run. There a new
+// -adamss_refinement_max_it, 30 iterations; solve_many refines its columns in lockstep, batched_fgmres.hpp;
+// solve_estimate to 1e-2); a refinement that fails switches to double precision for the rest of the run. There a new
 // operator keeps the last factorisation as FGMRES's preconditioner until the extra iterations have cost as much as a
 // factorisation (factorisation_lag.hpp; up to 30 iterations a solve, -adamss_lag_max_it N, 0 factorises every
 // operator); a lagged solve that does not converge factorises its operator and solves again.
@@ -57,11 +58,18 @@ class JacobianSolver {
   void eliminate();
   /// u = A^{-1} rhs with the current (eliminated) A; false if the KSP diverged.
   bool solve(const Eigen::Matrix3Xd& rhs, Eigen::Matrix3Xd& u);
+  /// solve() for an estimate: on the single-precision path refined to 1e-2 relative residual only
+  /// (never tighter than the path's own tolerance), for a quantity that needs a digit or two: the
+  /// bordered Newton's simplified correction, which only decides a step length. Elsewhere solve().
+  bool solve_estimate(const Eigen::Matrix3Xd& rhs, Eigen::Matrix3Xd& u);
   /// u_k = A^{-1} rhs_k for several right-hand sides with the current (eliminated) A (u and rhs of
   /// the same length, no u_k aliasing an rhs). With a double-precision direct factorisation by
   /// MUMPS one back-substitution takes every column (MatMatSolve: the factor, tens of megabytes on a
-  /// heart, is read once instead of once per column); otherwise one solve() each. False if any
-  /// solve fails.
+  /// heart, is read once instead of once per column). On the single-precision path FGMRES refines
+  /// the columns in lockstep, each iteration one multi-column single-precision solve for all the
+  /// columns still iterating (batched_fgmres.hpp), each column to the tolerance one solve() has,
+  /// with the same lagged factorisations and fall-back to double precision. Otherwise one solve()
+  /// each. False if any solve fails.
   bool solve_many(const std::vector<const Eigen::Matrix3Xd*>& rhs, const std::vector<Eigen::Matrix3Xd*>& u);
   /// Eliminates the fixed coordinates with prescribed values and solves: A_ff u_f = rhs_f -
   /// A_fc values_c, u_c = values_c (PETSc's MatZeroRowsColumns with x and b); false if the KSP
@@ -79,7 +87,7 @@ class JacobianSolver {
   [[nodiscard]] std::size_t border_rows() const;
   /// Solves preconditioned by the factorisation of an older operator (lagged factorisations).
   [[nodiscard]] int lagged_solves() const;
-  /// Right-hand sides solved together by solve_many's one back-substitution (MatMatSolve).
+  /// Right-hand sides solved together by solve_many (one MatMatSolve, or the lockstep FGMRES).
   [[nodiscard]] int batched_solves() const { return batched_; }
   /// Krylov iterations summed over the solves since the last reset_iterations().
   [[nodiscard]] int iterations() const { return iterations_; }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <stdexcept>
@@ -309,44 +310,72 @@ bool SinglePrecisionFactor::factorise(Mat a, bool symmetric) {
   return call(kFactorise, "factorisation");
 }
 
-bool SinglePrecisionFactor::solve_gathered(PetscScalar* rhs, PetscInt n) {
-  double scale = 0.0;
-  for (PetscInt i = 0; i < n; ++i) scale = std::max(scale, std::abs(rhs[i]));
-  MPI_Bcast(&scale, 1, MPI_DOUBLE, 0, comm_);
-  if (scale == 0.0) return true;  // the solution is the zero right-hand side
-  rhs_.resize(static_cast<std::size_t>(n));
-  for (PetscInt i = 0; i < n; ++i) rhs_[static_cast<std::size_t>(i)] = static_cast<float>(rhs[i] / scale);
+bool SinglePrecisionFactor::solve_gathered(PetscScalar* rhs, PetscInt n, int columns) {
+  // Each column scaled by its largest entry (a zero column by 1: its solution is zero).
+  std::vector<double> scale(static_cast<std::size_t>(columns), 0.0);
+  for (int j = 0; j < columns; ++j) {
+    const PetscScalar* col = rhs + static_cast<std::ptrdiff_t>(j) * n;
+    for (PetscInt i = 0; i < n; ++i)
+      scale[static_cast<std::size_t>(j)] = std::max(scale[static_cast<std::size_t>(j)], std::abs(col[i]));
+  }
+  MPI_Bcast(scale.data(), columns, MPI_DOUBLE, 0, comm_);
+  if (std::all_of(scale.begin(), scale.end(), [](double s) { return s == 0.0; })) return true;  // zero solutions
+  std::replace(scale.begin(), scale.end(), 0.0, 1.0);
+  rhs_.resize(static_cast<std::size_t>(n) * static_cast<std::size_t>(columns));
+  const auto size = static_cast<std::size_t>(n);
+  for (std::size_t k = 0; k < rhs_.size(); ++k) rhs_[k] = static_cast<float>(rhs[k] / scale[k / size]);
   SMUMPS_STRUC_C& id = mumps_->id;
   id.rhs = rhs_.data();
-  id.nrhs = 1;
+  id.nrhs = columns;
   id.lrhs = static_cast<MUMPS_INT>(rows_);
   if (!call(kSolve, "solve")) return false;
-  for (PetscInt i = 0; i < n; ++i) rhs[i] = scale * static_cast<double>(rhs_[static_cast<std::size_t>(i)]);
+  for (std::size_t k = 0; k < rhs_.size(); ++k) rhs[k] = scale[k / size] * static_cast<double>(rhs_[k]);
   return true;
 }
 
 bool SinglePrecisionFactor::solve(Vec in, Vec out) {
+  return solve_many({in}, {out});
+}
+
+bool SinglePrecisionFactor::solve_many(const std::vector<Vec>& in, const std::vector<Vec>& out) {
+  if (in.size() != out.size()) throw std::logic_error("SinglePrecisionFactor::solve_many: as many outputs as inputs");
+  if (in.empty()) return true;
+  const int columns = static_cast<int>(in.size());
   int ranks = 1;
   MPI_Comm_size(comm_, &ranks);
-  if (ranks == 1) {
-    petsc_check(VecCopy(in, out), "VecCopy");
-    PetscScalar* v = nullptr;
-    petsc_check(VecGetArray(out, &v), "VecGetArray");
-    const bool ok = solve_gathered(v, rows_);
-    petsc_check(VecRestoreArray(out, &v), "VecRestoreArray");
-    return ok;
+  if (ranks > 1 && gather_ == nullptr)
+    petsc_check(VecScatterCreateToZero(in[0], &gather_, &whole_), "VecScatterCreateToZero");
+  // The columns side by side (column-major, n rows: all of them on rank 0, none elsewhere).
+  PetscInt n = rows_;
+  if (ranks > 1) petsc_check(VecGetLocalSize(whole_, &n), "VecGetLocalSize");
+  many_.resize(static_cast<std::size_t>(n) * static_cast<std::size_t>(columns));
+  const auto column = [this, n](int j) { return many_.data() + static_cast<std::ptrdiff_t>(j) * n; };
+  for (int j = 0; j < columns; ++j) {
+    Vec source = in[static_cast<std::size_t>(j)];
+    if (ranks > 1) {
+      petsc_check(VecScatterBegin(gather_, source, whole_, INSERT_VALUES, SCATTER_FORWARD), "VecScatterBegin");
+      petsc_check(VecScatterEnd(gather_, source, whole_, INSERT_VALUES, SCATTER_FORWARD), "VecScatterEnd");
+      source = whole_;
+    }
+    const PetscScalar* v = nullptr;
+    petsc_check(VecGetArrayRead(source, &v), "VecGetArrayRead");
+    std::copy(v, v + n, column(j));
+    petsc_check(VecRestoreArrayRead(source, &v), "VecRestoreArrayRead");
   }
-  if (gather_ == nullptr) petsc_check(VecScatterCreateToZero(in, &gather_, &whole_), "VecScatterCreateToZero");
-  petsc_check(VecScatterBegin(gather_, in, whole_, INSERT_VALUES, SCATTER_FORWARD), "VecScatterBegin");
-  petsc_check(VecScatterEnd(gather_, in, whole_, INSERT_VALUES, SCATTER_FORWARD), "VecScatterEnd");
-  PetscInt n = 0;
-  petsc_check(VecGetLocalSize(whole_, &n), "VecGetLocalSize");
-  PetscScalar* v = nullptr;
-  petsc_check(VecGetArray(whole_, &v), "VecGetArray");
-  const bool ok = solve_gathered(v, n);
-  petsc_check(VecRestoreArray(whole_, &v), "VecRestoreArray");
-  petsc_check(VecScatterBegin(gather_, whole_, out, INSERT_VALUES, SCATTER_REVERSE), "VecScatterBegin");
-  petsc_check(VecScatterEnd(gather_, whole_, out, INSERT_VALUES, SCATTER_REVERSE), "VecScatterEnd");
+  const bool ok = solve_gathered(many_.data(), n, columns);
+  for (int j = 0; j < columns; ++j) {
+    Vec target = ranks > 1 ? whole_ : out[static_cast<std::size_t>(j)];
+    PetscScalar* v = nullptr;
+    petsc_check(VecGetArray(target, &v), "VecGetArray");
+    std::copy(column(j), column(j) + n, v);
+    petsc_check(VecRestoreArray(target, &v), "VecRestoreArray");
+    if (ranks > 1) {
+      petsc_check(VecScatterBegin(gather_, whole_, out[static_cast<std::size_t>(j)], INSERT_VALUES, SCATTER_REVERSE),
+                  "VecScatterBegin");
+      petsc_check(VecScatterEnd(gather_, whole_, out[static_cast<std::size_t>(j)], INSERT_VALUES, SCATTER_REVERSE),
+                  "VecScatterEnd");
+    }
+  }
   return ok;
 }
 

@@ -66,6 +66,9 @@ class SinglePrecisionFactor {
   /// out = M^{-1} in with the last successful factorisation; `in` and `out` have the layout of
   /// a's rows. False when MUMPS fails (error()). Collective.
   bool solve(Vec in, Vec out);
+  /// out[j] = M^{-1} in[j] for every j in one MUMPS solve (NRHS columns: the factor is read once
+  /// for all of them), each column scaled by its own largest entry. Collective.
+  bool solve_many(const std::vector<Vec>& in, const std::vector<Vec>& out);
   /// MUMPS's error of the last failed call ("" while none failed).
   [[nodiscard]] const std::string& error() const { return error_; }
   /// Whether the last failure was a numerically singular operator (INFOG(1) = -10), which a
@@ -92,9 +95,9 @@ class SinglePrecisionFactor {
   bool call(int job, const char* what);
   /// Ends the MUMPS instance and frees its communicator (nothing after MPI_Finalize).
   void end();
-  /// The solve on rank 0's gathered right-hand side `rhs` (n values there, none elsewhere),
-  /// overwritten with the solution. Collective.
-  bool solve_gathered(PetscScalar* rhs, PetscInt n);
+  /// The solve on rank 0's gathered right-hand sides `rhs` (`columns` columns of n values,
+  /// column-major, there; none elsewhere), overwritten with the solutions. Collective.
+  bool solve_gathered(PetscScalar* rhs, PetscInt n, int columns);
 
   std::unique_ptr<Mumps> mumps_;
   PetscInt64 mapped_id_ = -1;           ///< PETSc's id of the mapped Mat (unique, unlike its address)
@@ -113,8 +116,9 @@ class SinglePrecisionFactor {
                                      ///< off-diagonal block's) value array
   std::vector<int> irn_, jcn_;       ///< MUMPS's 1-based global row and column of each entry
   std::vector<float> values_, rhs_;
-  VecScatter gather_ = nullptr;  ///< several ranks: a vector onto rank 0 (made at the first solve)
-  Vec whole_ = nullptr;          ///< its gathered copy (n values on rank 0)
+  std::vector<PetscScalar> many_;  ///< solve_many's gathered columns (rank 0)
+  VecScatter gather_ = nullptr;    ///< several ranks: a vector onto rank 0 (made at the first solve)
+  Vec whole_ = nullptr;            ///< its gathered copy (n values on rank 0)
   std::string error_;
 };
 

@@ -448,6 +448,31 @@ TEST(SinglePrecisionFactorisation, ExactSolvesAreRefinedToTheKrylovTolerance) {
   EXPECT_GT(exact->iterations(), newton->iterations());
 }
 
+TEST(SinglePrecisionFactorisation, EstimatesStopAtOnePercentAndLeaveTheToleranceAsItWas) {
+  // solve_estimate (the bordered Newton's simplified correction) refines to 1e-2 relative residual
+  // only; the next solve() is refined to the solver's own tolerance again (ksp_rtol 1e-12 here).
+  const PerturbedBlock b;
+  const std::vector<std::pair<std::string, std::string>> single{{"-adamss_factorisation_precision", "single"}};
+  const auto exact = test::solver_with(b.model, single, solver::JacobianSolver::Directions::Exact);
+  const auto plain = test::solver_with(b.model, {{"-adamss_factorisation_precision", "double"}});
+  const Eigen::Matrix3Xd rhs = b.rhs(9, *plain);
+  b.assemble({exact.get(), plain.get()}, -1.0);
+  Eigen::Matrix3Xd ud, ue, us, ud2;
+  ASSERT_TRUE(plain->solve(rhs, ud));
+  ASSERT_TRUE(plain->solve_estimate(rhs, ud2));
+  EXPECT_EQ(ud2, ud);  // the double-precision path has nothing to stop early
+  ASSERT_TRUE(exact->solve_estimate(rhs, ue));
+  const int estimate_its = exact->iterations();
+  exact->reset_iterations();
+  ASSERT_TRUE(exact->solve(rhs, us));
+  EXPECT_LT(estimate_its, exact->iterations());
+  EXPECT_GE(estimate_its, 1);
+  EXPECT_GT((ue - ud).norm() / ud.norm(), 1e-9);  // not refined to 1e-12
+  EXPECT_LT((ue - ud).norm() / ud.norm(), 5e-2);
+  EXPECT_LT((us - ud).norm() / ud.norm(), 1e-9);  // the tolerance is back
+  for (const Eigen::Index d : exact->fixed_dofs()) EXPECT_EQ(ue.data()[d], rhs.data()[d]);
+}
+
 TEST(SinglePrecisionFactorisation, RefusesAnUnknownPrecision) {
   const auto loaded = test::load_scene(kScene);
   try {

@@ -1,7 +1,10 @@
 // JacobianSolver::solve_many: several right-hand sides with one operator. With MUMPS in double
 // precision one MatMatSolve takes every column; the solutions must be those of one solve() each,
 // on the plain and on the bordered operator (the nodal volume term), on one rank and, under
-// ctest's mpi.unit, on several. Other solvers (PETSc's own LU here) solve column by column.
+// ctest's mpi.unit, on several. On the single-precision path the columns are refined together
+// (batched_fgmres.hpp): each to its tolerance, with the lagged factorisations and the fall-back to
+// double precision as one solve() has them. Other solvers (PETSc's own LU here) solve column by
+// column.
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
@@ -91,4 +94,85 @@ TEST(SolveMany, RefusesUnequalLists) {
   const Eigen::Matrix3Xd rhs = m.rhs(3, *s);
   Eigen::Matrix3Xd u;
   EXPECT_THROW((void)s->solve_many({&rhs, &rhs}, {&u}), std::logic_error);
+}
+
+namespace {
+
+/// kScene's bordered operator at two nearby states (the second 10 times closer to the first than
+/// the first to the mesh), each solved for three right-hand sides by solve_many with `options`,
+/// and by a double-precision factorisation one at a time: the largest relative difference over
+/// both states, the solver (for its counters) and its describe().
+struct Path {
+  double difference = 0.0;
+  std::unique_ptr<solver::JacobianSolver> s;
+};
+
+Path along_path(const Options& options) {
+  const auto loaded = test::load_scene(test::replaced(kScene, "DISTRIBUTION", "nodal"));
+  const solver::Model& model = loaded.model;
+  const Eigen::Matrix3Xd x1 = test::perturbed(model.mesh->nodes, 1e-3, 0.05);
+  const std::vector<Eigen::Matrix3Xd> states{x1, test::perturbed(x1, 1e-3, 0.005, 11)};
+  Path out;
+  out.s = test::solver_with(model, options);
+  const auto exact = test::solver_with(model, {{"-adamss_factorisation_precision", "double"}});
+  std::vector<Eigen::Matrix3Xd> rhs;
+  for (const unsigned seed : {3U, 4U, 5U}) {
+    rhs.push_back(test::perturbed(Eigen::Matrix3Xd::Zero(3, x1.cols()), 1.0, 1.0, seed));
+    solver::zero_dofs(rhs.back(), out.s->fixed_dofs());
+  }
+  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, x1.cols());
+  for (const Eigen::Matrix3Xd& x : states) {
+    for (solver::JacobianSolver* s : {out.s.get(), exact.get()}) {
+      s->assemble(model.terms, solver::StateView{x, v, 1.0}, -1.0, 0.0);
+      s->eliminate();
+    }
+    std::vector<Eigen::Matrix3Xd> many(3);
+    EXPECT_TRUE(out.s->solve_many({&rhs[0], &rhs[1], &rhs[2]}, {&many[0], &many[1], &many[2]}));
+    for (std::size_t k = 0; k < 3; ++k) {
+      Eigen::Matrix3Xd one;
+      EXPECT_TRUE(exact->solve(rhs[k], one));
+      out.difference = std::max(out.difference, (many[k] - one).norm() / one.norm());
+    }
+  }
+  return out;
+}
+
+const std::pair<std::string, std::string> kSingle{"-adamss_factorisation_precision", "single"};
+const std::pair<std::string, std::string> kTight{"-adamss_refinement_rtol", "1e-11"};
+const std::string kSingleBordered =
+    "fgmres + cholesky (mumps, single precision, METIS order), bordered operator: 135 + 45 unknowns";
+
+}  // namespace
+
+TEST(SolveMany, SinglePrecisionRefinesTheColumnsTogether) {
+  // The second operator keeps the first's factorisation (lagged): three lagged solves in one batch.
+  const Path p = along_path({kSingle, kTight});
+  EXPECT_EQ(p.s->describe(), kSingleBordered);
+  EXPECT_EQ(p.s->batched_solves(), 6);
+  EXPECT_EQ(p.s->times().factorisations.count, 1U);
+  EXPECT_EQ(p.s->lagged_solves(), 3);
+  EXPECT_EQ(p.s->times().solves.count, 6U);
+  EXPECT_GE(p.s->iterations(), 6);  // one single-precision solve per column does not reach 1e-11
+  EXPECT_LT(p.difference, 1e-9);
+}
+
+TEST(SolveMany, SinglePrecisionBatchFactorisesWhenTheLagDoesNotConverge) {
+  // One lagged iteration cannot reach 1e-11: the second operator is factorised and the columns
+  // refined again with the fresh factor.
+  const Path p = along_path({kSingle, kTight, {"-adamss_lag_max_it", "1"}});
+  EXPECT_EQ(p.s->describe(), kSingleBordered);
+  EXPECT_EQ(p.s->times().factorisations.count, 2U);
+  EXPECT_EQ(p.s->lagged_solves(), 3);
+  EXPECT_LT(p.difference, 1e-9);
+}
+
+TEST(SolveMany, SinglePrecisionBatchFallsBackToDoublePrecision) {
+  // One FGMRES iteration cannot reach 1e-14 from a single-precision factor: double precision from
+  // the first batch on, and for good.
+  const Path p = along_path({kSingle, {"-adamss_refinement_rtol", "1e-14"}, {"-adamss_refinement_max_it", "1"}});
+  EXPECT_EQ(p.s->describe(),
+            "preonly + cholesky (mumps), bordered operator: 135 + 45 unknowns; single precision left at solve 3: "
+            "batched FGMRES: 3 of 3 right-hand sides not converged after 1 iterations");
+  EXPECT_EQ(p.s->batched_solves(), 6);  // the second batch by one MatMatSolve
+  EXPECT_LT(p.difference, 1e-12);
 }
