@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <stdexcept>
 
 #include "solver/time/petsc/petsc_env.hpp"
@@ -72,6 +73,9 @@ double BatchedFgmres::arnoldi_step(Mat a, Column& c, int i) {
     at(k + 1, i) = -c.sn[static_cast<std::size_t>(k)] * hk + c.cs[static_cast<std::size_t>(k)] * hk1;
   }
   const double rho = std::hypot(at(i, i), at(i + 1, i));
+  // A z_i = 0 after the projections: the space stops growing short of the solution (a zero
+  // preconditioner output, or a singular A M^{-1}); a breakdown, not convergence.
+  if (rho == 0.0) return std::numeric_limits<double>::quiet_NaN();
   const double cs = rho > 0.0 ? at(i, i) / rho : 1.0;
   const double sn = rho > 0.0 ? at(i + 1, i) / rho : 0.0;
   c.cs[static_cast<std::size_t>(i)] = cs;

@@ -23,7 +23,11 @@
 //
 // A column stops when |g_{i+1}| <= rtol |b_j| (converged), when the residual estimate is not finite
 // or exceeds 1e4 |b_j| (PETSc's divergence tolerance; diverged), or after max_it iterations (not
-// converged; x_j is then the last iterate). No restarts: max_it is the Krylov space's dimension.
+// converged; x_j is then the last iterate). A Krylov vector that the operator maps into the space
+// already built (|A z_i| = 0 after the projections, no new direction) is a breakdown: the column
+// ends unconverged, as PETSc reports it. No restarts: max_it is the Krylov space's dimension
+// (PETSc's FGMRES restarts every 30 iterations, so with -adamss_refinement_max_it or
+// -adamss_lag_max_it above 30 the batched and the one-column solves iterate differently).
 // The preconditioner reporting a failure (NaN from a failed MUMPS solve) ends every active column
 // as diverged, and so does a stop request (SIGINT/SIGTERM).
 //

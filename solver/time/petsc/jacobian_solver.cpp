@@ -532,7 +532,8 @@ bool JacobianSolver::Petsc::lagged_solve(int& its, TimeSplit& times) {
   }
   restore();
   ++lagged;
-  lag.lagged_solve(its - its_before, slowest_rank(times.solves.seconds - before));
+  // An estimate's few iterations say nothing about what the stale factor costs the real solves.
+  if (!estimating) lag.lagged_solve(its - its_before, slowest_rank(times.solves.seconds - before));
   return ok;
 }
 
@@ -556,7 +557,7 @@ bool JacobianSolver::Petsc::solve(int& its, TimeSplit& times) {
   if (singular) return false;
   const int its_before = its;
   const bool ok = krylov_solve(its, times);
-  if (first) lag.fresh_solve(its - its_before);
+  if (first && !estimating) lag.fresh_solve(its - its_before);
   if (ok) return true;
   if (!single || stop_requested()) return false;
   // A right-hand side with NaN or Inf (a Newton trial state gone bad) fails in any precision.
@@ -721,7 +722,8 @@ bool JacobianSolver::Petsc::solve_single_batch(const std::vector<const Eigen::Ma
       std::vector<int> iterations;
       const int tried = static_cast<int>(pending.size());
       pending = refine_batch(pending, refine_max_it, its, times, iterations);
-      if (first) lag.fresh_solve(iterations.front());
+      // n_0, what a fresh factor needs: the batch's hardest column (a zero one takes none).
+      if (first) lag.fresh_solve(*std::max_element(iterations.begin(), iterations.end()));
       if (!pending.empty()) {
         if (stop_requested() || !all_finite(pending)) return false;
         use_double("batched FGMRES: " + std::to_string(pending.size()) + " of " + std::to_string(tried) +
@@ -782,6 +784,7 @@ void JacobianSolver::Petsc::use_single() {
 void JacobianSolver::Petsc::use_double(const std::string& why) {
   abandoned = "single precision left at solve " + std::to_string(solves) + ": " + why;
   single.reset();
+  batch.release();  // the lockstep FGMRES's Krylov vectors: the double path has no use for them
   factor_kept = stale = false;
   petsc_check(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
   petsc_check(KSPSetNormType(ksp, KSP_NORM_DEFAULT), "KSPSetNormType");
@@ -914,8 +917,10 @@ bool JacobianSolver::solve_estimate(const Eigen::Matrix3Xd& rhs, Eigen::Matrix3X
   struct Loose {  // the path's own tolerance again on every way out (unless it left single precision)
     Petsc& p;
     explicit Loose(Petsc& q) : p(q) {
+      // The flag only once the KSP has the loose tolerance: a throw here leaves neither behind.
+      petsc_check(KSPSetTolerances(p.ksp, std::max(p.refine_rtol, kEstimateRtol), 0.0, PETSC_DEFAULT, p.refine_max_it),
+                  "KSPSetTolerances");
       p.estimating = true;
-      petsc_check(KSPSetTolerances(p.ksp, p.rtol_now(), 0.0, PETSC_DEFAULT, p.refine_max_it), "KSPSetTolerances");
     }
     Loose(const Loose&) = delete;
     Loose& operator=(const Loose&) = delete;

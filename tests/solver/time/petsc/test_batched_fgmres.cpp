@@ -91,13 +91,17 @@ struct Jacobi {
   [[nodiscard]] solver::BatchedFgmres::Preconditioner apply() {
     return [this](const std::vector<Vec>& in, const std::vector<Vec>& out) {
       calls.push_back(static_cast<int>(in.size()));
-      for (std::size_t j = 0; j < in.size(); ++j) VecPointwiseDivide(out[j], in[j], diagonal);
+      for (std::size_t j = 0; j < in.size(); ++j) {
+        VecPointwiseDivide(out[j], in[j], diagonal);
+        if (zero) VecZeroEntries(out[j]);
+      }
       return fail_at < 0 || static_cast<int>(calls.size()) < fail_at;
     };
   }
   Vec diagonal = nullptr;
   std::vector<int> calls;
-  int fail_at = -1;  ///< this call (1-based) and later ones report a failure
+  int fail_at = -1;   ///< this call (1-based) and later ones report a failure
+  bool zero = false;  ///< return M^{-1} v = 0 (an operator that maps everything to zero)
 };
 
 Eigen::VectorXd seeded(unsigned seed) {
@@ -184,6 +188,18 @@ TEST(BatchedFgmres, AFailedPreconditionerEndsEveryColumn) {
     EXPECT_EQ(r.outcome.iterations[j], 1);  // the first iteration ran, the second's M^{-1} failed
     EXPECT_TRUE(r.x[j].allFinite());
   }
+}
+
+TEST(BatchedFgmres, ABreakdownIsNoConvergence) {
+  // M^{-1} = 0: A z = 0, the Krylov space cannot grow; PETSc calls it a breakdown. The residual
+  // is still |b|, so the column must not be reported converged.
+  const Operator op;
+  Jacobi m(op);
+  m.zero = true;
+  const Outcome r = run(op, m, {seeded(1)}, 1e-10, 30);
+  EXPECT_FALSE(r.outcome.converged[0]);
+  EXPECT_EQ(r.outcome.iterations[0], 1);
+  EXPECT_EQ(r.x[0], Eigen::VectorXd::Zero(kN));
 }
 
 TEST(BatchedFgmres, ANonFiniteRightHandSideFailsAloneAtOnce) {

@@ -120,6 +120,42 @@ TEST(SinglePrecisionFactor, ScalesTinyAndHugeRightHandSides) {
   MatDestroy(&a);
 }
 
+TEST(SinglePrecisionFactor, SolvesSeveralColumnsEachScaledByItself) {
+  // One solve_many of columns 200 orders of magnitude apart (and a zero one): each column is
+  // scaled by its own largest entry, so each is solved as alone; one scale for all would put the
+  // tiny column below float's range and the huge one above it.
+  const PetscInt n = 50;
+  Mat a = laplacian(n, 0.5, 0.3);
+  solver::SinglePrecisionFactor f;
+  ASSERT_TRUE(f.factorise(a, false)) << f.error();
+  const std::vector<double> scales{1.0, 1e-200, 0.0, 1e200};
+  std::vector<std::vector<double>> b, x(scales.size(), std::vector<double>(static_cast<std::size_t>(n), 7.0));
+  std::vector<Vec> in, out;
+  for (std::size_t j = 0; j < scales.size(); ++j) {
+    b.push_back(ramp(n, scales[j]));
+    Vec bv = nullptr, xv = nullptr;
+    VecCreateSeqWithArray(PETSC_COMM_SELF, 1, n, b[j].data(), &bv);
+    VecCreateSeqWithArray(PETSC_COMM_SELF, 1, n, x[j].data(), &xv);
+    in.push_back(bv);
+    out.push_back(xv);
+  }
+  ASSERT_TRUE(f.solve_many(in, out)) << f.error();
+  for (std::size_t j = 0; j < scales.size(); ++j) {
+    SCOPED_TRACE(scales[j]);
+    if (scales[j] == 0.0) {
+      for (const double v : x[j]) EXPECT_EQ(v, 0.0);
+    } else {
+      EXPECT_LT(relative_residual(a, x[j], b[j]), 1e-5);
+      std::vector<double> alone;
+      ASSERT_TRUE(solve(f, b[j], alone));
+      for (PetscInt i = 0; i < n; ++i) EXPECT_NEAR(x[j][i], alone[i], 1e-6 * std::abs(alone[i]) + 1e-300 * scales[j]);
+    }
+    VecDestroy(&in[j]);
+    VecDestroy(&out[j]);
+  }
+  MatDestroy(&a);
+}
+
 TEST(SinglePrecisionFactor, AnalysesOncePerPatternAndSymmetry) {
   const PetscInt n = 60;
   Mat a = laplacian(n, 0.5, 0.0);
