@@ -312,6 +312,9 @@ struct JacobianSolver::Petsc {
   int lagged = 0;            ///< solves with an older factorisation so far (JacobianSolver::lagged_solves)
   /// Whether the next new operator may keep the last factorisation.
   [[nodiscard]] bool may_lag() const { return single && lag_max_it > 0 && factor_kept && !lag.refactor(); }
+  /// A new operator (`fresh`) that may keep the last factorisation (may_lag) becomes `stale`: the
+  /// KSP takes it with the older factor as its preconditioner, and nothing is factorised.
+  void lag_new_operator();
   /// FGMRES on the current operator with the older factorisation; whether it converged within
   /// lag_max_it iterations. Tells `lag` what it cost.
   bool lagged_solve(int& its, TimeSplit& times);
@@ -537,16 +540,18 @@ bool JacobianSolver::Petsc::lagged_solve(int& its, TimeSplit& times) {
   return ok;
 }
 
+void JacobianSolver::Petsc::lag_new_operator() {
+  if (!fresh) return;
+  stale = may_lag();
+  if (!stale) return;
+  // The new operator, preconditioned by the last factorisation (no set-up for the shell).
+  petsc_check(KSPSetOperators(ksp, op(), op()), "KSPSetOperators");
+  fresh = false;
+}
+
 bool JacobianSolver::Petsc::solve(int& its, TimeSplit& times) {
   ++solves;
-  if (fresh) {
-    stale = may_lag();
-    if (stale) {
-      // The new operator, preconditioned by the last factorisation (no set-up for the shell).
-      petsc_check(KSPSetOperators(ksp, op(), op()), "KSPSetOperators");
-      fresh = false;
-    }
-  }
+  lag_new_operator();
   if (stale) {
     if (lagged_solve(its, times)) return true;
     if (stop_requested() || !finite(b)) return false;
@@ -693,13 +698,7 @@ bool JacobianSolver::Petsc::solve_single_batch(const std::vector<const Eigen::Ma
   const auto all_finite = [this](const std::vector<std::size_t>& cols) {
     return std::all_of(cols.begin(), cols.end(), [this](std::size_t j) { return finite(bs[j]); });
   };
-  if (fresh) {
-    stale = may_lag();
-    if (stale) {
-      petsc_check(KSPSetOperators(ksp, op(), op()), "KSPSetOperators");
-      fresh = false;
-    }
-  }
+  lag_new_operator();
   if (stale) {
     // The older factorisation for every column; the account charges each its share of the time.
     const double before = times.solves.seconds;
