@@ -135,6 +135,10 @@ bool CavityBorder::correct(JacobianSolver& linear, const StepEquations& eq, cons
                            Eigen::VectorXd& dp) {
   std::vector<const Eigen::Matrix3Xd*> rhs{&r};
   std::vector<Eigen::Matrix3Xd*> out{&du};
+  // y_k moves little from one iteration (or step) to the next: its last value starts the solve
+  // where the solver can use it (the single-precision path's FGMRES); the residual's column can't.
+  std::vector<bool> warm(terms_.size() + 1, true);
+  warm[0] = false;
   for (std::size_t k = 0; k < terms_.size(); ++k) {
     g_[k].setZero(3, x.cols());
     terms_[k]->add_volume_gradient(x, g_[k]);
@@ -143,7 +147,7 @@ bool CavityBorder::correct(JacobianSolver& linear, const StepEquations& eq, cons
     rhs.push_back(&g_[k]);
     out.push_back(&y_[k]);
   }
-  if (!linear.solve_many(rhs, out)) return false;
+  if (!linear.solve_many(rhs, out, warm)) return false;
   return add_pressure_part(rv, du, dp);
 }
 

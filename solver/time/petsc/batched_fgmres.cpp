@@ -99,15 +99,52 @@ void BatchedFgmres::form_solution(const Column& c, int steps, Vec x) {
     const double d = c.h[static_cast<std::size_t>(k) * static_cast<std::size_t>(c.rows) + static_cast<std::size_t>(k)];
     y[static_cast<std::size_t>(k)] = d != 0.0 ? s / d : 0.0;
   }
-  petsc_check(VecSet(x, 0.0), "VecSet");
+  if (!c.guessed) petsc_check(VecSet(x, 0.0), "VecSet");
   // PETSc takes the vectors as Vec* but only reads them.
   if (steps > 0) petsc_check(VecMAXPY(x, steps, y.data(), const_cast<Vec*>(c.z.data())), "VecMAXPY");
 }
 
+bool BatchedFgmres::start(Mat a, Column& c, Vec b, Vec x, bool guess, double rtol, bool& converged) {
+  converged = false;
+  c.guessed = false;
+  petsc_check(VecNorm(b, NORM_2, &c.beta), "VecNorm");
+  if (!std::isfinite(c.beta)) {  // a right-hand side with NaN or Inf: diverged at once
+    petsc_check(VecSet(x, 0.0), "VecSet");
+    return false;
+  }
+  if (c.beta == 0.0) {  // b = 0: x = 0
+    petsc_check(VecSet(x, 0.0), "VecSet");
+    converged = true;
+    return false;
+  }
+  Vec r = c.v[0];
+  if (guess) {  // r_0 = b - A x_0, kept when it is no worse than x_0 = 0's residual b
+    petsc_check(MatMult(a, x, r), "MatMult");
+    petsc_check(VecAYPX(r, -1.0, b), "VecAYPX");
+    PetscReal norm = 0.0;
+    petsc_check(VecNorm(r, NORM_2, &norm), "VecNorm");
+    if (std::isfinite(norm) && norm <= c.beta) {
+      c.guessed = true;
+      if (norm <= rtol * c.beta) {  // the guess is the answer
+        converged = true;
+        return false;
+      }
+      petsc_check(VecScale(r, 1.0 / norm), "VecScale");
+      c.g[0] = norm;
+      return true;
+    }
+  }
+  petsc_check(VecSet(x, 0.0), "VecSet");
+  petsc_check(VecAXPBY(r, 1.0 / c.beta, 0.0, b), "VecAXPBY");
+  c.g[0] = c.beta;
+  return true;
+}
+
 BatchedFgmres::Outcome BatchedFgmres::solve(Mat a, const Preconditioner& m, const std::vector<Vec>& b,
                                             const std::vector<Vec>& x, double rtol, int max_it,
-                                            const std::function<bool()>& stop) {
-  if (b.size() != x.size()) throw std::logic_error("BatchedFgmres::solve: as many solutions as right-hand sides");
+                                            const std::function<bool()>& stop, const std::vector<bool>& guess) {
+  if (b.size() != x.size() || (!guess.empty() && guess.size() != b.size()))
+    throw std::logic_error("BatchedFgmres::solve: as many solutions as right-hand sides");
   if (max_it < 1) throw std::logic_error("BatchedFgmres::solve: at least one iteration");
   const std::size_t n = b.size();
   if (columns_.size() < n) columns_.resize(n);
@@ -121,19 +158,9 @@ BatchedFgmres::Outcome BatchedFgmres::solve(Mat a, const Preconditioner& m, cons
     c.sn.assign(static_cast<std::size_t>(max_it), 0.0);
     c.g.assign(rows, 0.0);
     reserve(c, 1, b[j]);
-    petsc_check(VecNorm(b[j], NORM_2, &c.beta), "VecNorm");
-    c.active = c.beta > 0.0 && std::isfinite(c.beta);
-    if (!std::isfinite(c.beta)) {  // a right-hand side with NaN or Inf: diverged at once
-      petsc_check(VecSet(x[j], 0.0), "VecSet");
-      continue;
-    }
-    if (!c.active) {  // b = 0: x = 0
-      petsc_check(VecSet(x[j], 0.0), "VecSet");
-      out.converged[j] = true;
-      continue;
-    }
-    petsc_check(VecAXPBY(c.v[0], 1.0 / c.beta, 0.0, b[j]), "VecAXPBY");
-    c.g[0] = c.beta;
+    bool converged = false;
+    c.active = start(a, c, b[j], x[j], !guess.empty() && guess[j], rtol, converged);
+    out.converged[j] = converged;
   }
   std::vector<Vec> in, result;
   std::vector<std::size_t> which;

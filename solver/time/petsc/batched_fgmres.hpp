@@ -10,17 +10,22 @@
 // factor once for all of them.
 //
 // Each column j is an independent FGMRES(m) (Saad 1993, "A flexible inner-outer preconditioned
-// GMRES algorithm", Algorithm 2.2) with a zero initial guess and right preconditioning, as PETSc's
-// KSPFGMRES with KSP_NORM_UNPRECONDITIONED runs it for one column:
+// GMRES algorithm", Algorithm 2.2) with right preconditioning, as PETSc's KSPFGMRES with
+// KSP_NORM_UNPRECONDITIONED runs it for one column, from x_0 = 0 or from a given initial guess:
+//     r_0 = b - A x_0,   v_0 = r_0 / |r_0|,   and for i = 0, 1, ...
 //     z_i = M^{-1} v_i,   w = A z_i,   h_{k,i} = (w, v_k) (k <= i),   w -= sum h_{k,i} v_k,
 //     h_{i+1,i} = |w|,    v_{i+1} = w / h_{i+1,i},
 // the Hessenberg matrix reduced by Givens rotations; |g_{i+1}| after the i-th rotation is the
-// residual |b - A x_i| of x_i = Z_i y_i, y_i minimising |beta e_1 - H_i y| (in exact arithmetic;
+// residual |b - A x_i| of x_i = x_0 + Z_i y_i, y_i minimising ||r_0| e_1 - H_i y| (in exact arithmetic;
 // FGMRES forms x from the z_i it preconditioned, so M^{-1} may change between applications, as
 // float's rounding makes it do). Orthogonalisation: classical Gram-Schmidt (VecMDot, VecMAXPY),
 // repeated once when it removed more than 30 % of w's norm (Daniel, Gragg, Kaufman, Stewart 1976's
 // "twice is enough" with the common 1/sqrt(2) test; PETSc's default never repeats it).
 //
+// An initial guess whose residual is not finite or larger than |b| (worse than x_0 = 0) is dropped
+// for x_0 = 0 (one product with A spent); one whose residual is within rtol |b| is the answer after
+// 0 iterations. The tolerance always refers to |b|, never to |r_0|: a guess changes the work, not
+// the accuracy asked for.
 // A column stops when |g_{i+1}| <= rtol |b_j| (converged), when the residual estimate is not finite
 // or exceeds 1e4 |b_j| (PETSc's divergence tolerance; diverged), or after max_it iterations (not
 // converged; x_j is then the last iterate). A Krylov vector that the operator maps into the space
@@ -57,9 +62,10 @@ class BatchedFgmres {
   BatchedFgmres& operator=(const BatchedFgmres&) = delete;
 
   /// x[j] ~ A^{-1} b[j] for every column (b and x of the same length, vectors of A's layout, no x
-  /// aliasing a b). `stop` is asked once per iteration. Collective on A's communicator.
+  /// aliasing a b). Column j starts from the x[j] it is given when guess[j] is true (guess empty:
+  /// every column from 0). `stop` is asked once per iteration. Collective on A's communicator.
   Outcome solve(Mat a, const Preconditioner& m, const std::vector<Vec>& b, const std::vector<Vec>& x, double rtol,
-                int max_it, const std::function<bool()>& stop);
+                int max_it, const std::function<bool()>& stop, const std::vector<bool>& guess = {});
   /// Frees the kept vectors (A's layout changed).
   void release();
 
@@ -72,11 +78,16 @@ class BatchedFgmres {
     int rows = 0;       ///< leading dimension of h (max_it + 1)
     double beta = 0.0;  ///< |b|
     bool active = false;
+    bool guessed = false;  ///< x holds x_0 != 0: the solution is x_0 + Z y
   };
   /// Column j's i-th Arnoldi step after z_i = M^{-1} v_i: extends the basis, rotates, returns the
   /// residual estimate |g_{i+1}|.
   double arnoldi_step(Mat a, Column& c, int i);
-  /// x = Z y with y from the first `steps` rows of the rotated Hessenberg matrix.
+  /// Starts column j: v_0 and g_0 from r_0 (x_0 = x when `guess`, else 0; a guess worse than 0
+  /// dropped). True when the column has to iterate; else x is its answer and `converged` says
+  /// whether it is one.
+  bool start(Mat a, Column& c, Vec b, Vec x, bool guess, double rtol, bool& converged);
+  /// x = x_0 + Z y with y from the first `steps` rows of the rotated Hessenberg matrix.
   static void form_solution(const Column& c, int steps, Vec x);
   /// Column j's vectors v_0 ... v_{need-1} and z_0 ... z_{need-2} exist (made like `like`).
   void reserve(Column& c, int need, Vec like);

@@ -245,14 +245,16 @@ struct JacobianSolver::Petsc {
   /// Several right-hand sides on the single-precision path (`single`): FGMRES in lockstep, one
   /// multi-column single-precision solve per iteration (batched_fgmres.hpp), with the lagged
   /// factorisations and the fall-back to double precision as solve() has them. Solutions in
-  /// `out` (resized); false as solve().
+  /// `out` (resized); false as solve(). Column j starts from its solution of the last batch when
+  /// warm[j] and that solution is kept (`kept`); an empty `warm` starts every column from 0.
   bool solve_single_batch(const std::vector<const Eigen::Matrix3Xd*>& rhs, const std::vector<Eigen::Matrix3Xd*>& out,
-                          int& its, TimeSplit& times);
+                          const std::vector<bool>& warm, int& its, TimeSplit& times);
   /// The lockstep FGMRES on op() for the columns `pending` of bs into xs, at most `max_it`
-  /// iterations, timed as one solve per column; `iterations` gets each column's count (in
-  /// `pending`'s order). Returns the columns that did not converge.
+  /// iterations, timed as one solve per column; a column whose `guess` (indexed by column) is
+  /// true starts from what xs holds. `iterations` gets each column's count (in `pending`'s order).
+  /// Returns the columns that did not converge.
   std::vector<std::size_t> refine_batch(const std::vector<std::size_t>& pending, PetscInt max_it, int& its,
-                                        TimeSplit& times, std::vector<int>& iterations);
+                                        TimeSplit& times, std::vector<int>& iterations, const std::vector<bool>& guess);
   /// bs and xs hold `n` vectors of op()'s layout (made like u).
   void batch_vectors(std::size_t n);
   /// Frees bs, xs and the batch's Krylov vectors (op()'s layout changed).
@@ -320,6 +322,12 @@ struct JacobianSolver::Petsc {
   bool lagged_solve(int& its, TimeSplit& times);
   BatchedFgmres batch;      ///< solve_single_batch's Krylov vectors
   std::vector<Vec> bs, xs;  ///< its right-hand sides and solutions in op()'s layout
+  /// kept[j]: xs[j] is column j's solution from the last batch that succeeded (border rows
+  /// included), an initial guess for the next batch's column j (solve_many's `warm`).
+  std::vector<bool> kept;
+  /// solve_many's `warm` columns start from their last solution (-adamss_initial_guesses, default
+  /// true); false starts every column from 0, as before 2026-12-07 (for comparisons).
+  PetscBool guesses = PETSC_TRUE;
 };
 
 void JacobianSolver::Petsc::configure(const Model& model, double ksp_rtol, int ksp_max_it) {
@@ -336,6 +344,8 @@ void JacobianSolver::Petsc::configure(const Model& model, double ksp_rtol, int k
   const char* package = factorisation_package(pc);
   if (mpi_size() > 1) require_parallel_factorisation(pc, package);
   read_lag_price();
+  petsc_check(PetscOptionsGetBool(nullptr, nullptr, "-adamss_initial_guesses", &guesses, nullptr),
+              "PetscOptionsGetBool");
   make_operator(model, package);
   configure_factorisation(model, pc, package);
   choose_block_storage(pc, package);
@@ -651,6 +661,7 @@ void JacobianSolver::Petsc::batch_vectors(std::size_t n) {
     bs.push_back(v);
     petsc_check(VecDuplicate(u, &w), "VecDuplicate");
     xs.push_back(w);
+    kept.push_back(false);
   }
 }
 
@@ -659,15 +670,19 @@ void JacobianSolver::Petsc::drop_batch_vectors() {
   for (Vec& v : xs) VecDestroy(&v);
   bs.clear();
   xs.clear();
+  kept.clear();
   batch.release();
 }
 
 std::vector<std::size_t> JacobianSolver::Petsc::refine_batch(const std::vector<std::size_t>& pending, PetscInt max_it,
-                                                             int& its, TimeSplit& times, std::vector<int>& iterations) {
+                                                             int& its, TimeSplit& times, std::vector<int>& iterations,
+                                                             const std::vector<bool>& guess) {
   std::vector<Vec> in, out;
+  std::vector<bool> from;
   for (const std::size_t j : pending) {
     in.push_back(bs[j]);
     out.push_back(xs[j]);
+    from.push_back(guess[j]);
   }
   times.solves.count += pending.size() - 1;  // one timed solve per column, as solve() counts
   BatchedFgmres::Outcome r;
@@ -676,7 +691,7 @@ std::vector<std::size_t> JacobianSolver::Petsc::refine_batch(const std::vector<s
     SinglePrecisionFactor& factor = *single;
     r = batch.solve(
         op(), [&factor](const std::vector<Vec>& x, const std::vector<Vec>& y) { return factor.solve_many(x, y); }, in,
-        out, rtol_now(), static_cast<int>(max_it), [] { return stop_requested(); });
+        out, rtol_now(), static_cast<int>(max_it), [] { return stop_requested(); }, from);
   }
   iterations = r.iterations;
   std::vector<std::size_t> left;
@@ -688,10 +703,16 @@ std::vector<std::size_t> JacobianSolver::Petsc::refine_batch(const std::vector<s
 }
 
 bool JacobianSolver::Petsc::solve_single_batch(const std::vector<const Eigen::Matrix3Xd*>& rhs,
-                                               const std::vector<Eigen::Matrix3Xd*>& out, int& its, TimeSplit& times) {
+                                               const std::vector<Eigen::Matrix3Xd*>& out, const std::vector<bool>& warm,
+                                               int& its, TimeSplit& times) {
   const std::size_t n = rhs.size();
   solves += static_cast<int>(n);
   batch_vectors(n);
+  // Which columns start from their last solution; every column's is dropped until this batch
+  // succeeds (a failure leaves xs half-written).
+  std::vector<bool> guess(n, false);
+  for (std::size_t j = 0; j < n; ++j) guess[j] = guesses && j < warm.size() && warm[j] && kept[j];
+  std::fill(kept.begin(), kept.end(), false);
   for (std::size_t j = 0; j < n; ++j) to_vec(*rhs[j], owned_lo(), owned_hi(), bs[j]);
   std::vector<std::size_t> pending(n);
   std::iota(pending.begin(), pending.end(), std::size_t{0});
@@ -703,7 +724,7 @@ bool JacobianSolver::Petsc::solve_single_batch(const std::vector<const Eigen::Ma
     // The older factorisation for every column; the account charges each its share of the time.
     const double before = times.solves.seconds;
     std::vector<int> iterations;
-    pending = refine_batch(pending, lag_max_it, its, times, iterations);
+    pending = refine_batch(pending, lag_max_it, its, times, iterations, guess);
     lagged += static_cast<int>(n);
     const double seconds = slowest_rank(times.solves.seconds - before);
     const int total = std::accumulate(iterations.begin(), iterations.end(), 0);
@@ -719,13 +740,17 @@ bool JacobianSolver::Petsc::solve_single_batch(const std::vector<const Eigen::Ma
     if (singular) return false;
     if (single) {
       std::vector<int> iterations;
-      const int tried = static_cast<int>(pending.size());
-      pending = refine_batch(pending, refine_max_it, its, times, iterations);
-      // n_0, what a fresh factor needs: the batch's hardest column (a zero one takes none).
-      if (first) lag.fresh_solve(*std::max_element(iterations.begin(), iterations.end()));
+      const std::vector<std::size_t> tried = pending;
+      pending = refine_batch(pending, refine_max_it, its, times, iterations, guess);
+      // n_0, what a fresh factor needs from x_0 = 0: the batch's hardest such column (a zero one
+      // takes none); a batch of guessed columns only says nothing about it.
+      int cold = -1;
+      for (std::size_t k = 0; k < tried.size(); ++k)
+        if (!guess[tried[k]]) cold = std::max(cold, iterations[k]);
+      if (first && cold >= 0) lag.fresh_solve(cold);
       if (!pending.empty()) {
         if (stop_requested() || !all_finite(pending)) return false;
-        use_double("batched FGMRES: " + std::to_string(pending.size()) + " of " + std::to_string(tried) +
+        use_double("batched FGMRES: " + std::to_string(pending.size()) + " of " + std::to_string(tried.size()) +
                    " right-hand sides not converged after " + std::to_string(refine_max_it) + " iterations");
         set_up(times);
       }
@@ -742,6 +767,7 @@ bool JacobianSolver::Petsc::solve_single_batch(const std::vector<const Eigen::Ma
     from_vec(xs[j], all, whole, *out[j]);
     finite_all = finite_all && out[j]->allFinite();
   }
+  if (finite_all) std::fill(kept.begin(), kept.begin() + static_cast<std::ptrdiff_t>(n), true);
   return finite_all;
 }
 
@@ -932,11 +958,11 @@ bool JacobianSolver::solve_estimate(const Eigen::Matrix3Xd& rhs, Eigen::Matrix3X
 }
 
 bool JacobianSolver::solve_many(const std::vector<const Eigen::Matrix3Xd*>& rhs,
-                                const std::vector<Eigen::Matrix3Xd*>& u) {
+                                const std::vector<Eigen::Matrix3Xd*>& u, const std::vector<bool>& warm) {
   if (rhs.size() != u.size())
     throw std::logic_error("JacobianSolver::solve_many: as many solutions as right-hand sides");
   if (rhs.size() > 1 && (petsc_->direct_mumps() || petsc_->single)) {
-    const bool ok = petsc_->single ? petsc_->solve_single_batch(rhs, u, iterations_, times_)
+    const bool ok = petsc_->single ? petsc_->solve_single_batch(rhs, u, warm, iterations_, times_)
                                    : petsc_->solve_columns(rhs, u, iterations_, times_);
     if (!ok) return false;
     batched_ += static_cast<int>(rhs.size());

@@ -70,7 +70,13 @@ class JacobianSolver {
   /// columns still iterating (batched_fgmres.hpp), each column to the tolerance one solve() has,
   /// with the same lagged factorisations and fall-back to double precision. Otherwise one solve()
   /// each. False if any solve fails.
-  bool solve_many(const std::vector<const Eigen::Matrix3Xd*>& rhs, const std::vector<Eigen::Matrix3Xd*>& u);
+  /// warm[k] (optional): column k's solution from the last solve_many is a good start for this one
+  /// (the same quantity at a nearby state: a cavity's volume gradient from one Newton iteration to
+  /// the next). Only the single-precision path uses it: the column's FGMRES starts from that
+  /// solution, border rows included, when the solver kept it (no failure and no new operator layout
+  /// since); the tolerance stays relative to |rhs_k|, so the answer is as accurate as from 0.
+  bool solve_many(const std::vector<const Eigen::Matrix3Xd*>& rhs, const std::vector<Eigen::Matrix3Xd*>& u,
+                  const std::vector<bool>& warm = {});
   /// Eliminates the fixed coordinates with prescribed values and solves: A_ff u_f = rhs_f -
   /// A_fc values_c, u_c = values_c (PETSc's MatZeroRowsColumns with x and b); false if the KSP
   /// diverged.

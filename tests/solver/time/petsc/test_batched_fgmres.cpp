@@ -3,8 +3,10 @@
 // lockstep shares the preconditioner's calls, not the arithmetic), converged to the tolerance by
 // its true residual; the preconditioner sees only the columns still iterating; a zero column is
 // solved in no iteration, a non-finite one diverges at once, a failed preconditioner ends every
-// column, and the iteration cap returns the minimal-residual iterate. On PETSC_COMM_WORLD, so that
-// ctest's mpi.unit runs it distributed too.
+// column, and the iteration cap returns the minimal-residual iterate. A column given an initial
+// guess starts from it (fewer iterations, the same tolerance on |b|), is done at once when the
+// guess already meets the tolerance, and starts from 0 when the guess is worse than 0. On
+// PETSC_COMM_WORLD, so that ctest's mpi.unit runs it distributed too.
 #include <gtest/gtest.h>
 #include <petscmat.h>
 
@@ -12,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <vector>
 
 #include "solver/time/petsc/batched_fgmres.hpp"
@@ -115,15 +118,18 @@ struct Outcome {
   std::vector<Eigen::VectorXd> x;
   solver::BatchedFgmres::Outcome outcome;
 };
-Outcome run(const Operator& op, Jacobi& m, const std::vector<Eigen::VectorXd>& rhs, double rtol, int max_it) {
+/// With `start` (one per column), column j starts from start[j] where `guess[j]`.
+Outcome run(const Operator& op, Jacobi& m, const std::vector<Eigen::VectorXd>& rhs, double rtol, int max_it,
+            const std::vector<Eigen::VectorXd>& start = {}, const std::vector<bool>& guess = {}) {
   std::vector<Vec> b, x;
-  for (const Eigen::VectorXd& v : rhs) {
-    b.push_back(op.vec(v));
-    x.push_back(op.vec(Eigen::VectorXd::Constant(kN, 7.0)));  // overwritten
+  for (std::size_t j = 0; j < rhs.size(); ++j) {
+    b.push_back(op.vec(rhs[j]));
+    x.push_back(op.vec(start.empty() ? Eigen::VectorXd::Constant(kN, 7.0) : start[j]));  // 7: overwritten
   }
   solver::BatchedFgmres fgmres;
   Outcome out;
-  out.outcome = fgmres.solve(op.a, m.apply(), b, x, rtol, max_it, [] { return false; });
+  out.outcome = fgmres.solve(
+      op.a, m.apply(), b, x, rtol, max_it, [] { return false; }, guess);
   for (std::size_t j = 0; j < rhs.size(); ++j) {
     out.x.push_back(Operator::whole(x[j]));
     VecDestroy(&b[j]);
@@ -226,4 +232,56 @@ TEST(BatchedFgmres, AStopRequestEndsTheColumns) {
   EXPECT_EQ(outcome.iterations[0], 2);
   VecDestroy(&b[0]);
   VecDestroy(&x[0]);
+}
+
+TEST(BatchedFgmres, AGoodGuessSavesIterationsNotAccuracy) {
+  // Column 0 starts near its solution (1 % off), column 1 from 0 (no guess), column 2 from its
+  // exact solution: done in 0 iterations, left as it was given.
+  const Operator op;
+  const std::vector<Eigen::VectorXd> rhs{seeded(1), seeded(3), seeded(6)};
+  std::vector<Eigen::VectorXd> exact;
+  for (const Eigen::VectorXd& b : rhs) exact.push_back(op.dense.fullPivLu().solve(b));
+  const std::vector<Eigen::VectorXd> start{exact[0] + 0.01 * exact[0].norm() / std::sqrt(double{kN}) * seeded(9),
+                                           Eigen::VectorXd::Constant(kN, 3.0), exact[2]};
+  Jacobi cold_m(op), warm_m(op);
+  const Outcome cold = run(op, cold_m, rhs, 1e-10, 60);
+  const Outcome warm = run(op, warm_m, rhs, 1e-10, 60, start, {true, false, true});
+  for (std::size_t j = 0; j < rhs.size(); ++j) {
+    SCOPED_TRACE(j);
+    EXPECT_TRUE(warm.outcome.converged[j]);
+    // The tolerance refers to |b| whatever the start: the true residual as from 0.
+    EXPECT_LT((op.dense * warm.x[j] - rhs[j]).norm(), 2e-10 * rhs[j].norm());
+  }
+  EXPECT_LT(warm.outcome.iterations[0], cold.outcome.iterations[0] - 2);
+  EXPECT_EQ(warm.outcome.iterations[1], cold.outcome.iterations[1]);
+  EXPECT_EQ(warm.x[1], cold.x[1]);  // no guess: the x it was given is ignored, bit for bit
+  EXPECT_EQ(warm.outcome.iterations[2], 0);
+  EXPECT_LT((warm.x[2] - exact[2]).norm(), 1e-12 * exact[2].norm());
+}
+
+TEST(BatchedFgmres, AGuessWorseThanZeroIsDropped) {
+  // x_0 = -3 x*: |b - A x_0| = 4 |b| > |b|. The column starts from 0 instead: the iterations and
+  // the result of a cold start, bit for bit.
+  const Operator op;
+  const Eigen::VectorXd rhs = seeded(2);
+  const Eigen::VectorXd exact = op.dense.fullPivLu().solve(rhs);
+  Jacobi cold_m(op), warm_m(op);
+  const Outcome cold = run(op, cold_m, {rhs}, 1e-10, 60);
+  const Outcome warm = run(op, warm_m, {rhs}, 1e-10, 60, {-3.0 * exact}, {true});
+  EXPECT_TRUE(warm.outcome.converged[0]);
+  EXPECT_EQ(warm.outcome.iterations[0], cold.outcome.iterations[0]);
+  EXPECT_EQ(warm.x[0], cold.x[0]);
+  // A guess with a NaN is dropped the same way.
+  Eigen::VectorXd nan_start = exact;
+  nan_start[3] = std::numeric_limits<double>::quiet_NaN();
+  Jacobi nan_m(op);
+  const Outcome nan = run(op, nan_m, {rhs}, 1e-10, 60, {nan_start}, {true});
+  EXPECT_TRUE(nan.outcome.converged[0]);
+  EXPECT_EQ(nan.x[0], cold.x[0]);
+}
+
+TEST(BatchedFgmres, GuessFlagsNeedOnePerColumn) {
+  const Operator op;
+  Jacobi m(op);
+  EXPECT_THROW((void)run(op, m, {seeded(1), seeded(2)}, 1e-10, 10, {seeded(1), seeded(2)}, {true}), std::logic_error);
 }

@@ -105,13 +105,16 @@ namespace {
 struct Path {
   double difference = 0.0;
   std::unique_ptr<solver::JacobianSolver> s;
+  std::vector<int> iterations;  ///< FGMRES iterations of each state's batch
 };
 
-Path along_path(const Options& options) {
+/// `warm`: solve_many's flags (which columns may start from their last solution); `step`: the
+/// second state's perturbation of the first.
+Path along_path(const Options& options, const std::vector<bool>& warm = {}, double step = 0.005) {
   const auto loaded = test::load_scene(test::replaced(kScene, "DISTRIBUTION", "nodal"));
   const solver::Model& model = loaded.model;
   const Eigen::Matrix3Xd x1 = test::perturbed(model.mesh->nodes, 1e-3, 0.05);
-  const std::vector<Eigen::Matrix3Xd> states{x1, test::perturbed(x1, 1e-3, 0.005, 11)};
+  const std::vector<Eigen::Matrix3Xd> states{x1, test::perturbed(x1, 1e-3, step, 11)};
   Path out;
   out.s = test::solver_with(model, options);
   const auto exact = test::solver_with(model, {{"-adamss_factorisation_precision", "double"}});
@@ -127,7 +130,9 @@ Path along_path(const Options& options) {
       s->eliminate();
     }
     std::vector<Eigen::Matrix3Xd> many(3);
-    EXPECT_TRUE(out.s->solve_many({&rhs[0], &rhs[1], &rhs[2]}, {&many[0], &many[1], &many[2]}));
+    const int before = out.s->iterations();
+    EXPECT_TRUE(out.s->solve_many({&rhs[0], &rhs[1], &rhs[2]}, {&many[0], &many[1], &many[2]}, warm));
+    out.iterations.push_back(out.s->iterations() - before);
     for (std::size_t k = 0; k < 3; ++k) {
       Eigen::Matrix3Xd one;
       EXPECT_TRUE(exact->solve(rhs[k], one));
@@ -164,6 +169,24 @@ TEST(SolveMany, SinglePrecisionBatchFactorisesWhenTheLagDoesNotConverge) {
   EXPECT_EQ(p.s->times().factorisations.count, 2U);
   EXPECT_EQ(p.s->lagged_solves(), 3);
   EXPECT_LT(p.difference, 1e-9);
+}
+
+TEST(SolveMany, WarmColumnsStartFromTheirLastSolution) {
+  // The same right-hand sides again at the same state (a new assembly: the operator is lagged,
+  // its factor is its own): columns 1 and 2 start from their solutions of the first batch, border
+  // rows included, which already meet the tolerance: no iteration. Column 0 starts from 0 and
+  // iterates as the cold run's does.
+  const Path cold = along_path({kSingle, kTight}, {}, 0.0);
+  const Path warm = along_path({kSingle, kTight}, {false, true, true}, 0.0);
+  ASSERT_EQ(warm.iterations.size(), 2U);
+  EXPECT_EQ(warm.iterations[0], cold.iterations[0]);  // nothing kept before the first batch
+  EXPECT_GE(cold.iterations[1], 3);
+  EXPECT_GE(warm.iterations[1], 1);
+  EXPECT_EQ(cold.iterations[1] - warm.iterations[1], 2 * cold.iterations[1] / 3);
+  EXPECT_LT(warm.difference, 1e-9);
+  // -adamss_initial_guesses false: the flags are ignored.
+  const Path off = along_path({kSingle, kTight, {"-adamss_initial_guesses", "false"}}, {false, true, true}, 0.0);
+  EXPECT_EQ(off.iterations, cold.iterations);
 }
 
 TEST(SolveMany, SinglePrecisionBatchFallsBackToDoublePrecision) {
