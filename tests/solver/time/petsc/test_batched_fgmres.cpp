@@ -283,5 +283,11 @@ TEST(BatchedFgmres, AGuessWorseThanZeroIsDropped) {
 TEST(BatchedFgmres, GuessFlagsNeedOnePerColumn) {
   const Operator op;
   Jacobi m(op);
-  EXPECT_THROW((void)run(op, m, {seeded(1), seeded(2)}, 1e-10, 10, {seeded(1), seeded(2)}, {true}), std::logic_error);
+  std::vector<Vec> b{op.vec(seeded(1)), op.vec(seeded(2))}, x{op.vec(seeded(1)), op.vec(seeded(2))};
+  solver::BatchedFgmres fgmres;
+  EXPECT_THROW((void)fgmres.solve(op.a, m.apply(), b, x, 1e-10, 10, [] { return false; }, {true}), std::logic_error);
+  for (std::size_t j = 0; j < 2; ++j) {
+    VecDestroy(&b[j]);
+    VecDestroy(&x[j]);
+  }
 }
