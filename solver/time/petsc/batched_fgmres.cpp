@@ -148,7 +148,7 @@ BatchedFgmres::Outcome BatchedFgmres::solve(Mat a, const Preconditioner& m, cons
   if (max_it < 1) throw std::logic_error("BatchedFgmres::solve: at least one iteration");
   const std::size_t n = b.size();
   if (columns_.size() < n) columns_.resize(n);
-  Outcome out{std::vector<int>(n, 0), std::vector<bool>(n, false)};
+  Outcome out{std::vector<int>(n, 0), std::vector<bool>(n, false), std::vector<bool>(n, false)};
   const auto rows = static_cast<std::size_t>(max_it) + 1;
   for (std::size_t j = 0; j < n; ++j) {
     Column& c = columns_[j];
@@ -161,6 +161,7 @@ BatchedFgmres::Outcome BatchedFgmres::solve(Mat a, const Preconditioner& m, cons
     bool converged = false;
     c.active = start(a, c, b[j], x[j], !guess.empty() && guess[j], rtol, converged);
     out.converged[j] = converged;
+    out.guessed[j] = c.guessed;
   }
   std::vector<Vec> in, result;
   std::vector<std::size_t> which;

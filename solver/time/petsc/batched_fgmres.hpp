@@ -50,10 +50,12 @@ class BatchedFgmres {
  public:
   /// out[j] = M^{-1} in[j] for every j at once; false when the preconditioner failed.
   using Preconditioner = std::function<bool(const std::vector<Vec>& in, const std::vector<Vec>& out)>;
-  /// Per column: iterations taken and whether the residual reached rtol |b|.
+  /// Per column: iterations taken, whether the residual reached rtol |b|, and whether it started
+  /// from its guess (false without one, and for a guess dropped as worse than 0).
   struct Outcome {
     std::vector<int> iterations;
     std::vector<bool> converged;
+    std::vector<bool> guessed;
   };
 
   BatchedFgmres() = default;

@@ -732,6 +732,9 @@ bool JacobianSolver::Petsc::solve_single_batch(const std::vector<const Eigen::Ma
     if (!pending.empty()) {
       if (stop_requested() || !all_finite(pending)) return false;
       fresh = true;  // too far from the operator now: factorise it
+      // The warm columns among them go on from what xs holds now, their lagged iterate (FGMRES's
+      // residual never rises above that of its start; BatchedFgmres drops a guess worse than 0),
+      // the others from 0.
     }
   }
   if (!pending.empty()) {
@@ -742,8 +745,14 @@ bool JacobianSolver::Petsc::solve_single_batch(const std::vector<const Eigen::Ma
       std::vector<int> iterations;
       const std::vector<std::size_t> tried = pending;
       pending = refine_batch(pending, refine_max_it, its, times, iterations, guess);
-      // n_0, what a fresh factor needs from x_0 = 0: the batch's hardest such column (a zero one
-      // takes none); a batch of guessed columns only says nothing about it.
+      // n_0, what a fresh factor needs from x_0 = 0: the batch's hardest column that was offered
+      // no guess (a zero one takes none; in the bordered Newton, the residual's column). A batch
+      // whose columns all had guesses leaves n_0 unset until a later fresh solve of this factor:
+      // the lagged solves meanwhile are charged all their iterations. Counting also the columns
+      // whose guess was dropped (worse than 0) made n_0 larger and the lag longer, and took another
+      // path on the 3-4 mm beat: 308 Newton iterations and 12 rejected steps where this took 277
+      // and 4 (bench/README.md). The lagged warm columns are charged against this n_0, so their
+      // excess is undercounted by the iterations their guess saves: a slight bias towards lagging.
       int cold = -1;
       for (std::size_t k = 0; k < tried.size(); ++k)
         if (!guess[tried[k]]) cold = std::max(cold, iterations[k]);

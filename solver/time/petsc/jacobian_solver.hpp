@@ -70,7 +70,8 @@ class JacobianSolver {
   /// columns still iterating (batched_fgmres.hpp), each column to the tolerance one solve() has,
   /// with the same lagged factorisations and fall-back to double precision. Otherwise one solve()
   /// each. False if any solve fails.
-  /// warm[k] (optional): column k's solution from the last solve_many is a good start for this one
+  /// warm[k] (optional): column k's solution from the last single-precision batch of several
+  /// right-hand sides is a good start for this one
   /// (the same quantity at a nearby state: a cavity's volume gradient from one Newton iteration to
   /// the next). Only the single-precision path uses it: the column's FGMRES starts from that
   /// solution, border rows included, when the solver kept it (no failure and no new operator layout

@@ -257,6 +257,7 @@ TEST(BatchedFgmres, AGoodGuessSavesIterationsNotAccuracy) {
   EXPECT_EQ(warm.x[1], cold.x[1]);  // no guess: the x it was given is ignored, bit for bit
   EXPECT_EQ(warm.outcome.iterations[2], 0);
   EXPECT_LT((warm.x[2] - exact[2]).norm(), 1e-12 * exact[2].norm());
+  EXPECT_EQ(warm.outcome.guessed, (std::vector<bool>{true, false, true}));
 }
 
 TEST(BatchedFgmres, AGuessWorseThanZeroIsDropped) {
@@ -269,6 +270,7 @@ TEST(BatchedFgmres, AGuessWorseThanZeroIsDropped) {
   const Outcome cold = run(op, cold_m, {rhs}, 1e-10, 60);
   const Outcome warm = run(op, warm_m, {rhs}, 1e-10, 60, {-3.0 * exact}, {true});
   EXPECT_TRUE(warm.outcome.converged[0]);
+  EXPECT_FALSE(warm.outcome.guessed[0]);
   EXPECT_EQ(warm.outcome.iterations[0], cold.outcome.iterations[0]);
   EXPECT_EQ(warm.x[0], cold.x[0]);
   // A guess with a NaN is dropped the same way.
@@ -278,6 +280,24 @@ TEST(BatchedFgmres, AGuessWorseThanZeroIsDropped) {
   const Outcome nan = run(op, nan_m, {rhs}, 1e-10, 60, {nan_start}, {true});
   EXPECT_TRUE(nan.outcome.converged[0]);
   EXPECT_EQ(nan.x[0], cold.x[0]);
+}
+
+TEST(BatchedFgmres, AGuessedColumnEndedEarlyKeepsItsGuess) {
+  // The preconditioner fails at its first call: a guessed column ends with x = x_0 (no
+  // iteration), a column without a guess with x = 0; neither converged.
+  const Operator op;
+  const Eigen::VectorXd exact = op.dense.fullPivLu().solve(seeded(1));
+  const Eigen::VectorXd start = exact + 0.01 * exact.norm() / std::sqrt(double{kN}) * seeded(9);
+  Jacobi m(op);
+  m.fail_at = 1;
+  const Outcome r = run(op, m, {seeded(1), seeded(1)}, 1e-10, 30, {start, start}, {true, false});
+  EXPECT_FALSE(r.outcome.converged[0]);
+  EXPECT_FALSE(r.outcome.converged[1]);
+  EXPECT_EQ(r.outcome.iterations[0], 0);
+  EXPECT_TRUE(r.outcome.guessed[0]);
+  EXPECT_FALSE(r.outcome.guessed[1]);
+  EXPECT_EQ(r.x[0], start);
+  EXPECT_EQ(r.x[1], Eigen::VectorXd::Zero(kN));
 }
 
 TEST(BatchedFgmres, GuessFlagsNeedOnePerColumn) {

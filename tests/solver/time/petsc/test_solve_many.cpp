@@ -181,8 +181,8 @@ TEST(SolveMany, WarmColumnsStartFromTheirLastSolution) {
   ASSERT_EQ(warm.iterations.size(), 2U);
   EXPECT_EQ(warm.iterations[0], cold.iterations[0]);  // nothing kept before the first batch
   EXPECT_GE(cold.iterations[1], 3);
-  EXPECT_GE(warm.iterations[1], 1);
-  EXPECT_EQ(cold.iterations[1] - warm.iterations[1], 2 * cold.iterations[1] / 3);
+  EXPECT_GE(warm.iterations[1], 1);                       // column 0 still iterates
+  EXPECT_LE(warm.iterations[1], cold.iterations[1] / 2);  // columns 1 and 2 take none
   EXPECT_LT(warm.difference, 1e-9);
   // -adamss_initial_guesses false: the flags are ignored.
   const Path off = along_path({kSingle, kTight, {"-adamss_initial_guesses", "false"}}, {false, true, true}, 0.0);
