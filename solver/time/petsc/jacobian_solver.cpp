@@ -246,7 +246,7 @@ struct JacobianSolver::Petsc {
   /// multi-column single-precision solve per iteration (batched_fgmres.hpp), with the lagged
   /// factorisations and the fall-back to double precision as solve() has them. Solutions in
   /// `out` (resized); false as solve(). Column j starts from its solution of the last batch when
-  /// warm[j] and that solution is kept (`kept`); an empty `warm` starts every column from 0.
+  /// warm[j] and that solution is kept (j < `kept`); an empty `warm` starts every column from 0.
   bool solve_single_batch(const std::vector<const Eigen::Matrix3Xd*>& rhs, const std::vector<Eigen::Matrix3Xd*>& out,
                           const std::vector<bool>& warm, int& its, TimeSplit& times);
   /// The lockstep FGMRES on op() for the columns `pending` of bs into xs, at most `max_it`
@@ -322,9 +322,9 @@ struct JacobianSolver::Petsc {
   bool lagged_solve(int& its, TimeSplit& times);
   BatchedFgmres batch;      ///< solve_single_batch's Krylov vectors
   std::vector<Vec> bs, xs;  ///< its right-hand sides and solutions in op()'s layout
-  /// kept[j]: xs[j] is column j's solution from the last batch that succeeded (border rows
-  /// included), an initial guess for the next batch's column j (solve_many's `warm`).
-  std::vector<bool> kept;
+  /// xs[0 .. kept) are the columns' solutions from the last batch that succeeded (border rows
+  /// included), initial guesses for the next batch's columns (solve_many's `warm`).
+  std::size_t kept = 0;
   /// solve_many's `warm` columns start from their last solution (-adamss_initial_guesses, default
   /// true); false starts every column from 0, as before 2026-12-07 (for comparisons).
   PetscBool guesses = PETSC_TRUE;
@@ -661,7 +661,6 @@ void JacobianSolver::Petsc::batch_vectors(std::size_t n) {
     bs.push_back(v);
     petsc_check(VecDuplicate(u, &w), "VecDuplicate");
     xs.push_back(w);
-    kept.push_back(false);
   }
 }
 
@@ -670,7 +669,7 @@ void JacobianSolver::Petsc::drop_batch_vectors() {
   for (Vec& v : xs) VecDestroy(&v);
   bs.clear();
   xs.clear();
-  kept.clear();
+  kept = 0;
   batch.release();
 }
 
@@ -711,8 +710,8 @@ bool JacobianSolver::Petsc::solve_single_batch(const std::vector<const Eigen::Ma
   // Which columns start from their last solution; every column's is dropped until this batch
   // succeeds (a failure leaves xs half-written).
   std::vector<bool> guess(n, false);
-  for (std::size_t j = 0; j < n; ++j) guess[j] = guesses && j < warm.size() && warm[j] && kept[j];
-  std::fill(kept.begin(), kept.end(), false);
+  for (std::size_t j = 0; j < n; ++j) guess[j] = guesses && j < warm.size() && warm[j] && j < kept;
+  kept = 0;
   for (std::size_t j = 0; j < n; ++j) to_vec(*rhs[j], owned_lo(), owned_hi(), bs[j]);
   std::vector<std::size_t> pending(n);
   std::iota(pending.begin(), pending.end(), std::size_t{0});
@@ -776,7 +775,7 @@ bool JacobianSolver::Petsc::solve_single_batch(const std::vector<const Eigen::Ma
     from_vec(xs[j], all, whole, *out[j]);
     finite_all = finite_all && out[j]->allFinite();
   }
-  if (finite_all) std::fill(kept.begin(), kept.begin() + static_cast<std::ptrdiff_t>(n), true);
+  if (finite_all) kept = n;
   return finite_all;
 }
 
