@@ -280,7 +280,7 @@ TEST(Restart, SigtermInsideALongStaticStepStopsAtOnce) {
   // run's first step must equal that of an uninterrupted run bit for bit.
   const auto dir = scratch_dir("restart_sigterm_newton");
   const auto scene = write_scene(dir, land_p1_scene({{"divisions: [40, 4, 4]", "divisions: [50, 5, 5]"},
-                                                     {", continuation: {from: 40 kPa, factor: 50}", ""},
+                                                     {", continuation: {from: 100 kPa, factor: 20}", ""},
                                                      {", bfgs_max_updates: 10", ""},
                                                      {"frame_interval: 0.25 s", "frame_interval: 1 s"}}));
   const std::string cmd = "OMP_NUM_THREADS=1 timeout --preserve-status -s TERM 1.5 " + std::string(ADAMSS_BINARY) +
