@@ -70,32 +70,12 @@ namespace {
 #define ADAMSS_X86_64_V3_CLONES
 #endif
 
-/// Bm (6 x 3K, Voigt strain rows 11, 22, 33, 23, 13, 12): column 3b + j is dE_f for
-/// delta x_b = e_j, from u = row j of F_f and g = g~_b (virtual_hex.hpp, the derivation).
-template <int K>
-void strain_displacement(const Eigen::Matrix3d& Ff, const Eigen::Matrix<double, 3, K>& gt,
-                         Eigen::Matrix<double, 6, 3 * K>& bm) {
-  for (int b = 0; b < K; ++b) {
-    const double g0 = gt(0, b), g1 = gt(1, b), g2 = gt(2, b);
-    for (int j = 0; j < 3; ++j) {
-      const double u0 = Ff(j, 0), u1 = Ff(j, 1), u2 = Ff(j, 2);
-      auto c = bm.col(3 * b + j);
-      c(0) = u0 * g0;
-      c(1) = u1 * g1;
-      c(2) = u2 * g2;
-      c(3) = u1 * g2 + u2 * g1;
-      c(4) = u0 * g2 + u2 * g0;
-      c(5) = u0 * g1 + u1 * g0;
-    }
-  }
-}
-
 /// Bm^T (3K x 6; Bm's Voigt strain columns 11, 22, 33, 23, 13, 12): row 3b + j is dE_f for
 /// delta x_b = e_j, from u = row j of F_f and g = g~_b (virtual_hex.hpp, the derivation). Kept
-/// transposed so that the product below runs down contiguous columns of 3K entries.
+/// transposed so that add_material_stiffness_24 runs down contiguous columns of 3K entries.
 template <int K>
-void strain_displacement_t(const Eigen::Matrix3d& Ff, const Eigen::Matrix<double, 3, K>& gt,
-                           Eigen::Matrix<double, 3 * K, 6>& bt) {
+void strain_displacement(const Eigen::Matrix3d& Ff, const Eigen::Matrix<double, 3, K>& gt,
+                         Eigen::Matrix<double, 3 * K, 6>& bt) {
   for (int b = 0; b < K; ++b) {
     const double g0 = gt(0, b), g1 = gt(1, b), g2 = gt(2, b);
     for (int j = 0; j < 3; ++j) {
@@ -111,38 +91,34 @@ void strain_displacement_t(const Eigen::Matrix3d& Ff, const Eigen::Matrix<double
   }
 }
 
-/// out += Bm^T Dv Bm for one point: bt = Bm^T (n x 6), dv = -V0 D (6 x 6, symmetric), out n x n,
-/// all column-major, n = 3K. The whole matrix, not the upper blocks: written as plain loops over
-/// contiguous columns, (Bm^T Dv) column by column, then out(:, j) += sum_k (Bm^T Dv)(:, k) Bm^T(j, k).
-template <int N>
-__attribute__((always_inline)) inline void add_material_stiffness(const double* bt, const double* dv, double* out) {
-  double bd[N * 6];
+/// out += Bm^T Dv Bm for one point of an 8-node stencil: bt = Bm^T (24 x 6), dv = -V0 D (6 x 6,
+/// symmetric), out 24 x 24, all column-major. The whole matrix, not the upper blocks, in plain
+/// loops over contiguous columns: (Bm^T Dv) column by column, then
+/// out(:, j) += sum_k (Bm^T Dv)(:, k) Bm^T(j, k). Compiled twice: for x86-64-v3 (AVX2 + FMA: 4
+/// doubles a packet, one instruction per multiply-add) and for the baseline x86-64 the build
+/// targets; the loader picks the first the processor runs (GCC's target_clones: an ifunc resolved
+/// by CPU features, not by model). bench_forces, Jacobian with its forces, one thread: 8-point
+/// hexahedra 7.9 -> 6.5-6.9 us, one-point hexahedra 2.3-2.7 -> 1.7 us (bench/README.md).
+ADAMSS_X86_64_V3_CLONES void add_material_stiffness_24(const double* bt, const double* dv, double* out) {
+  constexpr int kN = 24;
+  double bd[kN * 6];
   for (int k = 0; k < 6; ++k) {
-    double* c = bd + N * k;
-    for (int i = 0; i < N; ++i) c[i] = 0.0;
+    double* c = bd + kN * k;
+    for (int i = 0; i < kN; ++i) c[i] = 0.0;
     for (int m = 0; m < 6; ++m) {
       const double w = dv[m + 6 * k];
-      const double* b = bt + N * m;
-      for (int i = 0; i < N; ++i) c[i] += b[i] * w;
+      const double* b = bt + kN * m;
+      for (int i = 0; i < kN; ++i) c[i] += b[i] * w;
     }
   }
-  for (int j = 0; j < N; ++j) {
-    double* o = out + N * j;
+  for (int j = 0; j < kN; ++j) {
+    double* o = out + kN * j;
     for (int k = 0; k < 6; ++k) {
-      const double w = bt[j + N * k];
-      const double* c = bd + N * k;
-      for (int i = 0; i < N; ++i) o[i] += c[i] * w;
+      const double w = bt[j + kN * k];
+      const double* c = bd + kN * k;
+      for (int i = 0; i < kN; ++i) o[i] += c[i] * w;
     }
   }
-}
-
-// Hexahedra's 24 x 24, compiled twice: for x86-64-v3 (AVX2 + FMA: 4 doubles a packet, one
-// instruction per multiply-add) and for the baseline x86-64 the build targets; the loader picks the
-// first the processor runs (GCC's target_clones: an ifunc resolved by CPU features, not by model).
-// bench_forces, Jacobian with its forces, one thread: 8-point hexahedra 7.9 -> 6.5-6.9 us, one-point
-// hexahedra 2.3-2.7 -> 1.7 us (bench/README.md).
-ADAMSS_X86_64_V3_CLONES void add_material_stiffness_24(const double* bt, const double* dv, double* out) {
-  add_material_stiffness<24>(bt, dv, out);
 }
 
 }  // namespace
@@ -157,8 +133,7 @@ void GradientLawKernel<K>::jacobian(std::size_t i, const Mat3N<K>& x, const Mat3
   Eigen::Matrix<double, K, K> geo = Eigen::Matrix<double, K, K>::Zero();
   MatJ<K> kl;  // the upper blocks (not hexahedra)
   if constexpr (K != 8) kl.setZero();
-  Eigen::Matrix<double, 6, 3 * K> bm;
-  Eigen::Matrix<double, 3 * K, 6> bt;
+  Eigen::Matrix<double, 3 * K, 6> bt;  // Bm^T
   const auto np = static_cast<std::size_t>(points);
   for (std::size_t p = i * np; p < (i + 1) * np; ++p) {
     const Eigen::Matrix3d& B = frame[p];
@@ -170,17 +145,16 @@ void GradientLawKernel<K>::jacobian(std::size_t i, const Mat3N<K>& x, const Mat3
     materials::Matrix6d D;
     law->stress_and_tangent(Ef, Sf, D);
     D *= -v0;
+    strain_displacement<K>(Ff, gt, bt);
     if constexpr (K == 8) {
-      strain_displacement_t<K>(Ff, gt, bt);
       add_material_stiffness_24(bt.data(), D.data(), dfdx.data());
     } else {
-      strain_displacement<K>(Ff, gt, bm);
-      const Eigen::Matrix<double, 6, 3 * K> dbm = D * bm;
+      const Eigen::Matrix<double, 3 * K, 6> dbt = bt * D;  // (D Bm)^T, D symmetric
       // Bm^T D Bm is symmetric (D is, a hyperelastic law's tangent): the blocks a <= b only.
       for (int a = 0; a < K; ++a) {
         for (int b = a; b < K; ++b) {
           kl.template block<3, 3>(3 * a, 3 * b).noalias() +=
-              bm.template middleCols<3>(3 * a).transpose().lazyProduct(dbm.template middleCols<3>(3 * b));
+              bt.template middleRows<3>(3 * a).lazyProduct(dbt.template middleRows<3>(3 * b).transpose());
         }
       }
     }
