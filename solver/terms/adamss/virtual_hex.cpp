@@ -91,33 +91,99 @@ void strain_displacement(const Eigen::Matrix3d& Ff, const Eigen::Matrix<double, 
   }
 }
 
-/// out += Bm^T Dv Bm for one point of an 8-node stencil: bt = Bm^T (24 x 6), dv = -V0 D (6 x 6,
-/// symmetric), out 24 x 24, all column-major. The whole matrix, not the upper blocks, in plain
-/// loops over contiguous columns: (Bm^T Dv) column by column, then
-/// out(:, j) += sum_k (Bm^T Dv)(:, k) Bm^T(j, k). Compiled twice: for x86-64-v3 (AVX2 + FMA: 4
-/// doubles a packet, one instruction per multiply-add) and for the baseline x86-64 the build
-/// targets; the loader picks the first the processor runs (GCC's target_clones: an ifunc resolved
-/// by CPU features, not by model). bench_forces, Jacobian with its forces, one thread: 8-point
-/// hexahedra 7.9 -> 6.5-6.9 us, one-point hexahedra 2.3-2.7 -> 1.7 us (bench/README.md).
-ADAMSS_X86_64_V3_CLONES void add_material_stiffness_24(const double* bt, const double* dv, double* out) {
+/// Four doubles, one AVX2 register in the x86-64-v3 clone, two SSE2 ones in the baseline (GCC
+/// vector extensions: the same source for both). Loaded and stored through memcpy: Eigen's fixed
+/// matrices are aligned to 16 bytes here, not 32.
+/// GCC warns (-Wpsabi) that passing such a vector by value has a different ABI with and without
+/// AVX; the helpers below are always inlined into one function, so no call crosses that boundary
+/// (the warning is off until after add_material_stiffness_24).
+using Packet = double __attribute__((vector_size(32)));
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+
+[[gnu::always_inline]] inline Packet load(const double* p) {
+  Packet v;
+  __builtin_memcpy(&v, p, sizeof v);
+  return v;
+}
+
+[[gnu::always_inline]] inline void store(double* p, Packet v) {
+  __builtin_memcpy(p, &v, sizeof v);
+}
+
+/// Columns 4 (P - 1) .. 4 P - 1 of add_material_stiffness_24's upper part, two at a time: rows
+/// 0 .. 4 P - 1, the two columns' 2 P packets held in registers over the six Voigt components
+/// (P fixed at compile time; 2 x 6 accumulators at most, within AVX2's 16 registers).
+template <int P>
+[[gnu::always_inline]] inline void upper_columns(const Packet* bd, const double* bt, double* out, bool add) {
   constexpr int kN = 24;
-  double bd[kN * 6];
-  for (int k = 0; k < 6; ++k) {
-    double* c = bd + kN * k;
-    for (int i = 0; i < kN; ++i) c[i] = 0.0;
-    for (int m = 0; m < 6; ++m) {
-      const double w = dv[m + 6 * k];
-      const double* b = bt + kN * m;
-      for (int i = 0; i < kN; ++i) c[i] += b[i] * w;
+  for (int j = 4 * (P - 1); j < 4 * P; j += 2) {
+    double* o0 = out + kN * j;
+    double* o1 = o0 + kN;
+    Packet a0[P], a1[P];
+    for (int q = 0; q < P; ++q) {
+      a0[q] = add ? load(o0 + 4 * q) : Packet{};
+      a1[q] = add ? load(o1 + 4 * q) : Packet{};
+    }
+    for (int k = 0; k < 6; ++k) {
+      const double w0 = bt[j + kN * k], w1 = bt[j + 1 + kN * k];
+      for (int q = 0; q < P; ++q) {
+        const Packet c = bd[6 * k + q];
+        a0[q] += c * w0;
+        a1[q] += c * w1;
+      }
+    }
+    for (int q = 0; q < P; ++q) {
+      store(o0 + 4 * q, a0[q]);
+      store(o1 + 4 * q, a1[q]);
     }
   }
-  for (int j = 0; j < kN; ++j) {
-    double* o = out + kN * j;
+}
+
+/// out (+)= Bm^T Dv Bm for one point of an 8-node stencil, upper part only: bt = Bm^T (24 x 6),
+/// dv = -V0 D (6 x 6, symmetric), out 24 x 24, all column-major; `add` false stores instead of
+/// adding (the first point, so that out needs no zeroing). Column j gets rows 0 .. 4 (j/4 + 1) - 1
+/// (its diagonal's packet of four and everything above); add_symmetric_24 mirrors the rest once
+/// all points are summed: 504 four-wide multiply-adds a point instead of 864 for the whole matrix.
+/// First Bm^T Dv (36 packets), then out(:, j) += sum_k (Bm^T Dv)(:, k) Bm^T(j, k), two columns at
+/// a time in registers. Compiled twice: for x86-64-v3 (AVX2 + FMA: a packet is one register, a
+/// multiply-add one instruction) and for the baseline x86-64 the build targets; the loader picks
+/// the first the processor runs (GCC's target_clones: an ifunc resolved by CPU features, not by
+/// model). bench_forces, Jacobian with its forces, one thread, 8-point hexahedra: 7.9 us (3 x 3
+/// blocks, SSE2) -> 6.8 us (the whole matrix, AVX2) -> 6.2 us (this; bench/README.md).
+ADAMSS_X86_64_V3_CLONES void add_material_stiffness_24(const double* bt, const double* dv, double* out, bool add) {
+  constexpr int kN = 24;
+  Packet bd[6 * 6];  // Bm^T Dv: column k's packet q at 6 k + q
+  for (int q = 0; q < 6; ++q) {
+    Packet b[6];
+    for (int m = 0; m < 6; ++m) b[m] = load(bt + kN * m + 4 * q);
     for (int k = 0; k < 6; ++k) {
-      const double w = bt[j + kN * k];
-      const double* c = bd + kN * k;
-      for (int i = 0; i < kN; ++i) o[i] += c[i] * w;
+      Packet c = b[0] * dv[6 * k];
+      for (int m = 1; m < 6; ++m) c += b[m] * dv[m + 6 * k];
+      bd[6 * k + q] = c;
     }
+  }
+  upper_columns<1>(bd, bt, out, add);
+  upper_columns<2>(bd, bt, out, add);
+  upper_columns<3>(bd, bt, out, add);
+  upper_columns<4>(bd, bt, out, add);
+  upper_columns<5>(bd, bt, out, add);
+  upper_columns<6>(bd, bt, out, add);
+}
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
+
+/// out += km + the transpose of km's upper part where add_material_stiffness_24 left km out (rows
+/// i >= 4 (j/4 + 1) of column j): the symmetric 24 x 24 whose upper part km holds.
+void add_symmetric_24(const double* km, double* out) {
+  constexpr int kN = 24;
+  for (int j = 0; j < kN; ++j) {
+    const int upper = 4 * (j / 4 + 1);
+    for (int i = 0; i < upper; ++i) out[i + kN * j] += km[i + kN * j];
+    for (int i = upper; i < kN; ++i) out[i + kN * j] += km[j + kN * i];
   }
 }
 
@@ -131,7 +197,7 @@ void GradientLawKernel<K>::jacobian(std::size_t i, const Mat3N<K>& x, const Mat3
   // processor has them); other stencils: its upper 3 x 3 blocks, mirrored at the end (on
   // tetrahedra 0.88 us a Jacobian against 1.0 us for the whole 12 x 12 through the loops).
   Eigen::Matrix<double, K, K> geo = Eigen::Matrix<double, K, K>::Zero();
-  MatJ<K> kl;  // the upper blocks (not hexahedra)
+  MatJ<K> kl;  // the upper part (hexahedra) or the upper blocks (other stencils)
   if constexpr (K != 8) kl.setZero();
   Eigen::Matrix<double, 3 * K, 6> bt;  // Bm^T
   const auto np = static_cast<std::size_t>(points);
@@ -147,7 +213,7 @@ void GradientLawKernel<K>::jacobian(std::size_t i, const Mat3N<K>& x, const Mat3
     D *= -v0;
     strain_displacement<K>(Ff, gt, bt);
     if constexpr (K == 8) {
-      add_material_stiffness_24(bt.data(), D.data(), dfdx.data());
+      add_material_stiffness_24(bt.data(), D.data(), kl.data(), p != i * np);  // the first point stores
     } else {
       const Eigen::Matrix<double, 3 * K, 6> dbt = bt * D;  // (D Bm)^T, D symmetric
       // Bm^T D Bm is symmetric (D is, a hyperelastic law's tangent): the blocks a <= b only.
@@ -161,6 +227,7 @@ void GradientLawKernel<K>::jacobian(std::size_t i, const Mat3N<K>& x, const Mat3
     geo.noalias() -= v0 * (gt.transpose() * (Sf * gt));
   }
   if constexpr (K == 8) {
+    add_symmetric_24(kl.data(), dfdx.data());
     for (int a = 0; a < K; ++a)
       for (int b = 0; b < K; ++b) dfdx.template block<3, 3>(3 * a, 3 * b).diagonal().array() += geo(a, b);
   } else {
