@@ -16,6 +16,7 @@ find_package(CGAL REQUIRED COMPONENTS ImageIO)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(PETSC REQUIRED IMPORTED_TARGET petsc)
 find_package(OpenMP REQUIRED COMPONENTS CXX)
+include(${CMAKE_CURRENT_LIST_DIR}/PetscMlStub.cmake)  # a stand-in for Trilinos ML: faster start-up
 
 # HDF5: the OpenMPI flavour, the same MPI PETSc uses.
 set(HDF5_PREFER_PARALLEL TRUE)

@@ -16,7 +16,8 @@ namespace adamss::preprocess {
 /// "volume" and "quality" that `adamss mesh` writes into its own .vtu. Nothing else (no node tags,
 /// no cavities: select regions by geometry). InputError naming the file for: a file VTK cannot
 /// read, no cells, mixed or other cell types, NaN/Inf points, a non-integral label, a bad fibre
-/// frame, an inverted element (negative volume at its centre).
+/// frame, an inverted element (negative volume at its centre). Done by the VTK module
+/// (vtk/mesh_import_vtu.cpp, opened on first use: vtk_io.hpp); IoError when it cannot be opened.
 Mesh read_mesh_vtu(const std::filesystem::path& path);
 
 /// Reads a gmsh MSH file, ASCII format 2.2 or 4.1 (mesh_import_msh.cpp). The mesh is its linear
@@ -33,16 +34,15 @@ Mesh read_mesh_vtu(const std::filesystem::path& path);
 /// element.
 Mesh read_mesh_msh(const std::filesystem::path& path);
 
-/// Reads an XDMF (2 or 3) mesh (mesh_import_xdmf.cpp): the first uniform grid of its domain (of a
-/// time series, the first step), TopologyType Tetrahedron or Hexahedron, GeometryType XYZ, data
-/// items in HDF5 ("file.h5:/dataset", relative to the .xdmf) or inline XML. Cell attributes: the
-/// label from "label" (else "gmsh:physical" or "medit:ref", as meshio writes them; default 1),
-/// "fiber"/"fibre", "sheet", "normal" (3 per cell; unit and orthogonal) and every other scalar as
-/// a cell field; node attributes are ignored. Files written by meshio, dolfinx and adamss's
-/// mesh.xdmf sidecar read. InputError naming the file for: not XML or not <Xdmf>, no uniform grid,
-/// another topology (mixed, 2-D, quadratic) or geometry type, a missing HDF5 file or dataset, a
-/// size that does not match Dimensions, a node index out of range, NaN coordinates, a non-integral
-/// label, a bad fibre frame, an inverted element.
+/// Reads an XDMF (2 or 3) mesh (vtk/mesh_import_xdmf.cpp, in the VTK module: vtk_io.hpp): the
+/// first uniform grid of its domain (of a time series, the first step), TopologyType Tetrahedron
+/// or Hexahedron, GeometryType XYZ, data items in HDF5 ("file.h5:/dataset", relative to the
+/// .xdmf) or inline XML. Cell attributes: the label from "label" (else "gmsh:physical" or "medit:ref", as meshio writes
+/// them; default 1), "fiber"/"fibre", "sheet", "normal" (3 per cell; unit and orthogonal) and every other scalar as a
+/// cell field; node attributes are ignored. Files written by meshio, dolfinx and adamss's mesh.xdmf sidecar read.
+/// InputError naming the file for: not XML or not <Xdmf>, no uniform grid, another topology (mixed, 2-D, quadratic) or
+/// geometry type, a missing HDF5 file or dataset, a size that does not match Dimensions, a node index out of range, NaN
+/// coordinates, a non-integral label, a bad fibre frame, an inverted element.
 Mesh read_mesh_xdmf(const std::filesystem::path& path);
 
 /// The fibre frame read by an importer (3 x elements each; `normal` may be empty: fibre x sheet)

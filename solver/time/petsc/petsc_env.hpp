@@ -28,6 +28,10 @@ namespace adamss::solver {
 /// Initialises PETSc if it is not running yet, then inserts `options` ("-ksp_type cg ...").
 void ensure_petsc(const std::string& options = {});
 
+/// The stand-in for Trilinos ML this build links instead of the real library (its SONAME and a
+/// note), or nullptr when the real ML is linked (cmake/PetscMlStub.cmake: 30 ms of start-up).
+[[nodiscard]] const char* petsc_ml_stand_in();
+
 /// True when a launcher (mpirun, srun) started this process, whatever the number of ranks.
 [[nodiscard]] bool launched_by_mpi();
 

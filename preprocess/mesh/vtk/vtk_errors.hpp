@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <string>
 
-namespace adamss::preprocess {
+namespace adamss::preprocess::vtk_io {
 
 /// Observer of vtkCommand::ErrorEvent: `message` holds the errors seen, "; "-separated.
 class ErrorCatcher : public vtkCommand {
@@ -26,4 +26,4 @@ class ErrorCatcher : public vtkCommand {
   std::string message;
 };
 
-}  // namespace adamss::preprocess
+}  // namespace adamss::preprocess::vtk_io

@@ -20,9 +20,10 @@
 #include "common/error.hpp"
 #include "preprocess/mesh/hdf5_handle.hpp"
 #include "preprocess/mesh/mesh_import.hpp"
-#include "preprocess/mesh/vtk_errors.hpp"
+#include "preprocess/mesh/vtk/vtk_errors.hpp"
+#include "preprocess/mesh/vtk/vtk_module.hpp"
 
-namespace adamss::preprocess {
+namespace adamss::preprocess::vtk_io {
 
 namespace {
 
@@ -241,4 +242,4 @@ Mesh read_mesh_xdmf(const std::filesystem::path& path) {
   return mesh;
 }
 
-}  // namespace adamss::preprocess
+}  // namespace adamss::preprocess::vtk_io

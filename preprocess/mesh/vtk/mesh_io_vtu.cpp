@@ -26,9 +26,10 @@
 
 #include "common/error.hpp"
 #include "preprocess/mesh/mesh_io.hpp"
-#include "preprocess/mesh/vtk_errors.hpp"
+#include "preprocess/mesh/vtk/vtk_errors.hpp"
+#include "preprocess/mesh/vtk/vtk_module.hpp"
 
-namespace adamss::preprocess {
+namespace adamss::preprocess::vtk_io {
 namespace {
 
 namespace fs = std::filesystem;
@@ -218,4 +219,4 @@ void write_mesh_vtu(const std::filesystem::path& path, const Mesh& mesh, const s
   write_grid(path, grid);
 }
 
-}  // namespace adamss::preprocess
+}  // namespace adamss::preprocess::vtk_io
