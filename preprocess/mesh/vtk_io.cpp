@@ -5,7 +5,6 @@
 #include <dlfcn.h>
 
 #include <atomic>
-#include <mutex>
 #include <string>
 
 #include "common/error.hpp"
@@ -19,7 +18,7 @@
 namespace adamss::preprocess {
 
 namespace {
-std::atomic<const VtkIoApi*> g_api{nullptr};
+std::atomic<bool> g_loaded{false};  // vtk_io_module_loaded()
 }  // namespace
 
 const VtkIoApi* open_vtk_io_module(const std::filesystem::path& file) {
@@ -65,15 +64,18 @@ const VtkIoApi* load_module() {
 }  // namespace
 
 const VtkIoApi& vtk_io_module() {
-  static std::mutex mutex;
-  if (const VtkIoApi* api = g_api.load(std::memory_order_acquire)) return *api;
-  const std::lock_guard<std::mutex> lock(mutex);
-  if (g_api.load(std::memory_order_relaxed) == nullptr) g_api.store(load_module(), std::memory_order_release);
-  return *g_api.load(std::memory_order_relaxed);
+  // A function-local static: initialised once under the language's own lock, and tried again on
+  // the next call when load_module threw.
+  static const VtkIoApi* const kApi = [] {
+    const VtkIoApi* api = load_module();
+    g_loaded.store(true, std::memory_order_release);
+    return api;
+  }();
+  return *kApi;
 }
 
 bool vtk_io_module_loaded() {
-  return g_api.load(std::memory_order_acquire) != nullptr;
+  return g_loaded.load(std::memory_order_acquire);
 }
 
 Mesh read_mesh_vtu(const std::filesystem::path& path) {

@@ -193,9 +193,10 @@ template <int K>
 void GradientLawKernel<K>::jacobian(std::size_t i, const Mat3N<K>& x, const Mat3N<K>& /*v*/, double /*t*/,
                                     MatJ<K>& dfdx, MatJ<K>& /*dfdv*/) const {
   // -V0 [Bm^T D Bm + (g~ S_f g~^T) (x) I] summed over the item's points (virtual_hex.hpp).
-  // Hexahedra: the material part whole, by add_material_stiffness_24 (AVX2 + FMA where the
-  // processor has them); other stencils: its upper 3 x 3 blocks, mirrored at the end (on
-  // tetrahedra 0.88 us a Jacobian against 1.0 us for the whole 12 x 12 through the loops).
+  // Hexahedra: the material part's upper part, by add_material_stiffness_24 (AVX2 + FMA where the
+  // processor has them), mirrored by add_symmetric_24; other stencils: its upper 3 x 3 blocks,
+  // mirrored at the end (on tetrahedra 0.88 us a Jacobian against 1.0 us for the whole 12 x 12
+  // through plain loops).
   Eigen::Matrix<double, K, K> geo = Eigen::Matrix<double, K, K>::Zero();
   MatJ<K> kl;  // the upper part (hexahedra) or the upper blocks (other stencils)
   if constexpr (K != 8) kl.setZero();

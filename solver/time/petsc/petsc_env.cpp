@@ -212,6 +212,14 @@ void petsc_check(PetscErrorCode ierr, const char* what) {
 extern "C" const char adamss_petsc_ml_stand_in[];  // NOLINT(readability-identifier-naming)
 #endif
 
+const char* petsc_ml_stand_in() {
+#if defined(ADAMSS_PETSC_ML_STUB)
+  return adamss_petsc_ml_stand_in;
+#else
+  return nullptr;
+#endif
+}
+
 namespace {
 
 /// The build's Trilinos ML is a stand-in (cmake/PetscMlStub.cmake): PETSc's `-pc_type ml` would
@@ -219,7 +227,8 @@ namespace {
 /// error naming the option, whichever prefix it has and wherever it came from (the scene,
 /// --petsc or PETSC_OPTIONS).
 void refuse_stubbed_ml() {
-#if defined(ADAMSS_PETSC_ML_STUB)
+  const char* stand_in = petsc_ml_stand_in();
+  if (stand_in == nullptr) return;
   char* all = nullptr;
   if (PetscOptionsGetAll(nullptr, &all) != 0 || all == nullptr) return;
   std::istringstream in(all);
@@ -230,12 +239,10 @@ void refuse_stubbed_ml() {
       throw InputError("PETSc option " + previous +
                        " ml: PETSc's ML preconditioner is not in this build (Trilinos ML is replaced by "
                        "a stand-in that saves 30 ms of start-up: " +
-                       adamss_petsc_ml_stand_in +
-                       "; cmake -DADAMSS_PETSC_ML_STUB=OFF links the real one); use gamg or hypre");
+                       stand_in + "; cmake -DADAMSS_PETSC_ML_STUB=OFF links the real one); use gamg or hypre");
     }
     previous = word;
   }
-#endif
 }
 
 }  // namespace
@@ -267,14 +274,6 @@ void ensure_petsc(const std::string& options) {
   }
   if (!options.empty()) petsc_check(PetscOptionsInsertString(nullptr, options.c_str()), "PETSc options");
   if (!running || !options.empty()) refuse_stubbed_ml();
-}
-
-const char* petsc_ml_stand_in() {
-#if defined(ADAMSS_PETSC_ML_STUB)
-  return adamss_petsc_ml_stand_in;
-#else
-  return nullptr;
-#endif
 }
 
 void finalize_petsc() {
