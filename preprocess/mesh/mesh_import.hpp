@@ -51,6 +51,10 @@ Mesh read_mesh_xdmf(const std::filesystem::path& path);
 void set_imported_fibres(Mesh& mesh, const Eigen::Matrix3Xd& fibre, const Eigen::Matrix3Xd& sheet,
                          Eigen::Matrix3Xd normal, const std::string& where, const std::string& no_sheet);
 
+/// The importers' name for `path` in their messages ('path', quoted); InputError "cannot open
+/// mesh 'path': no such file" when it does not exist.
+std::string existing_mesh_file(const std::filesystem::path& path);
+
 /// InputError (`where`: the file, `hint` after the message) naming the first element whose volume
 /// measure at its centre is not positive (inverted, degenerate or in another node order).
 void check_element_orientation(const Mesh& mesh, const std::string& where, const std::string& hint);

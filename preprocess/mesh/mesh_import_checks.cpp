@@ -1,7 +1,9 @@
-// The checks every mesh importer shares (mesh_import.hpp): fibre frames given per cell and the
-// elements' orientation. Compiled into adamss_preprocess and into the VTK module (vtk_io.hpp).
+// The checks every mesh importer shares (mesh_import.hpp): the file exists, fibre frames given
+// per cell and the elements' orientation. Compiled into adamss_preprocess and into the VTK module
+// (vtk_io.hpp).
 #include <Eigen/Dense>
 #include <cmath>
+#include <filesystem>
 #include <string>
 
 #include "common/error.hpp"
@@ -44,6 +46,14 @@ void set_imported_fibres(Mesh& mesh, const Eigen::Matrix3Xd& fibre, const Eigen:
   mesh.fiber = fibre;
   mesh.sheet = sheet;
   mesh.normal = std::move(normal);
+}
+
+std::string existing_mesh_file(const std::filesystem::path& path) {
+  std::string where(1, '\'');  // (not "'" + ...: GCC 12 warns -Wrestrict on that operator+)
+  where += path.string();
+  where += '\'';
+  if (!std::filesystem::exists(path)) throw InputError("cannot open mesh " + where + ": no such file");
+  return where;
 }
 
 void check_element_orientation(const Mesh& mesh, const std::string& where, const std::string& hint) {

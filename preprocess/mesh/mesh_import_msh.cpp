@@ -313,10 +313,7 @@ std::string group_name(const MshContent& c, int dim, int tag) {
 }  // namespace
 
 Mesh read_mesh_msh(const std::filesystem::path& path) {
-  std::string where(1, '\'');  // (not "'" + ...: GCC 12 warns -Wrestrict on that operator+)
-  where += path.string();
-  where += '\'';
-  if (!std::filesystem::exists(path)) throw InputError("cannot open mesh " + where + ": no such file");
+  const std::string where = existing_mesh_file(path);
   const MshContent c = read_sections(path, where);
   int volume_type = 0;
   std::size_t volume_count = 0;

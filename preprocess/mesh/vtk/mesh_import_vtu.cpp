@@ -43,10 +43,7 @@ Eigen::Matrix3Xd cell_vectors(vtkCellData* cd, const char* name, Eigen::Index e,
 }  // namespace
 
 Mesh read_mesh_vtu(const std::filesystem::path& path) {
-  std::string where(1, '\'');  // (not "'" + ...: GCC 12 warns -Wrestrict on that operator+)
-  where += path.string();
-  where += '\'';
-  if (!std::filesystem::exists(path)) throw InputError("cannot open mesh " + where + ": no such file");
+  const std::string where = existing_mesh_file(path);
   {
     // VTK's XML parser prints its own errors; a file that is not XML at all is refused here.
     std::ifstream in(path, std::ios::binary);

@@ -134,10 +134,7 @@ Values read_item(vtkXMLDataElement* item, const std::filesystem::path& dir, cons
 }  // namespace
 
 Mesh read_mesh_xdmf(const std::filesystem::path& path) {
-  std::string where(1, '\'');  // (not "'" + ...: GCC 12 warns -Wrestrict on that operator+)
-  where += path.string();
-  where += '\'';
-  if (!std::filesystem::exists(path)) throw InputError("cannot open mesh " + where + ": no such file");
+  const std::string where = existing_mesh_file(path);
   vtkNew<vtkXMLDataParser> parser;
   auto errors = vtkSmartPointer<ErrorCatcher>::New();  // (VTK would print the parse error itself)
   parser->AddObserver(vtkCommand::ErrorEvent, errors);
