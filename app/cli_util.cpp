@@ -1,10 +1,12 @@
 #include <unistd.h>
 
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <system_error>
@@ -94,6 +96,19 @@ void write_json(const std::filesystem::path& file, const nlohmann::json& j) {
   std::ostringstream o;
   o << std::setw(2) << j << "\n";
   replace_file(file, {o.str()});
+}
+
+void write_stderr_line(const std::string& line) {
+  std::cerr.flush();
+  const char* p = line.data();
+  std::size_t left = line.size();
+  while (left > 0) {
+    const ssize_t n = ::write(STDERR_FILENO, p, left);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return;  // stderr closed: nothing better to do on the way out
+    p += n;
+    left -= static_cast<std::size_t>(n);
+  }
 }
 
 }  // namespace adamss::app

@@ -1,8 +1,5 @@
 // adamss run SCENE.yaml -o OUT/: load and validate a scene, integrate, write results.
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -327,22 +324,6 @@ solver::LoadedScene load_on_ranks(const RunArgs& a, const solver::SceneOptions& 
   return sc;
 }
 
-/// Writes `line` to stderr in one write(2) where the kernel allows: mpirun forwards each write of a
-/// rank as one piece, and its own MPI_ABORT notice, printed as the ranks end, would otherwise land
-/// inside a message that std::cerr sends in several writes.
-void write_whole_line(const std::string& line) {
-  std::cerr.flush();
-  const char* p = line.data();
-  std::size_t left = line.size();
-  while (left > 0) {
-    const ssize_t n = ::write(STDERR_FILENO, p, left);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return;  // stderr closed: nothing better to do on the way out
-    p += n;
-    left -= static_cast<std::size_t>(n);
-  }
-}
-
 /// On several MPI ranks an error may be this rank's alone (rank 0's disk): it is printed here,
 /// naming the rank, and every rank ends (MPI_Abort) with the exit status main() would give it.
 /// Nothing happens on one rank (main() reports the error).
@@ -351,7 +332,7 @@ void abort_ranks_after(const std::exception& e) {
   const ErrorReport r = error_report(e);
   const std::string line = "adamss: " + std::string(r.label) + " (MPI rank " + std::to_string(solver::mpi_rank()) +
                            " of " + std::to_string(solver::mpi_size()) + "): " + e.what() + "\n";
-  write_whole_line(line);
+  write_stderr_line(line);
   solver::abort_other_ranks(r.exit_status);
 }
 

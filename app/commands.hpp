@@ -33,6 +33,12 @@ double parse_length(const std::string& text, const std::string& what);
 /// common/durable.hpp: IoError on failure): summary.json, unload.json.
 void write_json(const std::filesystem::path& file, const nlohmann::json& j);
 
+/// Writes `line` (its newline included) to stderr in one write(2) where the kernel allows. Under
+/// mpirun each write of a rank is forwarded as one piece: a message sent in several pieces (as
+/// std::cerr's operator<< chain does) can be cut by another rank's lines or by mpirun's own
+/// MPI_ABORT notice.
+void write_stderr_line(const std::string& line);
+
 /// Throws InputError if the directory that should hold `path` does not exist.
 void require_parent_dir(const std::string& path, const std::string& what);
 

@@ -107,8 +107,8 @@ int main(int argc, char** argv) {
     }
   }
   if (const std::string first = argv[1]; first != "run" && first[0] != '-' && launched_on_several_ranks()) {
-    std::cerr << "adamss " << first << ": error: only 'adamss run' runs on several MPI ranks "
-              << "(docs/parallel.md); run 'adamss " << first << "' without mpirun\n";
+    adamss::app::write_stderr_line("adamss " + first + ": error: only 'adamss run' runs on several MPI ranks " +
+                                   "(docs/parallel.md); run 'adamss " + first + "' without mpirun\n");
     return 2;
   }
   try {
@@ -124,7 +124,7 @@ int main(int argc, char** argv) {
     return 2;
   } catch (const std::exception& e) {
     const adamss::ErrorReport r = adamss::error_report(e);
-    std::cerr << "adamss: " << r.label << ": " << e.what() << "\n";
+    adamss::app::write_stderr_line("adamss: " + std::string(r.label) + ": " + e.what() + "\n");
     return r.exit_status;
   }
   return 0;
