@@ -189,7 +189,7 @@ void CavityBorder::restore() const {
 }
 
 bool bordered_newton(StepEquations& eq, JacobianSolver& linear, CavityBorder& border, Eigen::Matrix3Xd& u,
-                     const ImplicitSettings& settings, double r0_floor, NewtonRecord& record) {
+                     const ImplicitSettings& settings, double r0_floor, NewtonRecord& record, bool stop_non_monotone) {
   NewtonReporter reporter(settings.on_iteration, linear);
   const auto fail = [&border, &reporter] {
     border.restore();
@@ -235,10 +235,11 @@ bool bordered_newton(StepEquations& eq, JacobianSolver& linear, CavityBorder& bo
       u += du;
     } else {
       // A fresh operator's direction that no step length makes monotone, far from the tolerance:
-      // the attempt would diverge (bordered_newton.hpp), so it fails now. A reused operator's
+      // the attempt would most likely diverge (bordered_newton.hpp), so it fails now, unless the
+      // caller asks for the full step (a step already halved twice). A reused operator's direction
       // takes the full step and brings a new operator.
       const bool near_tolerance = nr <= kRoundOffMargin * std::max(settings.newton_atol, settings.newton_rtol * r0);
-      const Damping d = damped_update(eq, linear, border, dp, du, u, !fresh || near_tolerance);
+      const Damping d = damped_update(eq, linear, border, dp, du, u, !stop_non_monotone || !fresh || near_tolerance);
       if (d.alpha == 0.0) return fail();  // no step taken
       alpha = d.alpha;
       reform = !(may_reuse && d.theta <= kReuseContraction && reuses < settings.bordered_max_reuses);

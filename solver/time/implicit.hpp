@@ -140,6 +140,9 @@ class ImplicitIntegrator : public Integrator {
  private:
   /// One attempt of length h; false if it failed (s then holds its start positions and velocities).
   bool attempt(State& s, double h, StepReport& rep);
+  /// Whether bordered Newton fails this attempt at a fresh direction that no damping factor makes
+  /// monotone (bordered_newton.hpp): on a step's first two attempts, not from the third on.
+  [[nodiscard]] bool stop_non_monotone() const;
   /// The schemes: static without cavities (damped Newton with the predictor), static with
   /// cavities (bordered Newton), backward Euler (linearised or Newton, with or without cavities).
   bool static_step(State& s, double h, StepReport& rep);
@@ -171,6 +174,7 @@ class ImplicitIntegrator : public Integrator {
   std::unique_ptr<JacobianSolver> linear_;
   NewtonRecord record_;
   int last_linear_ = 0;
+  int attempt_index_ = 0;     ///< 0 for a step's first attempt, 1 after one halving, ...
   int resolve_effort_ = 0;    ///< effort() of the re-solves (augmented Lagrangian, continuation) of the attempt
   int hardest_raise_ = 0;     ///< the largest effort() of one continuation re-solve of the attempt
   Eigen::Matrix3Xd x0_, v0_;  // the state at the start of the attempt
