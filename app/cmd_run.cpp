@@ -258,7 +258,9 @@ solver::RunOutcome run_into(solver::LoadedScene& sc, const RunArgs& a, const fs:
     solver::check_checkpoint(sc.model, sc.run, *checkpoint);
     writer_state = checkpoint->child("writer");
     changes = solver::checkpoint_changes(sc.run, *checkpoint);
-    for (const std::string& c : changes) std::cerr << "adamss: warning: --resume-modified: " << c << "\n";
+    if (a.rank == 0) {  // every rank reads the checkpoint; one reports what changed
+      for (const std::string& c : changes) std::cerr << "adamss: warning: --resume-modified: " << c << "\n";
+    }
   }
   solver::ResultsWriter writer(output, sc.model, writer_state ? &*writer_state : nullptr);
   const bool writes = a.rank == 0;  // several MPI ranks: rank 0 writes, the others hold the same state

@@ -96,13 +96,14 @@ int main(int argc, char** argv) {
   adamss::app::add_verify_command(app);
   const std::vector<std::string> commands = subcommand_names(app);
   if (argc < 2) {
-    std::cerr << "adamss: error: no command given (commands: " << joined(commands) << "; adamss --help)\n";
+    adamss::app::write_stderr_line("adamss: error: no command given (commands: " + joined(commands) +
+                                   "; adamss --help)\n");
     return 2;
   }
   if (const std::string first = argv[1]; first.empty() || first[0] != '-') {
     if (std::find(commands.begin(), commands.end(), first) == commands.end()) {
-      std::cerr << "adamss: error: unknown command '" << first << "'" << adamss::did_you_mean(first, commands)
-                << " (commands: " << joined(commands) << ")\n";
+      adamss::app::write_stderr_line("adamss: error: unknown command '" + first + "'" +
+                                     adamss::did_you_mean(first, commands) + " (commands: " + joined(commands) + ")\n");
       return 2;
     }
   }
@@ -120,7 +121,8 @@ int main(int argc, char** argv) {
     const std::vector<CLI::App*> chosen = app.get_subcommands();
     const CLI::App& sub = chosen.empty() ? app : *chosen.back();
     const std::string who = chosen.empty() ? "adamss" : "adamss " + sub.get_name();
-    std::cerr << who << ": error: " << describe_parse_error(e, sub) << " (" << who << " --help lists the options)\n";
+    adamss::app::write_stderr_line(who + ": error: " + describe_parse_error(e, sub) + " (" + who +
+                                   " --help lists the options)\n");
     return 2;
   } catch (const std::exception& e) {
     const adamss::ErrorReport r = adamss::error_report(e);

@@ -22,8 +22,9 @@ constexpr double kNoContraction = std::numeric_limits<double>::infinity();
 /// thread; full Newton 973 iterations, 6.2 s): theta <= 0.5 707 factorisations, 5.3 s; 0.25 683,
 /// 5.2 s; 0.1 726 on 980 iterations, 4.7 s (fewer iterations per reuse, fewer rejected steps).
 constexpr double kReuseContraction = 0.1;
-/// A fresh operator's update that no step length makes monotone fails the attempt, unless the
-/// residual is within this factor of the Newton tolerance (corrections at the round-off level,
+/// A fresh operator's update that no step length makes monotone fails the attempt (when the
+/// caller's stop_non_monotone asks for it), unless the residual is within this factor of the Newton
+/// tolerance (corrections at the round-off level,
 /// where the test cannot pass and the full step is harmless). On the biv-me beat (3-4 mm, one
 /// beat, 2026-12-07) all 7 attempts that met such an update failed later anyway, after 19 more
 /// iterations in all; none converged.

@@ -27,23 +27,11 @@ State prescribed_state(const System& sys, const State& s, double h) {
   return pres;
 }
 
-/// The attempts of a step on which bordered Newton stops at a fresh direction that no damping
-/// factor makes monotone (bordered_newton.hpp); the later ones take the full step instead. Stopping
-/// at once saves the iterations of an attempt that would diverge (the biv-me beat at 3-4 mm: 7 of
-/// 7 such attempts diverged), but where a shorter step does not help it halves the step down to
-/// dt_min: the Sunnybrook SCD0000101 beat of `make heart` (2 ranks) stopped on every attempt at
-/// t = 0.3224 s, in the isovolumic relaxation, down to dt = 2.4e-6 s, and the run failed. With
-/// the full step from the third attempt: the two beats in 340 steps (8 rejected), 773 Newton
-/// iterations, 809 factorisations, 86.8 s loop; with the full step on every attempt (the rule
-/// before the stop): 328 steps (4 rejected), 754 Newton iterations, 859 factorisations, 81.8 s;
-/// ESV and EF within 0.1 % of each other. lv_beat_quick spends 17 factorisations in rejected
-/// attempts either way.
-constexpr int kStopNonMonotoneAttempts = 2;
-
 }  // namespace
 
-bool ImplicitIntegrator::stop_non_monotone() const {
-  return attempt_index_ < kStopNonMonotoneAttempts;
+bool stop_at_non_monotone(int rejected, double h, double dt_min) {
+  constexpr int kStopAttempts = 2;  // the first and second attempts of a step
+  return rejected < kStopAttempts && 0.5 * h >= dt_min;
 }
 
 ImplicitIntegrator::ImplicitIntegrator(System& system, Kind kind, const ImplicitSettings& settings)
@@ -90,7 +78,7 @@ std::string ImplicitIntegrator::name() const {
 StepReport ImplicitIntegrator::step(State& s, double dt) {
   StepReport rep;
   double h = std::clamp(dt, set_.dt_min, set_.dt_max);
-  for (attempt_index_ = 0;; ++attempt_index_) {
+  for (;;) {
     if (attempt(s, h, rep)) break;
     throw_if_stop_requested(name().c_str());  // a failed attempt is not retried after a signal
     ++rep.rejected;
@@ -278,7 +266,8 @@ bool ImplicitIntegrator::resolve(State& s, double h, StepReport& rep) {
     ok = damped_newton(eq, *linear_, s.x, Eigen::Matrix3Xd::Zero(3, s.x.cols()), set_, again);
   } else {
     CavityBorder border(constraints_, s.t, h);
-    ok = bordered_newton(eq, *linear_, border, s.x, set_, 1e-300, again, stop_non_monotone());
+    ok = bordered_newton(eq, *linear_, border, s.x, set_, 1e-300, again,
+                         stop_at_non_monotone(rep.rejected, h, set_.dt_min));
   }
   record_.iterations += again.iterations;
   record_.reformations += again.reformations;
@@ -306,7 +295,8 @@ bool ImplicitIntegrator::static_bordered_step(State& s, double h, StepReport& re
     // damped Newton passed). attempt() puts the multipliers back on failure.
     border.set_given_pressures();
     if (!damped_newton(eq, *linear_, cur.x, Eigen::Matrix3Xd::Zero(3, cur.x.cols()), set_, record_)) return false;
-  } else if (!bordered_newton(eq, *linear_, border, cur.x, set_, 1e-300, record_, stop_non_monotone())) {
+  } else if (!bordered_newton(eq, *linear_, border, cur.x, set_, 1e-300, record_,
+                              stop_at_non_monotone(rep.rejected, h, set_.dt_min))) {
     return false;
   }
   s = cur;
@@ -326,7 +316,9 @@ bool ImplicitIntegrator::backward_euler_step(State& s, double h, StepReport& rep
     record_.reformations = 1;
   } else {
     CavityBorder border(constraints_, t1, h);
-    if (!bordered_newton(eq, *linear_, border, v, set_, 0.0, record_, stop_non_monotone())) return false;
+    if (!bordered_newton(eq, *linear_, border, v, set_, 0.0, record_,
+                         stop_at_non_monotone(rep.rejected, h, set_.dt_min)))
+      return false;
   }
   s.v = v;
   s.x = x0_ + h * s.v;

@@ -286,6 +286,19 @@ class StopOnJacobian final : public solver::ForceTerm {
 };
 }  // namespace
 
+// The bordered Newton's stop at a non-monotone direction: on a step's first two attempts, never on
+// the third or later, and never on the last attempt the step has above dt_min.
+TEST(Implicit, TheNonMonotoneStopAppliesToTheFirstTwoAttemptsAboveTheLast) {
+  const double dt_min = 1e-6;
+  EXPECT_TRUE(solver::stop_at_non_monotone(0, 5e-3, dt_min));
+  EXPECT_TRUE(solver::stop_at_non_monotone(1, 2.5e-3, dt_min));
+  EXPECT_FALSE(solver::stop_at_non_monotone(2, 1.25e-3, dt_min));
+  EXPECT_FALSE(solver::stop_at_non_monotone(5, 1.6e-4, dt_min));
+  EXPECT_TRUE(solver::stop_at_non_monotone(0, 2e-6, dt_min));     // halving leaves 1e-6 >= dt_min
+  EXPECT_FALSE(solver::stop_at_non_monotone(0, 1.9e-6, dt_min));  // no attempt after this one
+  EXPECT_FALSE(solver::stop_at_non_monotone(1, 1.22e-6, dt_min));
+}
+
 TEST(Implicit, AStopRequestInsideNewtonAbandonsTheStep) {
   // The stop arrives during the first Newton iteration of a static step: the next iteration
   // throws StepInterrupted instead of going on (or, after a failure, retrying at dt / 2), and
