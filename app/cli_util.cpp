@@ -1,7 +1,6 @@
 #include <unistd.h>
 
 #include <cctype>
-#include <cerrno>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -100,15 +99,7 @@ void write_json(const std::filesystem::path& file, const nlohmann::json& j) {
 
 void write_stderr_line(const std::string& line) {
   std::cerr.flush();
-  const char* p = line.data();
-  std::size_t left = line.size();
-  while (left > 0) {
-    const ssize_t n = ::write(STDERR_FILENO, p, left);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return;  // stderr closed: nothing better to do on the way out
-    p += n;
-    left -= static_cast<std::size_t>(n);
-  }
+  (void)write_all(STDERR_FILENO, {line});  // stderr closed: nothing better to do on the way out
 }
 
 }  // namespace adamss::app

@@ -33,9 +33,6 @@ void sync_directory(const std::filesystem::path& dir) {
   sync_path(dir.empty() ? std::filesystem::path(".") : dir, O_RDONLY | O_DIRECTORY, "folder");
 }
 
-namespace {
-
-/// Writes every part to the open descriptor `fd`; the errno of the first failure, else 0.
 int write_all(int fd, std::initializer_list<std::string_view> parts) {
   for (const std::string_view part : parts) {
     std::size_t done = 0;
@@ -48,8 +45,6 @@ int write_all(int fd, std::initializer_list<std::string_view> parts) {
   }
   return 0;
 }
-
-}  // namespace
 
 void replace_file(const std::filesystem::path& path, std::initializer_list<std::string_view> parts, bool durable) {
   const std::filesystem::path tmp = path.string() + ".tmp";

@@ -17,6 +17,7 @@
 #include <new>
 #include <string>
 
+#include "common/durable.hpp"
 #include "common/error.hpp"
 
 #if defined(__SANITIZE_ADDRESS__)
@@ -113,13 +114,7 @@ void on_asan_report(const char* report) {
   try {
     read();
   } catch (const InputError& e) {
-    const std::string msg = e.what();
-    std::size_t done = 0;
-    while (done < msg.size()) {
-      const ssize_t n = ::write(fd, msg.data() + done, msg.size() - done);
-      if (n <= 0) break;
-      done += static_cast<std::size_t>(n);
-    }
+    (void)write_all(fd, {e.what()});  // the parent reports what arrived
     code = kChildInputError;
   } catch (const std::bad_alloc&) {
     code = kChildOutOfMemory;

@@ -23,9 +23,9 @@ constexpr double kNoContraction = std::numeric_limits<double>::infinity();
 /// 5.2 s; 0.1 726 on 980 iterations, 4.7 s (fewer iterations per reuse, fewer rejected steps).
 constexpr double kReuseContraction = 0.1;
 /// A fresh operator's update that no step length makes monotone fails the attempt (when the
-/// caller's stop_non_monotone asks for it), unless the residual is within this factor of the Newton
-/// tolerance (corrections at the round-off level,
-/// where the test cannot pass and the full step is harmless). On the biv-me beat (3-4 mm, one
+/// caller's stop_non_monotone asks for it), unless the residual is within this factor of the
+/// Newton tolerance (corrections at the round-off level, where the test cannot pass and the full
+/// step is harmless). On the biv-me beat (3-4 mm, one
 /// beat, 2026-12-07) all 7 attempts that met such an update failed later anyway, after 19 more
 /// iterations in all; none converged.
 constexpr double kRoundOffMargin = 100.0;
@@ -237,7 +237,7 @@ bool bordered_newton(StepEquations& eq, JacobianSolver& linear, CavityBorder& bo
     } else {
       // A fresh operator's direction that no step length makes monotone, far from the tolerance:
       // the attempt would most likely diverge (bordered_newton.hpp), so it fails now, unless the
-      // caller asks for the full step (a step already halved twice). A reused operator's direction
+      // caller asks for the full step (stop_at_non_monotone, implicit.hpp). A reused operator's direction
       // takes the full step and brings a new operator.
       const bool near_tolerance = nr <= kRoundOffMargin * std::max(settings.newton_atol, settings.newton_rtol * r0);
       const Damping d = damped_update(eq, linear, border, dp, du, u, !stop_non_monotone || !fresh || near_tolerance);

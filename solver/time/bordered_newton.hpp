@@ -24,11 +24,10 @@
 // attempt diverged within a few more iterations (7 of 7 in one beat at 3-4 mm, |R| to 1e8-1e24 N;
 // at 1.5 mm each of those iterations costs ~7 s). The full step is still taken when the residual
 // is within 100 times the Newton tolerance (corrections at the round-off level, where the test
-// cannot pass), when the direction came from a reused operator (the next one is fresh), and on a
-// step's third and later attempts (stop_non_monotone false): in the isovolumic relaxation of the
-// Sunnybrook SCD0000101 beat (t = 0.3224 s) no damping factor passed at any step length, the
-// halvings went down to dt_min and the run failed, where the full step gets through
-// (implicit.cpp, kStopNonMonotoneAttempts).
+// cannot pass), when the direction came from a reused operator (the next one is fresh), and when
+// the caller passes stop_non_monotone false: on a step's third and later attempts and on its last
+// above dt_min (stop_at_non_monotone, implicit.hpp, where the Sunnybrook SCD0000101 beat that
+// failed without it is described).
 // Why damp: in the isovolumic contraction of the biv-me beat the undamped iteration diverged
 // (|R| from 0.04 N to 1e14 N in six updates) at a point where the stiffness has no small eigenvalue.
 //
@@ -109,7 +108,7 @@ class CavityBorder {
 /// (u is then whatever the last update left; the multipliers are restored).
 /// `stop_non_monotone`: a fresh operator's direction that no damping factor makes monotone fails
 /// the attempt at once (true), or the full step is taken as the undamped iteration would (false;
-/// the integrator asks for it from a step's third attempt on, implicit.cpp).
+/// the integrator's choice is stop_at_non_monotone, implicit.hpp).
 bool bordered_newton(StepEquations& eq, JacobianSolver& linear, CavityBorder& border, Eigen::Matrix3Xd& u,
                      const ImplicitSettings& settings, double r0_floor, NewtonRecord& record, bool stop_non_monotone);
 
